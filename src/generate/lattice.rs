@@ -1,0 +1,143 @@
+//! Building blocks shared by the generators: strips of triangles between rows of points,
+//! edge lists from faces, and the Resch subdivision.
+
+use crate::mesh::{Assignment, Edge, MeshParts, Vec2};
+use std::collections::HashMap;
+
+/// Triangulates the strips between consecutive rows of points (row `j` at height
+/// `j · row_height`, x positions sorted), always advancing the row whose next point comes
+/// first. Returns the points, row after row, and counter-clockwise triangles.
+pub fn rows_zipper(rows: &[Vec<f64>], row_height: f64) -> (Vec<Vec2>, Vec<[usize; 3]>) {
+    let mut points = Vec::new();
+    let mut start = Vec::with_capacity(rows.len());
+    for (j, row) in rows.iter().enumerate() {
+        start.push(points.len());
+        points.extend(row.iter().map(|&x| Vec2::new(x, j as f64 * row_height)));
+    }
+    let mut faces = Vec::new();
+    for j in 0..rows.len() - 1 {
+        let (lo, up) = (&rows[j], &rows[j + 1]);
+        let (lo0, up0) = (start[j], start[j + 1]);
+        let (mut i, mut k) = (0, 0);
+        while i + 1 < lo.len() || k + 1 < up.len() {
+            let advance_lower = k + 1 == up.len() || (i + 1 < lo.len() && lo[i + 1] <= up[k + 1]);
+            if advance_lower {
+                faces.push([lo0 + i, lo0 + i + 1, up0 + k]);
+                i += 1;
+            } else {
+                faces.push([lo0 + i, up0 + k + 1, up0 + k]);
+                k += 1;
+            }
+        }
+    }
+    (points, faces)
+}
+
+/// Edges of the faces in first-seen order: boundary edges (one face) are `B`, the others
+/// as `classify` says from their end points; flat creases get twist allowance `alpha`.
+pub fn build(
+    flat: Vec<Vec2>,
+    faces: Vec<[usize; 3]>,
+    classify: impl Fn(Vec2, Vec2) -> Assignment,
+    alpha: f64,
+) -> MeshParts {
+    let mut count: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut order = Vec::new();
+    for f in &faces {
+        for k in 0..3 {
+            let (a, b) = (f[k], f[(k + 1) % 3]);
+            let key = (a.min(b), a.max(b));
+            let c = count.entry(key).or_insert(0);
+            if *c == 0 {
+                order.push(key);
+            }
+            *c += 1;
+        }
+    }
+    let edges = order
+        .into_iter()
+        .map(|(a, b)| {
+            let assignment = if count[&(a, b)] == 1 {
+                Assignment::Boundary
+            } else {
+                classify(flat[a], flat[b])
+            };
+            let mut e = Edge::new(a, b, assignment);
+            if assignment == Assignment::Flat {
+                e.alpha = alpha;
+            }
+            e
+        })
+        .collect();
+    MeshParts {
+        positions: None,
+        flat: Some(flat),
+        faces,
+        edges,
+    }
+}
+
+/// Resch's triangular pattern from an equilateral lattice: every upward triangle becomes a
+/// tuck star (mountains centre→corner, valleys centre→side midpoint), every downward one a
+/// tile cut into four by flat creases; lattice sides are valleys between tile and tuck.
+pub fn subdivide_resch(lattice: &[Vec2], faces: &[[usize; 3]]) -> MeshParts {
+    let mut points = lattice.to_vec();
+    let mut kinds: HashMap<(usize, usize), Assignment> = HashMap::new();
+    let mut midpoint: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut mid = |a: usize, b: usize, points: &mut Vec<Vec2>| -> usize {
+        *midpoint.entry((a.min(b), a.max(b))).or_insert_with(|| {
+            points.push((points[a] + points[b]) * 0.5);
+            points.len() - 1
+        })
+    };
+    let key = |a: usize, b: usize| (a.min(b), a.max(b));
+    let mut out = Vec::new();
+    for &[a, b, c] in faces {
+        let (mab, mbc, mca) = (
+            mid(a, b, &mut points),
+            mid(b, c, &mut points),
+            mid(c, a, &mut points),
+        );
+        for (corner, m) in [(a, mab), (b, mab), (b, mbc), (c, mbc), (c, mca), (a, mca)] {
+            kinds.insert(key(corner, m), Assignment::Valley);
+        }
+        let ys = [points[a].y, points[b].y, points[c].y];
+        let low = ys.iter().cloned().fold(f64::INFINITY, f64::min);
+        let upward = ys
+            .iter()
+            .filter(|&&y| (y - low).abs() < 1e-9 * (1.0 + low.abs()))
+            .count()
+            == 2;
+        if upward {
+            points.push((points[a] + points[b] + points[c]) / 3.0);
+            let g = points.len() - 1;
+            for corner in [a, b, c] {
+                kinds.insert(key(g, corner), Assignment::Mountain);
+            }
+            for m in [mab, mbc, mca] {
+                kinds.insert(key(g, m), Assignment::Valley);
+            }
+            out.extend([
+                [a, mab, g],
+                [mab, b, g],
+                [b, mbc, g],
+                [mbc, c, g],
+                [c, mca, g],
+                [mca, a, g],
+            ]);
+        } else {
+            for (x, y) in [(mab, mbc), (mbc, mca), (mca, mab)] {
+                kinds.insert(key(x, y), Assignment::Flat);
+            }
+            out.extend([[a, mab, mca], [mab, b, mbc], [mca, mbc, c], [mab, mbc, mca]]);
+        }
+    }
+    let mut parts = build(points, out, |_, _| Assignment::Flat, 0.0);
+    for e in &mut parts.edges {
+        if e.assignment != Assignment::Boundary {
+            let a = kinds[&key(e.vertices[0], e.vertices[1])];
+            *e = Edge::new(e.vertices[0], e.vertices[1], a);
+        }
+    }
+    parts
+}

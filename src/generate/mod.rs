@@ -1,0 +1,433 @@
+//! Parametric generators for the paper's six starting patterns (§6). Each writes the exact
+//! crease pattern; Miura-ori, Yoshimura, plane and curved strip also write an exact
+//! partially folded 3D state (closed form) for a fold amount in [0, 1].
+
+mod lattice;
+
+use crate::mesh::{Assignment, Mesh, MeshError, MeshParts, Vec2, Vec3};
+use lattice::{build, rows_zipper, subdivide_resch};
+use std::f64::consts::PI;
+
+/// The paper's starting patterns.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PatternKind {
+    /// Miura-ori (§6.2): parallelograms, flat-foldable, rigid-foldable.
+    Miura,
+    /// Waterbomb tessellation (§6.1): right isosceles triangles, degree-6 vertices.
+    Waterbomb,
+    /// Yoshimura (§6.3): diamond pattern folding to a cylinder.
+    Yoshimura,
+    /// Resch's triangular pattern (§6.4): tiles with hidden three-fold tucks.
+    Resch,
+    /// Plane (§6.5): a regular triangular grid with no creases.
+    Plane,
+    /// Curved-fold strip (§6.6): a rectangular grid of planar-quad strips.
+    Curved,
+}
+
+impl PatternKind {
+    /// Every kind, in the order of the paper.
+    pub const ALL: [PatternKind; 6] = [
+        PatternKind::Waterbomb,
+        PatternKind::Miura,
+        PatternKind::Yoshimura,
+        PatternKind::Resch,
+        PatternKind::Plane,
+        PatternKind::Curved,
+    ];
+
+    /// The name used on the command line and for files in `patterns/`.
+    pub fn name(self) -> &'static str {
+        match self {
+            PatternKind::Miura => "miura",
+            PatternKind::Waterbomb => "waterbomb",
+            PatternKind::Yoshimura => "yoshimura",
+            PatternKind::Resch => "resch",
+            PatternKind::Plane => "plane",
+            PatternKind::Curved => "curved",
+        }
+    }
+
+    /// Looks a kind up by name.
+    pub fn from_name(name: &str) -> Option<PatternKind> {
+        PatternKind::ALL.into_iter().find(|k| k.name() == name)
+    }
+
+    /// Whether the generator has a closed-form 3D state.
+    pub fn has_closed_form_3d(self) -> bool {
+        !matches!(self, PatternKind::Waterbomb | PatternKind::Resch)
+    }
+}
+
+/// Generator parameters. Lengths in millimetres.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Params {
+    /// Which pattern.
+    pub kind: PatternKind,
+    /// Cells across.
+    pub nx: usize,
+    /// Cells along.
+    pub ny: usize,
+    /// Cell edge length (mm).
+    pub size: f64,
+    /// Miura parallelogram angle γ in degrees (between the straight crease and the zigzag).
+    pub angle_deg: f64,
+    /// Fold amount in [0, 1] for the closed-form 3D state; `None` writes the flat pattern
+    /// only. 0 is flat, 1 is flat-folded (or, for the plane, a half turn of bending).
+    pub fold: Option<f64>,
+    /// Twist allowance α of triangulation creases (§2.4).
+    pub alpha: f64,
+}
+
+impl Params {
+    /// The defaults used for the files in `patterns/`.
+    pub fn defaults(kind: PatternKind) -> Params {
+        Params {
+            kind,
+            nx: 8,
+            ny: 8,
+            size: 20.0,
+            angle_deg: 60.0,
+            fold: match kind {
+                // A Yoshimura folds tightly: a tenth of the way already curls 8 cells into an arch.
+                PatternKind::Yoshimura => Some(0.1),
+                _ => kind.has_closed_form_3d().then_some(0.5),
+            },
+            alpha: 0.0,
+        }
+    }
+}
+
+/// Why a pattern cannot be generated.
+#[derive(Debug, thiserror::Error)]
+pub enum GenerateError {
+    /// A parameter is out of its range.
+    #[error("{0}")]
+    BadParameter(String),
+    /// The generated mesh failed validation (a bug, reported rather than hidden).
+    #[error("generated mesh is invalid: {0}")]
+    Mesh(#[from] MeshError),
+}
+
+/// Generates a pattern.
+pub fn generate(p: &Params) -> Result<Mesh, GenerateError> {
+    let bad = |m: String| Err(GenerateError::BadParameter(m));
+    if p.nx == 0 || p.ny == 0 || p.nx > 2000 || p.ny > 2000 {
+        return bad(format!(
+            "cells must be between 1 and 2000 (got {} × {})",
+            p.nx, p.ny
+        ));
+    }
+    if !(p.size.is_finite() && p.size > 0.0) {
+        return bad(format!(
+            "size must be a positive length in mm (got {})",
+            p.size
+        ));
+    }
+    if let Some(t) = p.fold {
+        if !(0.0..=1.0).contains(&t) {
+            return bad(format!("--fold must be in [0, 1] (got {t})"));
+        }
+        if !p.kind.has_closed_form_3d() {
+            return bad(format!(
+                "{} has no closed-form folded state; generate it flat and fold it with the solver",
+                p.kind.name()
+            ));
+        }
+    }
+    if !(0.0..1.0).contains(&p.alpha) {
+        return bad(format!("alpha must be in [0, 1) (got {})", p.alpha));
+    }
+    let mut mesh = match p.kind {
+        PatternKind::Miura => miura(p)?,
+        PatternKind::Waterbomb => waterbomb(p)?,
+        PatternKind::Yoshimura => yoshimura(p)?,
+        PatternKind::Resch => resch(p)?,
+        PatternKind::Plane => plane(p)?,
+        PatternKind::Curved => curved(p)?,
+    };
+    mesh.title = format!("{} {}x{}", p.kind.name(), p.nx, p.ny);
+    mesh.lock_topology = p.kind == PatternKind::Resch;
+    Ok(mesh)
+}
+
+/// Sign of the fold angle decides mountain or valley for patterns with a closed form: the
+/// assignment is read off the geometry at a mid fold, so it cannot disagree with it.
+fn assign_by_fold(parts: &mut MeshParts, folded_mid: Vec<Vec3>) -> Result<(), GenerateError> {
+    let probe = Mesh::new(MeshParts {
+        positions: Some(folded_mid),
+        ..parts.clone()
+    })?;
+    let angles = crate::geometry::fold_angles(&probe);
+    for (edge, (probe_edge, rho)) in parts.edges.iter_mut().zip(probe.edges().iter().zip(angles)) {
+        debug_assert_eq!(edge.vertices, probe_edge.vertices);
+        if edge.assignment == Assignment::Unassigned {
+            let a = if rho > 1e-9 {
+                Assignment::Mountain
+            } else if rho < -1e-9 {
+                Assignment::Valley
+            } else {
+                Assignment::Flat
+            };
+            edge.assignment = a;
+            edge.target = a.default_target();
+            edge.fold_angle = edge.target;
+        }
+    }
+    Ok(())
+}
+
+fn miura(p: &Params) -> Result<Mesh, GenerateError> {
+    let gamma = p.angle_deg.to_radians();
+    if !(gamma > 0.0 && gamma < PI / 2.0) {
+        return Err(GenerateError::BadParameter(format!(
+            "Miura angle must be strictly between 0 and 90 degrees (got {})",
+            p.angle_deg
+        )));
+    }
+    let (a, b) = (p.size, p.size);
+    let (s, h) = (b * gamma.cos(), b * gamma.sin());
+    let idx = |i: usize, j: usize| j * (p.nx + 1) + i;
+    let mut flat = Vec::new();
+    for j in 0..=p.ny {
+        for i in 0..=p.nx {
+            flat.push(Vec2::new(i as f64 * a + (j % 2) as f64 * s, j as f64 * h));
+        }
+    }
+    // Each parallelogram is cut along its shorter diagonal.
+    let mut faces = Vec::new();
+    for j in 0..p.ny {
+        for i in 0..p.nx {
+            let q = [idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1)];
+            let d02 = (flat[q[2]] - flat[q[0]]).norm();
+            let d13 = (flat[q[3]] - flat[q[1]]).norm();
+            if d02 <= d13 {
+                faces.push([q[0], q[1], q[2]]);
+                faces.push([q[0], q[2], q[3]]);
+            } else {
+                faces.push([q[0], q[1], q[3]]);
+                faces.push([q[1], q[2], q[3]]);
+            }
+        }
+    }
+    // Folded: rows zigzag in the xz-plane, columns in the xy-plane; every parallelogram
+    // keeps its sides a, b and the product of its in-plane offsets ℓ·s' = a·s, so it stays
+    // congruent to the flat one. φ runs from 0 (flat) to γ (flat-folded).
+    let folded_at = |t: f64| -> Vec<Vec3> {
+        let phi = t * gamma;
+        let (l, hz) = (a * phi.cos(), a * phi.sin());
+        let s2 = s / phi.cos();
+        let w = (b * b - s2 * s2).max(0.0).sqrt();
+        let mut out = Vec::new();
+        for j in 0..=p.ny {
+            for i in 0..=p.nx {
+                out.push(Vec3::new(
+                    i as f64 * l + (j % 2) as f64 * s2,
+                    j as f64 * w,
+                    (i % 2) as f64 * hz,
+                ));
+            }
+        }
+        out
+    };
+    finish(p, flat, faces, |t| Ok(folded_at(t)), Assignment::Unassigned)
+}
+
+/// Flat and, when asked, folded parts; interior edges not yet decided get their mountain or
+/// valley from the fold at t = 0.5.
+fn finish(
+    p: &Params,
+    flat: Vec<Vec2>,
+    faces: Vec<[usize; 3]>,
+    folded_at: impl Fn(f64) -> Result<Vec<Vec3>, GenerateError>,
+    undecided: Assignment,
+) -> Result<Mesh, GenerateError> {
+    let mut parts = build(flat, faces, |_, _| undecided, p.alpha);
+    if undecided == Assignment::Unassigned {
+        assign_by_fold(&mut parts, folded_at(0.5)?)?;
+        for e in &mut parts.edges {
+            if e.assignment == Assignment::Flat {
+                e.alpha = p.alpha;
+            }
+        }
+    }
+    if let Some(t) = p.fold {
+        parts.positions = Some(folded_at(t)?);
+    }
+    Ok(Mesh::new(parts)?)
+}
+
+fn waterbomb(p: &Params) -> Result<Mesh, GenerateError> {
+    // Lattice of points (x, y) with x + y even, in units of half the cell size; every
+    // vertex is a waterbomb base: horizontal mountains, diagonal valleys (2 M + 4 V).
+    let u = p.size / 2.0;
+    let (w, m) = (2 * p.nx, 2 * p.ny);
+    let rows: Vec<Vec<f64>> = (0..=m)
+        .map(|y| {
+            (0..=w)
+                .filter(|&x| (x + y) % 2 == 0 || x == 0 || x == w)
+                .map(|x| x as f64 * u)
+                .collect()
+        })
+        .collect();
+    let (flat, faces) = rows_zipper(&rows, u);
+    let parts = build(
+        flat,
+        faces,
+        |a, b| {
+            if (a.y - b.y).abs() < 1e-9 * u {
+                Assignment::Mountain
+            } else {
+                Assignment::Valley
+            }
+        },
+        p.alpha,
+    );
+    Ok(Mesh::new(parts)?)
+}
+
+fn yoshimura(p: &Params) -> Result<Mesh, GenerateError> {
+    // Rows of equal-sided diamonds: horizontal creases of length w, diagonals to the
+    // half-offset neighbours in the next row.
+    let (w, h) = (p.size, p.size * 3f64.sqrt() / 2.0);
+    let rows: Vec<Vec<f64>> = (0..=p.ny)
+        .map(|j| {
+            let shift = if j % 2 == 1 { 0.5 } else { 0.0 };
+            let count = if j % 2 == 1 { p.nx } else { p.nx + 1 };
+            (0..count).map(|i| (i as f64 + shift) * w).collect()
+        })
+        .collect();
+    let (flat, faces) = rows_zipper(&rows, h);
+    // Folded: each row is a polygon inscribed in a circle of radius R, rows stacked along
+    // the axis at spacing hz. Horizontal chords stay w; diagonals stay √((w/2)² + h²) by
+    // the choice of hz. Δ (the angle per cell) runs from 0 (flat) to Δmax (flat-folded).
+    let d = ((w / 2.0).powi(2) + h * h).sqrt();
+    let delta_max = 4.0 * (w / (2.0 * d)).acos();
+    let flat_ref = flat.clone();
+    let folded_at = move |t: f64| -> Result<Vec<Vec3>, GenerateError> {
+        let delta = t * delta_max;
+        if delta == 0.0 {
+            return Ok(flat_ref.iter().map(|q| Vec3::new(q.x, q.y, 0.0)).collect());
+        }
+        let r = w / (2.0 * (delta / 2.0).sin());
+        let hz = (d * d - (2.0 * r * (delta / 4.0).sin()).powi(2))
+            .max(0.0)
+            .sqrt();
+        Ok(flat_ref
+            .iter()
+            .map(|q| {
+                let phi = q.x / w * delta;
+                let row = (q.y / h).round();
+                Vec3::new(r * phi.sin(), row * hz, 2.0 * r * (phi / 2.0).sin().powi(2))
+            })
+            .collect())
+    };
+    finish(p, flat, faces, folded_at, Assignment::Unassigned)
+}
+
+fn resch(p: &Params) -> Result<Mesh, GenerateError> {
+    // Equilateral lattice; each upward triangle is a tuck (a star: mountains from its
+    // centre to the corners, valleys to the side midpoints), each downward one a tile.
+    let l = p.size;
+    let h = l * 3f64.sqrt() / 2.0;
+    let rows: Vec<Vec<f64>> = (0..=p.ny)
+        .map(|j| {
+            let shift = if j % 2 == 1 { 0.5 } else { 0.0 };
+            (0..=p.nx).map(|i| (i as f64 + shift) * l).collect()
+        })
+        .collect();
+    let (flat, faces) = rows_zipper(&rows, h);
+    let parts = subdivide_resch(&flat, &faces);
+    Ok(Mesh::new(parts)?)
+}
+
+fn plane(p: &Params) -> Result<Mesh, GenerateError> {
+    // Regular triangular grid on a rectangle; the folded state bends it along the
+    // horizontal grid lines into a polygonal cylinder (rows keep their x, each row step
+    // keeps its length h), a half turn in all at fold 1.
+    let (w, h) = (p.size, p.size * 3f64.sqrt() / 2.0);
+    let width = p.nx as f64 * w;
+    let rows: Vec<Vec<f64>> = (0..=p.ny)
+        .map(|j| {
+            let mut xs: Vec<f64> = if j % 2 == 1 {
+                (0..p.nx).map(|i| (i as f64 + 0.5) * w).collect()
+            } else {
+                (0..=p.nx).map(|i| i as f64 * w).collect()
+            };
+            if j % 2 == 1 {
+                xs.insert(0, 0.0);
+                xs.push(width);
+            }
+            xs
+        })
+        .collect();
+    let (flat, faces) = rows_zipper(&rows, h);
+    let flat_ref = flat.clone();
+    let ny = p.ny;
+    let folded_at = move |t: f64| -> Result<Vec<Vec3>, GenerateError> {
+        let beta = t * PI / ny as f64;
+        let mut profile = vec![(0.0f64, 0.0f64)];
+        for k in 0..ny {
+            let (y, z) = profile[k];
+            let ang = beta * (k as f64 + 0.5);
+            profile.push((y + h * ang.cos(), z + h * ang.sin()));
+        }
+        Ok(flat_ref
+            .iter()
+            .map(|q| {
+                let (y, z) = profile[(q.y / h).round() as usize];
+                Vec3::new(q.x, y, z)
+            })
+            .collect())
+    };
+    finish(p, flat, faces, folded_at, Assignment::Unassigned).map(|mut m| {
+        // No creases in a plane: every interior line may bend either way.
+        for e in m.edges_mut() {
+            if !e.assignment.is_boundary() {
+                e.assignment = Assignment::Unassigned;
+                e.target = 0.0;
+                e.fold_angle = 0.0;
+            }
+        }
+        m
+    })
+}
+
+fn curved(p: &Params) -> Result<Mesh, GenerateError> {
+    // Rectangular grid: the lines across the strip (x constant) are the folds, alternating
+    // mountain and valley; lines along it and the quad diagonals are rulings (target 0,
+    // α = 0), so each quad stays planar. Folded: an accordion, each fold by ±t·π.
+    let (w, hy) = (p.size, p.size);
+    let idx = |i: usize, j: usize| j * (p.nx + 1) + i;
+    let mut flat = Vec::new();
+    for j in 0..=p.ny {
+        for i in 0..=p.nx {
+            flat.push(Vec2::new(i as f64 * w, j as f64 * hy));
+        }
+    }
+    let mut faces = Vec::new();
+    for j in 0..p.ny {
+        for i in 0..p.nx {
+            faces.push([idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)]);
+            faces.push([idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)]);
+        }
+    }
+    let (nx, ny) = (p.nx, p.ny);
+    let folded_at = move |t: f64| -> Result<Vec<Vec3>, GenerateError> {
+        let half = t * PI / 2.0;
+        let mut xz = vec![(0.0f64, 0.0f64)];
+        for i in 0..nx {
+            let (x, z) = xz[i];
+            let sign = if i % 2 == 0 { 1.0 } else { -1.0 };
+            xz.push((x + w * half.cos(), z + sign * w * half.sin()));
+        }
+        let mut out = Vec::new();
+        for j in 0..=ny {
+            for &(x, z) in xz.iter() {
+                out.push(Vec3::new(x, j as f64 * hy, z));
+            }
+        }
+        Ok(out)
+    };
+    finish(p, flat, faces, folded_at, Assignment::Unassigned)
+}

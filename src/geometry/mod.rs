@@ -1,0 +1,82 @@
+//! Sector angles θ and fold angles ρ of a triangle mesh (paper §2–3), and their gradients
+//! (eq. 12–18). Free functions over position slices so the solver can call them on any
+//! configuration without building a mesh.
+
+mod gradients;
+
+pub use gradients::{fold_angle_gradient, sector_angle_gradient};
+
+use crate::mesh::{Mesh, Topology, Vec3};
+use std::f64::consts::PI;
+
+/// The angle at corner `k` of triangle `face` (θ in eq. 1), radians in [0, π].
+pub fn sector_angle(positions: &[Vec3], face: [usize; 3], k: usize) -> f64 {
+    let p = positions[face[k]];
+    let a = positions[face[(k + 1) % 3]] - p;
+    let b = positions[face[(k + 2) % 3]] - p;
+    a.cross(&b).norm().atan2(a.dot(&b))
+}
+
+/// Unit normal of a counter-clockwise triangle (`n_ijk` in eq. 12–18).
+pub fn face_normal(positions: &[Vec3], face: [usize; 3]) -> Vec3 {
+    let [i, j, k] = face;
+    (positions[j] - positions[i])
+        .cross(&(positions[k] - positions[i]))
+        .normalize()
+}
+
+/// Fold angle ρ of edge `e` (paper §2.4: |ρ| = π − dihedral angle; mountain positive),
+/// in (−π, π]. Zero for boundary edges.
+pub fn fold_angle(
+    positions: &[Vec3],
+    faces: &[[usize; 3]],
+    topology: &Topology,
+    e: usize,
+    ends: [usize; 2],
+) -> f64 {
+    let [left, right] = topology.edge_faces[e];
+    let (Some(l), Some(r)) = (left, right) else {
+        return 0.0;
+    };
+    let n1 = face_normal(positions, faces[l]);
+    let n2 = face_normal(positions, faces[r]);
+    let axis = (positions[ends[1]] - positions[ends[0]]).normalize();
+    n1.cross(&n2).dot(&axis).atan2(n1.dot(&n2))
+}
+
+/// The fold angle on the branch closest to `previous` (paper §2: the stored angle of the
+/// last frame picks the plausible candidate, so a crease folded past ±π keeps its sign).
+pub fn track_branch(raw: f64, previous: f64) -> f64 {
+    let turns = ((previous - raw) / (2.0 * PI)).round();
+    raw + turns * 2.0 * PI
+}
+
+/// Fold angles of every edge of a mesh at its current positions.
+pub fn fold_angles(mesh: &Mesh) -> Vec<f64> {
+    mesh.edges()
+        .iter()
+        .enumerate()
+        .map(|(e, edge)| {
+            fold_angle(
+                mesh.positions(),
+                mesh.faces(),
+                mesh.topology(),
+                e,
+                edge.vertices,
+            )
+        })
+        .collect()
+}
+
+/// The sector angles around vertex `v`, in fan order (counter-clockwise from the front).
+pub fn sector_angles(mesh: &Mesh, v: usize) -> Vec<f64> {
+    mesh.topology().fans[v]
+        .faces
+        .iter()
+        .map(|&f| {
+            let face = mesh.faces()[f];
+            let k = face.iter().position(|&x| x == v).expect("fan face holds v");
+            sector_angle(mesh.positions(), face, k)
+        })
+        .collect()
+}

@@ -1,0 +1,473 @@
+//! FOLD 1.1 (JSON). Frame 0 holds the 3D folded form; a `creasePattern` frame holds the
+//! flat positions of the same vertices. Angles on disk are FOLD's: degrees, valley
+//! positive. This module is the one place where they are converted to the paper's radians.
+
+use super::planar::{mesh_from_segments, Segment};
+use crate::mesh::{
+    split_along_cuts, triangulate_polygon, Assignment, Edge, Mesh, MeshParts, Vec2, Vec3,
+};
+use serde::Deserialize;
+use std::fmt::Write as _;
+
+/// FOLD degrees (valley positive) to paper radians (mountain positive).
+pub fn angle_from_fold(degrees: f64) -> f64 {
+    -degrees.to_radians()
+}
+
+/// Paper radians (mountain positive) to FOLD degrees (valley positive).
+pub fn angle_to_fold(radians: f64) -> f64 {
+    let d = -radians.to_degrees();
+    if d == 0.0 {
+        0.0 // never write -0
+    } else {
+        d
+    }
+}
+
+#[derive(Deserialize, Default, Clone)]
+struct Frame {
+    frame_title: Option<String>,
+    frame_classes: Option<Vec<String>>,
+    frame_unit: Option<String>,
+    frame_inherit: Option<bool>,
+    frame_parent: Option<usize>,
+    vertices_coords: Option<Vec<Vec<f64>>>,
+    edges_vertices: Option<Vec<[usize; 2]>>,
+    edges_assignment: Option<Vec<String>>,
+    #[serde(rename = "edges_foldAngle")]
+    edges_fold_angle: Option<Vec<Option<f64>>>,
+    faces_vertices: Option<Vec<Vec<usize>>>,
+    #[serde(rename = "crease:targetAngle")]
+    target_angle: Option<Vec<Option<f64>>>,
+    #[serde(rename = "crease:alpha")]
+    alpha: Option<Vec<f64>>,
+    #[serde(rename = "crease:lockTopology")]
+    lock_topology: Option<bool>,
+}
+
+impl Frame {
+    fn inherit_from(&mut self, parent: &Frame) {
+        macro_rules! take {
+            ($($f:ident),*) => { $( if self.$f.is_none() { self.$f = parent.$f.clone(); } )* };
+        }
+        take!(
+            frame_unit,
+            vertices_coords,
+            edges_vertices,
+            edges_assignment,
+            edges_fold_angle,
+            faces_vertices,
+            target_angle,
+            alpha
+        );
+    }
+
+    fn has_class(&self, class: &str) -> bool {
+        self.frame_classes
+            .as_ref()
+            .is_some_and(|c| c.iter().any(|x| x == class))
+    }
+}
+
+#[derive(Deserialize)]
+struct FoldFile {
+    file_title: Option<String>,
+    #[serde(flatten)]
+    frame: Frame,
+    file_frames: Option<Vec<Frame>>,
+}
+
+fn unit_scale(unit: Option<&str>) -> Result<f64, String> {
+    Ok(match unit.unwrap_or("unit") {
+        "unit" | "mm" => 1.0,
+        "cm" => 10.0,
+        "m" => 1000.0,
+        "in" => 25.4,
+        "pt" => 25.4 / 72.0,
+        "um" => 1e-3,
+        "nm" => 1e-6,
+        other => return Err(format!("unknown frame_unit \"{other}\"")),
+    })
+}
+
+/// Coordinates of a frame as 3D points in mm.
+fn coords(frame: &Frame) -> Result<Vec<Vec3>, String> {
+    let scale = unit_scale(frame.frame_unit.as_deref())?;
+    let raw = frame.vertices_coords.as_ref().ok_or("no vertices_coords")?;
+    raw.iter()
+        .enumerate()
+        .map(|(i, c)| {
+            if c.len() < 2 || c.len() > 3 {
+                return Err(format!(
+                    "vertex {i} has {} coordinates (expected 2 or 3)",
+                    c.len()
+                ));
+            }
+            Ok(Vec3::new(c[0], c[1], c.get(2).copied().unwrap_or(0.0)) * scale)
+        })
+        .collect()
+}
+
+/// The flat layout of a planar frame, keeping the given faces counter-clockwise when they
+/// all agree; `None` if the frame is not planar or its faces overlap (a flat-folded form).
+fn planar_layout(points: &[Vec3], faces: &[Vec<usize>]) -> Option<Vec<Vec2>> {
+    let (lo, hi) = points.iter().fold(
+        (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.inf(p), hi.sup(p)),
+    );
+    let extent = hi - lo;
+    let tol = 1e-9 * extent.norm().max(f64::MIN_POSITIVE);
+    // Prefer an exact axis-aligned plane: coordinates are copied, not recomputed.
+    let axis = (0..3).rev().find(|&k| extent[k] <= tol)?;
+    let (i, j) = match axis {
+        2 => (0, 1),
+        1 => (0, 2),
+        _ => (1, 2),
+    };
+    let mut flat: Vec<Vec2> = points.iter().map(|p| Vec2::new(p[i], p[j])).collect();
+    let signs: Vec<f64> = faces
+        .iter()
+        .filter(|f| f.len() >= 3 && f.iter().all(|&v| v < flat.len()))
+        .map(|f| {
+            (0..f.len())
+                .map(|k| flat[f[k]].perp(&flat[f[(k + 1) % f.len()]]))
+                .sum::<f64>()
+        })
+        .collect();
+    let positive = signs.iter().filter(|&&s| s > 0.0).count();
+    let negative = signs.iter().filter(|&&s| s < 0.0).count();
+    if positive > 0 && negative > 0 {
+        return None;
+    }
+    if negative > 0 {
+        for p in &mut flat {
+            p.y = -p.y;
+        }
+    }
+    Some(flat)
+}
+
+/// Parses FOLD text into a mesh. Errors are causes without the file name.
+pub fn parse(text: &str) -> Result<Mesh, String> {
+    if text.trim().is_empty() {
+        return Err("the file is empty".into());
+    }
+    let file: FoldFile =
+        serde_json::from_str(text).map_err(|e| format!("not valid FOLD JSON: {e}"))?;
+    let mut frames = vec![file.frame.clone()];
+    for (k, f) in file.file_frames.iter().flatten().enumerate() {
+        let mut f = f.clone();
+        if f.frame_inherit == Some(true) {
+            let parent = f.frame_parent.unwrap_or(0);
+            let p = frames
+                .get(parent)
+                .ok_or(format!(
+                    "frame {} inherits from missing frame {parent}",
+                    k + 1
+                ))?
+                .clone();
+            f.inherit_from(&p);
+        }
+        frames.push(f);
+    }
+    let top = &frames[0];
+    let face_lists = top.faces_vertices.clone().unwrap_or_default();
+    let with_coords = |f: &&Frame| f.vertices_coords.is_some();
+    let cp_frame = frames
+        .iter()
+        .filter(with_coords)
+        .find(|f| f.has_class("creasePattern"));
+    let folded_frame = frames
+        .iter()
+        .filter(with_coords)
+        .find(|f| !f.has_class("creasePattern"));
+    let mut flat: Option<Vec<Vec2>> = None;
+    let mut folded: Option<Vec<Vec3>> = None;
+    if let Some(f) = cp_frame {
+        let p = coords(f)?;
+        match planar_layout(&p, &face_lists) {
+            Some(layout) => flat = Some(layout),
+            None => folded = Some(p),
+        }
+    }
+    if let Some(f) = folded_frame {
+        let p = coords(f)?;
+        // A "folded form" lying flat without overlaps is a crease pattern (cube-cp.fold,
+        // Origami Simulator's exports); one with overlapping faces is flat-folded.
+        match (flat.is_none(), planar_layout(&p, &face_lists)) {
+            (true, Some(layout)) => flat = Some(layout),
+            _ => folded = Some(p),
+        }
+    }
+    let n = flat
+        .as_ref()
+        .map(|f| f.len())
+        .or(folded.as_ref().map(|f| f.len()))
+        .ok_or("no vertices_coords in any frame")?;
+    let edges = read_edges(top, n)?;
+    let title = top
+        .frame_title
+        .clone()
+        .or(file.file_title.clone())
+        .unwrap_or_default();
+
+    let mut parts = if face_lists.is_empty() {
+        let flat = flat.ok_or("edges-only FOLD files need a flat crease pattern to find faces")?;
+        let segments: Vec<Segment> = edges
+            .iter()
+            .map(|e| Segment {
+                a: flat[e.vertices[0]],
+                b: flat[e.vertices[1]],
+                assignment: e.assignment,
+                fold_angle: e.fold_angle,
+            })
+            .collect();
+        mesh_from_segments(&segments)?.0
+    } else {
+        let mut faces = Vec::with_capacity(face_lists.len());
+        for (i, poly) in face_lists.iter().enumerate() {
+            if let Some(&v) = poly.iter().find(|&&v| v >= n) {
+                return Err(format!(
+                    "face {i} refers to vertex {v}, but there are only {n} vertices"
+                ));
+            }
+            triangulate_face(i, poly, flat.as_deref(), folded.as_deref(), &mut faces)?;
+        }
+        MeshParts {
+            positions: folded,
+            flat,
+            faces,
+            edges,
+        }
+    };
+    split_along_cuts(&mut parts);
+    let mut mesh = Mesh::new(parts).map_err(|e| e.to_string())?;
+    mesh.title = title;
+    mesh.lock_topology = top.lock_topology.unwrap_or(false);
+    Ok(mesh)
+}
+
+fn read_edges(frame: &Frame, n: usize) -> Result<Vec<Edge>, String> {
+    let ev = frame.edges_vertices.clone().unwrap_or_default();
+    let m = ev.len();
+    let check_len = |name: &str, len: Option<usize>| match len {
+        Some(l) if l != m => Err(format!("{name} has {l} entries but edges_vertices has {m}")),
+        _ => Ok(()),
+    };
+    check_len(
+        "edges_assignment",
+        frame.edges_assignment.as_ref().map(Vec::len),
+    )?;
+    check_len(
+        "edges_foldAngle",
+        frame.edges_fold_angle.as_ref().map(Vec::len),
+    )?;
+    check_len(
+        "crease:targetAngle",
+        frame.target_angle.as_ref().map(Vec::len),
+    )?;
+    check_len("crease:alpha", frame.alpha.as_ref().map(Vec::len))?;
+    let mut edges = Vec::with_capacity(m);
+    for (i, &[a, b]) in ev.iter().enumerate() {
+        if let Some(&v) = [a, b].iter().find(|&&v| v >= n) {
+            return Err(format!(
+                "edge {i} refers to vertex {v}, but there are only {n} vertices"
+            ));
+        }
+        let fold = frame
+            .edges_fold_angle
+            .as_ref()
+            .and_then(|f| f[i])
+            .map(angle_from_fold);
+        let assignment = match frame.edges_assignment.as_ref() {
+            Some(list) => Assignment::from_fold(&list[i])
+                .ok_or_else(|| format!("edge {i} has unknown assignment \"{}\"", list[i]))?,
+            None => match fold {
+                Some(r) if r > 0.0 => Assignment::Mountain,
+                Some(r) if r < 0.0 => Assignment::Valley,
+                _ => Assignment::Unassigned,
+            },
+        };
+        let mut e = Edge::new(a, b, assignment);
+        if let Some(r) = fold {
+            e.fold_angle = r;
+        }
+        if let Some(t) = frame.target_angle.as_ref().and_then(|t| t[i]) {
+            e.target = angle_from_fold(t);
+        }
+        if let Some(al) = frame.alpha.as_ref() {
+            e.alpha = al[i];
+        }
+        edges.push(e);
+    }
+    Ok(edges)
+}
+
+/// Splits a polygon face into triangles with flat creases, in the crease pattern when
+/// known, else in the polygon's own plane.
+fn triangulate_face(
+    index: usize,
+    poly: &[usize],
+    flat: Option<&[Vec2]>,
+    folded: Option<&[Vec3]>,
+    out: &mut Vec<[usize; 3]>,
+) -> Result<(), String> {
+    if poly.len() < 3 {
+        return Err(format!("face {index} has {} vertices", poly.len()));
+    }
+    if poly.len() == 3 {
+        out.push([poly[0], poly[1], poly[2]]);
+        return Ok(());
+    }
+    let corners: Vec<Vec2> = match (flat, folded) {
+        (Some(f), _) => poly.iter().map(|&v| f[v]).collect(),
+        (None, Some(p)) => {
+            let pts: Vec<Vec3> = poly.iter().map(|&v| p[v]).collect();
+            // Newell's normal, then any orthonormal basis of its plane.
+            let mut normal = Vec3::zeros();
+            for k in 0..pts.len() {
+                normal += pts[k].cross(&pts[(k + 1) % pts.len()]);
+            }
+            let normal = normal
+                .try_normalize(0.0)
+                .ok_or(format!("face {index} is degenerate"))?;
+            let helper = if normal.x.abs() < 0.9 {
+                Vec3::x()
+            } else {
+                Vec3::y()
+            };
+            let u = normal.cross(&helper).normalize();
+            let w = normal.cross(&u);
+            pts.iter()
+                .map(|q| Vec2::new(q.dot(&u), q.dot(&w)))
+                .collect()
+        }
+        (None, None) => unreachable!("positions were checked"),
+    };
+    let tris = triangulate_polygon(&corners).ok_or_else(|| {
+        format!("face {index} cannot be triangulated (degenerate or self-intersecting)")
+    })?;
+    // Keep the file's winding: ear clipping returns counter-clockwise triangles.
+    let ccw = (0..corners.len())
+        .map(|k| corners[k].perp(&corners[(k + 1) % corners.len()]))
+        .sum::<f64>()
+        > 0.0;
+    for t in tris {
+        let t = [poly[t[0]], poly[t[1]], poly[t[2]]];
+        out.push(if ccw { t } else { [t[0], t[2], t[1]] });
+    }
+    Ok(())
+}
+
+/// Serialises a mesh as FOLD 1.1 text. Deterministic: the same mesh gives the same bytes.
+pub fn to_string(mesh: &Mesh) -> String {
+    let num = |x: f64| {
+        let x = if x == 0.0 { 0.0 } else { x };
+        serde_json::to_string(&x).expect("finite number")
+    };
+    let list = |items: Vec<String>| -> String {
+        if items.is_empty() {
+            return "[]".into();
+        }
+        format!("[\n    {}\n  ]", items.join(",\n    "))
+    };
+    let mut out = String::from("{\n");
+    let mut field = |name: &str, value: String| {
+        let _ = writeln!(out, "  \"{name}\": {value},");
+    };
+    field("file_spec", "1.1".into());
+    field("file_creator", "\"crease\"".into());
+    field("file_classes", "[\"singleModel\"]".into());
+    if !mesh.title.is_empty() {
+        field("frame_title", serde_json::to_string(&mesh.title).unwrap());
+    }
+    let (class, attr) = if mesh.has_3d() {
+        ("foldedForm", "3D")
+    } else {
+        ("creasePattern", "2D")
+    };
+    field("frame_classes", format!("[\"{class}\"]"));
+    field("frame_attributes", format!("[\"{attr}\"]"));
+    field("frame_unit", "\"mm\"".into());
+    let coords: Vec<String> = if mesh.has_3d() {
+        mesh.positions()
+            .iter()
+            .map(|p| format!("[{}, {}, {}]", num(p.x), num(p.y), num(p.z)))
+            .collect()
+    } else {
+        mesh.flat()
+            .expect("a mesh without 3D data has a crease pattern")
+            .iter()
+            .map(|p| format!("[{}, {}]", num(p.x), num(p.y)))
+            .collect()
+    };
+    field("vertices_coords", list(coords));
+    let edges = mesh.edges();
+    field(
+        "edges_vertices",
+        list(
+            edges
+                .iter()
+                .map(|e| format!("[{}, {}]", e.vertices[0], e.vertices[1]))
+                .collect(),
+        ),
+    );
+    field(
+        "edges_assignment",
+        format!(
+            "[{}]",
+            edges
+                .iter()
+                .map(|e| format!("\"{}\"", e.assignment.fold_letter()))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    );
+    let angles = |f: &dyn Fn(&Edge) -> f64| {
+        format!(
+            "[{}]",
+            edges
+                .iter()
+                .map(|e| num(angle_to_fold(f(e))))
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    };
+    field("edges_foldAngle", angles(&|e| e.fold_angle));
+    field("crease:targetAngle", angles(&|e| e.target));
+    field(
+        "crease:alpha",
+        format!(
+            "[{}]",
+            edges
+                .iter()
+                .map(|e| num(e.alpha))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    );
+    if mesh.lock_topology {
+        field("crease:lockTopology", "true".into());
+    }
+    field(
+        "faces_vertices",
+        list(
+            mesh.faces()
+                .iter()
+                .map(|f| format!("[{}, {}, {}]", f[0], f[1], f[2]))
+                .collect(),
+        ),
+    );
+    let frames = match (mesh.has_3d(), mesh.flat()) {
+        (true, Some(flat)) => format!(
+            "[\n    {{\n      \"frame_classes\": [\"creasePattern\"],\n      \"frame_attributes\": [\"2D\"],\n      \"frame_inherit\": true,\n      \"frame_parent\": 0,\n      \"vertices_coords\": [\n        {}\n      ]\n    }}\n  ]",
+            flat.iter()
+                .map(|p| format!("[{}, {}]", num(p.x), num(p.y)))
+                .collect::<Vec<_>>()
+                .join(",\n        ")
+        ),
+        _ => "[]".into(),
+    };
+    let _ = write!(out, "  \"file_frames\": {frames}\n}}\n");
+    out
+}

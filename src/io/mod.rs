@@ -1,0 +1,132 @@
+//! Pattern files in and out: FOLD, ORIPA `.cp`, Origami Simulator SVG, Freeform Origami OBJ.
+//! Every error names the file and the cause; every write goes to a temporary file first and
+//! is renamed into place, so a failed run never leaves half a file behind.
+
+mod cp;
+pub mod fold;
+mod obj;
+pub mod planar;
+mod svg_path;
+mod svg_read;
+mod svg_write;
+
+use crate::mesh::Mesh;
+use std::path::{Path, PathBuf};
+
+/// A file that could not be read or written, and why.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: {cause}", path.display())]
+pub struct FileError {
+    /// The file.
+    pub path: PathBuf,
+    /// What is wrong with it.
+    pub cause: String,
+}
+
+impl FileError {
+    /// An error about `path`.
+    pub fn new(path: &Path, cause: impl Into<String>) -> Self {
+        FileError {
+            path: path.to_path_buf(),
+            cause: cause.into(),
+        }
+    }
+}
+
+/// Pattern file formats, chosen by extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// FOLD 1.1 JSON (`.fold`).
+    Fold,
+    /// ORIPA crease pattern (`.cp`).
+    Cp,
+    /// Origami Simulator SVG crease pattern (`.svg`).
+    Svg,
+    /// Freeform Origami OBJ (`.obj`).
+    Obj,
+}
+
+impl Format {
+    /// The format for a path's extension.
+    pub fn from_path(path: &Path) -> Result<Format, FileError> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .unwrap_or_default();
+        match ext.as_str() {
+            "fold" | "json" => Ok(Format::Fold),
+            "cp" => Ok(Format::Cp),
+            "svg" => Ok(Format::Svg),
+            "obj" => Ok(Format::Obj),
+            _ => Err(FileError::new(
+                path,
+                format!("unknown file type \".{ext}\" (expected .fold, .cp, .svg or .obj)"),
+            )),
+        }
+    }
+}
+
+/// A mesh read from a file, with notes on what import changed (dropped lines, holes).
+pub struct Imported {
+    /// The mesh.
+    pub mesh: Mesh,
+    /// Human-readable notes for the user.
+    pub notes: Vec<String>,
+}
+
+/// Reads a pattern file of any supported format.
+pub fn read(path: &Path) -> Result<Mesh, FileError> {
+    read_with_notes(path).map(|i| i.mesh)
+}
+
+/// Reads a pattern file and reports what import changed.
+pub fn read_with_notes(path: &Path) -> Result<Imported, FileError> {
+    let format = Format::from_path(path)?;
+    let bytes = std::fs::read(path).map_err(|e| FileError::new(path, e.to_string()))?;
+    let text =
+        String::from_utf8(bytes).map_err(|_| FileError::new(path, "the file is not UTF-8 text"))?;
+    let err = |cause: String| FileError::new(path, cause);
+    let mut notes = Vec::new();
+    let mesh = match format {
+        Format::Fold => fold::parse(&text).map_err(err)?,
+        Format::Cp => cp::parse(&text, &mut notes).map_err(err)?,
+        Format::Svg => svg_read::parse(&text, &mut notes).map_err(err)?,
+        Format::Obj => obj::parse(&text).map_err(err)?,
+    };
+    Ok(Imported { mesh, notes })
+}
+
+/// Serialises a mesh in a format.
+pub fn to_string(mesh: &Mesh, format: Format) -> Result<String, String> {
+    match format {
+        Format::Fold => Ok(fold::to_string(mesh)),
+        Format::Cp => cp::to_string(mesh),
+        Format::Svg => svg_write::to_string(mesh),
+        Format::Obj => Ok(obj::to_string(mesh)),
+    }
+}
+
+/// Writes a mesh to a file, the format chosen by extension.
+pub fn write(mesh: &Mesh, path: &Path) -> Result<(), FileError> {
+    let format = Format::from_path(path)?;
+    let text = to_string(mesh, format).map_err(|c| FileError::new(path, c))?;
+    write_atomic(path, text.as_bytes())
+}
+
+/// Writes bytes to `path` through a temporary file in the same folder and a rename, so
+/// readers never see a partial file. Creates missing parent folders.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), FileError> {
+    let err = |e: std::io::Error| FileError::new(path, e.to_string());
+    if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(parent).map_err(err)?;
+    }
+    let mut tmp_name = path.file_name().unwrap_or_default().to_os_string();
+    tmp_name.push(format!(".{}.tmp", std::process::id()));
+    let tmp = path.with_file_name(tmp_name);
+    let result = std::fs::write(&tmp, bytes).and_then(|_| std::fs::rename(&tmp, path));
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result.map_err(err)
+}

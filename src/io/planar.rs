@@ -1,0 +1,404 @@
+//! From a drawing of line segments (ORIPA `.cp`, SVG, edges-only FOLD) to a triangle mesh:
+//! merge near-coincident points, split lines where they cross or touch, find the faces of
+//! the planar graph, drop holes, and triangulate every face with flat creases.
+
+use crate::mesh::{triangulate_polygon, Assignment, Edge, MeshParts, Vec2};
+use std::collections::HashMap;
+
+/// Points closer than this fraction of the drawing's diagonal are merged.
+pub const MERGE_TOLERANCE: f64 = 1e-4;
+
+/// One drawn line of a crease pattern.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Segment {
+    /// Start point.
+    pub a: Vec2,
+    /// End point.
+    pub b: Vec2,
+    /// What the line is.
+    pub assignment: Assignment,
+    /// Fold angle, radians, paper convention.
+    pub fold_angle: f64,
+}
+
+/// What the conversion did beyond the obvious, for the user to know.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PlanarReport {
+    /// Line pieces that ended in the open paper (no face on either side) and were dropped.
+    pub dangling_removed: usize,
+    /// Closed regions bounded only by boundary lines inside the paper (kirigami holes).
+    pub holes: usize,
+}
+
+struct VertexPool {
+    points: Vec<Vec2>,
+    grid: HashMap<(i64, i64), Vec<usize>>,
+    tol: f64,
+}
+
+impl VertexPool {
+    fn cell(&self, p: Vec2) -> (i64, i64) {
+        (
+            (p.x / self.tol).floor() as i64,
+            (p.y / self.tol).floor() as i64,
+        )
+    }
+
+    fn insert(&mut self, p: Vec2) -> usize {
+        let (cx, cy) = self.cell(p);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                if let Some(list) = self.grid.get(&(cx + dx, cy + dy)) {
+                    if let Some(&i) = list
+                        .iter()
+                        .find(|&&i| (self.points[i] - p).norm() <= self.tol)
+                    {
+                        return i;
+                    }
+                }
+            }
+        }
+        self.points.push(p);
+        let i = self.points.len() - 1;
+        self.grid.entry((cx, cy)).or_default().push(i);
+        i
+    }
+}
+
+/// Priority when two drawn lines cover the same piece: the paper's edge wins over creases,
+/// folded creases over free ones, and anything over triangulation lines.
+fn priority(a: Assignment) -> u8 {
+    match a {
+        Assignment::Boundary | Assignment::Cut => 4,
+        Assignment::Mountain | Assignment::Valley => 3,
+        Assignment::Unassigned => 2,
+        Assignment::Flat | Assignment::Join => 1,
+    }
+}
+
+/// Builds a flat mesh from drawn segments. Errors are plain causes; the caller adds the
+/// file name.
+pub fn mesh_from_segments(segments: &[Segment]) -> Result<(MeshParts, PlanarReport), String> {
+    if segments.is_empty() {
+        return Err("no crease or boundary lines found".into());
+    }
+    let mut lo = Vec2::repeat(f64::INFINITY);
+    let mut hi = Vec2::repeat(f64::NEG_INFINITY);
+    for s in segments {
+        for p in [s.a, s.b] {
+            if !p.x.is_finite() || !p.y.is_finite() {
+                return Err("a line has a coordinate that is not a finite number".into());
+            }
+            lo = lo.inf(&p);
+            hi = hi.sup(&p);
+        }
+    }
+    let diag = (hi - lo).norm();
+    if diag == 0.0 {
+        return Err("all lines have zero length".into());
+    }
+    let tol = MERGE_TOLERANCE * diag;
+    let segs: Vec<&Segment> = segments
+        .iter()
+        .filter(|s| (s.b - s.a).norm() > tol)
+        .collect();
+    let mut pool = VertexPool {
+        points: Vec::new(),
+        grid: HashMap::new(),
+        tol,
+    };
+    for s in &segs {
+        pool.insert(s.a);
+        pool.insert(s.b);
+    }
+    // Proper crossings; sweep by x so only overlapping spans are compared.
+    let mut order: Vec<usize> = (0..segs.len()).collect();
+    let min_x = |s: &Segment| s.a.x.min(s.b.x);
+    let max_x = |s: &Segment| s.a.x.max(s.b.x);
+    order.sort_by(|&i, &j| min_x(segs[i]).total_cmp(&min_x(segs[j])));
+    for (oi, &i) in order.iter().enumerate() {
+        for &j in &order[oi + 1..] {
+            if min_x(segs[j]) > max_x(segs[i]) + tol {
+                break;
+            }
+            if let Some(p) = crossing(segs[i], segs[j], tol) {
+                pool.insert(p);
+            }
+        }
+    }
+    // Split every segment at the points lying on it.
+    let mut by_x: Vec<usize> = (0..pool.points.len()).collect();
+    by_x.sort_by(|&i, &j| pool.points[i].x.total_cmp(&pool.points[j].x));
+    let xs: Vec<f64> = by_x.iter().map(|&i| pool.points[i].x).collect();
+    let mut graph: HashMap<(usize, usize), (Assignment, f64)> = HashMap::new();
+    for s in &segs {
+        let d = s.b - s.a;
+        let len = d.norm();
+        let u = d / len;
+        let from = xs.partition_point(|&x| x < min_x(s) - tol);
+        let to = xs.partition_point(|&x| x <= max_x(s) + tol);
+        let mut on: Vec<(f64, usize)> = by_x[from..to]
+            .iter()
+            .filter_map(|&k| {
+                let r = pool.points[k] - s.a;
+                let t = r.dot(&u);
+                (t > -tol && t < len + tol && u.perp(&r).abs() <= tol).then_some((t, k))
+            })
+            .collect();
+        on.sort_by(|a, b| a.0.total_cmp(&b.0));
+        on.dedup_by_key(|x| x.1);
+        for w in on.windows(2) {
+            let (p, q) = (w[0].1, w[1].1);
+            if p == q {
+                continue;
+            }
+            let k = (p.min(q), p.max(q));
+            let entry = graph.entry(k).or_insert((s.assignment, s.fold_angle));
+            if priority(s.assignment) > priority(entry.0) {
+                *entry = (s.assignment, s.fold_angle);
+            }
+        }
+    }
+    let mut report = PlanarReport::default();
+    prune_dangling(&mut graph, &mut report);
+    if graph.is_empty() {
+        return Err("the lines enclose no region of paper".into());
+    }
+    // Keep only vertices in use, renumbered.
+    let mut used: Vec<usize> = graph.keys().flat_map(|&(a, b)| [a, b]).collect();
+    used.sort_unstable();
+    used.dedup();
+    let index: HashMap<usize, usize> = used.iter().enumerate().map(|(i, &v)| (v, i)).collect();
+    let flat: Vec<Vec2> = used.iter().map(|&v| pool.points[v]).collect();
+    let mut keys: Vec<(usize, usize)> = graph.keys().copied().collect();
+    keys.sort_unstable();
+    let edges: Vec<Edge> = keys
+        .iter()
+        .map(|k| {
+            let (assignment, fold_angle) = graph[k];
+            let mut e = Edge::new(index[&k.0], index[&k.1], assignment);
+            e.fold_angle = fold_angle;
+            e
+        })
+        .collect();
+    let faces = trace_faces(&flat, &edges, &mut report)?;
+    Ok((
+        MeshParts {
+            positions: None,
+            flat: Some(flat),
+            faces,
+            edges,
+        },
+        report,
+    ))
+}
+
+fn crossing(s: &Segment, t: &Segment, tol: f64) -> Option<Vec2> {
+    let r = s.b - s.a;
+    let q = t.b - t.a;
+    let denom = r.perp(&q);
+    if denom.abs() <= 1e-12 * r.norm() * q.norm() {
+        return None; // parallel: overlaps are handled by splitting at endpoints
+    }
+    let w = t.a - s.a;
+    let u = w.perp(&q) / denom;
+    let v = w.perp(&r) / denom;
+    let (eu, ev) = (tol / r.norm(), tol / q.norm());
+    (u > -eu && u < 1.0 + eu && v > -ev && v < 1.0 + ev).then(|| s.a + r * u)
+}
+
+fn prune_dangling(
+    graph: &mut HashMap<(usize, usize), (Assignment, f64)>,
+    report: &mut PlanarReport,
+) {
+    loop {
+        let mut degree: HashMap<usize, usize> = HashMap::new();
+        for &(a, b) in graph.keys() {
+            *degree.entry(a).or_default() += 1;
+            *degree.entry(b).or_default() += 1;
+        }
+        let before = graph.len();
+        graph.retain(|&(a, b), _| degree[&a] > 1 && degree[&b] > 1);
+        let removed = before - graph.len();
+        if removed == 0 {
+            return;
+        }
+        report.dangling_removed += removed;
+    }
+}
+
+/// Faces of the planar graph, triangulated. Each bounded face is traced with the paper on
+/// its left; the unbounded face and holes are dropped.
+fn trace_faces(
+    flat: &[Vec2],
+    edges: &[Edge],
+    report: &mut PlanarReport,
+) -> Result<Vec<[usize; 3]>, String> {
+    let n = flat.len();
+    let mut around: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for e in edges {
+        let [a, b] = e.vertices;
+        around[a].push(b);
+        around[b].push(a);
+    }
+    for (v, list) in around.iter_mut().enumerate() {
+        let p = flat[v];
+        list.sort_by(|&x, &y| {
+            let (dx, dy) = (flat[x] - p, flat[y] - p);
+            dx.y.atan2(dx.x).total_cmp(&dy.y.atan2(dy.x))
+        });
+    }
+    let mut visited: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut cycles: Vec<Vec<usize>> = Vec::new();
+    for e in edges {
+        for (a, b) in [
+            (e.vertices[0], e.vertices[1]),
+            (e.vertices[1], e.vertices[0]),
+        ] {
+            if visited.contains_key(&(a, b)) {
+                continue;
+            }
+            let id = cycles.len();
+            let mut cycle = Vec::new();
+            let (mut u, mut v) = (a, b);
+            while !visited.contains_key(&(u, v)) {
+                visited.insert((u, v), id);
+                cycle.push(u);
+                // The next edge of the face on the left turns clockwise from v→u.
+                let list = &around[v];
+                let k = list.iter().position(|&x| x == u).expect("twin in list");
+                let w = list[(k + list.len() - 1) % list.len()];
+                (u, v) = (v, w);
+            }
+            cycles.push(cycle);
+        }
+    }
+    let area = |c: &[usize]| -> f64 {
+        (0..c.len())
+            .map(|i| flat[c[i]].perp(&flat[c[(i + 1) % c.len()]]))
+            .sum::<f64>()
+    };
+    let bounded: Vec<bool> = cycles.iter().map(|c| area(c) > 0.0).collect();
+    let edge_kind: HashMap<(usize, usize), Assignment> = edges
+        .iter()
+        .map(|e| {
+            (
+                (
+                    e.vertices[0].min(e.vertices[1]),
+                    e.vertices[0].max(e.vertices[1]),
+                ),
+                e.assignment,
+            )
+        })
+        .collect();
+    let mut faces = Vec::new();
+    for (id, c) in cycles.iter().enumerate() {
+        if !bounded[id] {
+            continue;
+        }
+        let sides = (0..c.len()).map(|i| (c[i], c[(i + 1) % c.len()]));
+        let is_hole = sides.clone().all(|(a, b)| {
+            edge_kind[&(a.min(b), a.max(b))].is_boundary() && bounded[visited[&(b, a)]]
+        });
+        if is_hole {
+            report.holes += 1;
+            continue;
+        }
+        let corners: Vec<Vec2> = c.iter().map(|&v| flat[v]).collect();
+        let tris = triangulate_polygon(&corners).ok_or_else(|| {
+            format!(
+                "the region with corners at vertices {:?} cannot be triangulated (self-touching or degenerate)",
+                c
+            )
+        })?;
+        faces.extend(tris.iter().map(|t| [c[t[0]], c[t[1]], c[t[2]]]));
+    }
+    if faces.is_empty() {
+        return Err("the lines enclose no region of paper".into());
+    }
+    Ok(faces)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn seg(a: (f64, f64), b: (f64, f64), asg: Assignment) -> Segment {
+        Segment {
+            a: Vec2::new(a.0, a.1),
+            b: Vec2::new(b.0, b.1),
+            assignment: asg,
+            fold_angle: asg.default_target(),
+        }
+    }
+
+    fn square(size: f64) -> Vec<Segment> {
+        let c = [(0.0, 0.0), (size, 0.0), (size, size), (0.0, size)];
+        (0..4)
+            .map(|i| seg(c[i], c[(i + 1) % 4], Assignment::Boundary))
+            .collect()
+    }
+
+    #[test]
+    fn crossing_diagonals_are_split_into_four_creases() {
+        let mut s = square(2.0);
+        s.push(seg((0.0, 0.0), (2.0, 2.0), Assignment::Mountain));
+        s.push(seg((2.0, 0.0), (0.0, 2.0), Assignment::Valley));
+        let (parts, _) = mesh_from_segments(&s).unwrap();
+        assert_eq!(parts.flat.as_ref().unwrap().len(), 5);
+        let creases = parts
+            .edges
+            .iter()
+            .filter(|e| e.assignment.is_folded())
+            .count();
+        assert_eq!(creases, 4);
+        assert_eq!(parts.faces.len(), 4);
+    }
+
+    #[test]
+    fn near_coincident_endpoints_merge_and_t_junctions_split() {
+        let mut s = square(10.0);
+        // Ends 1e-6 off the boundary: merged onto it, splitting the bottom side.
+        s.push(seg((5.0, 1e-6), (5.0, 10.0), Assignment::Valley));
+        let (parts, report) = mesh_from_segments(&s).unwrap();
+        assert_eq!(report.dangling_removed, 0);
+        assert_eq!(parts.flat.as_ref().unwrap().len(), 6);
+        let boundary = parts
+            .edges
+            .iter()
+            .filter(|e| e.assignment == Assignment::Boundary);
+        assert_eq!(boundary.count(), 6);
+    }
+
+    #[test]
+    fn a_closed_boundary_loop_inside_the_paper_is_a_hole() {
+        let mut s = square(10.0);
+        let c = [(4.0, 4.0), (6.0, 4.0), (6.0, 6.0), (4.0, 6.0)];
+        for i in 0..4 {
+            s.push(seg(c[i], c[(i + 1) % 4], Assignment::Cut));
+        }
+        s.push(seg((0.0, 0.0), (4.0, 4.0), Assignment::Flat));
+        s.push(seg((10.0, 10.0), (6.0, 6.0), Assignment::Flat));
+        let (parts, report) = mesh_from_segments(&s).unwrap();
+        assert_eq!(report.holes, 1);
+        let flat = parts.flat.unwrap();
+        let area: f64 = parts
+            .faces
+            .iter()
+            .map(|f| 0.5 * (flat[f[1]] - flat[f[0]]).perp(&(flat[f[2]] - flat[f[0]])))
+            .sum();
+        assert!((area - 96.0).abs() < 1e-9, "area {area}");
+    }
+
+    #[test]
+    fn a_crease_ending_in_open_paper_is_dropped_and_counted() {
+        let mut s = square(10.0);
+        s.push(seg((5.0, 0.0), (5.0, 5.0), Assignment::Mountain));
+        let (parts, report) = mesh_from_segments(&s).unwrap();
+        assert_eq!(report.dangling_removed, 1);
+        assert!(parts
+            .edges
+            .iter()
+            .all(|e| e.assignment != Assignment::Mountain));
+    }
+}

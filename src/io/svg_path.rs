@@ -1,0 +1,477 @@
+//! SVG path data and transforms in full `f64` precision, with Bézier curves and elliptical
+//! arcs flattened to polylines within [`CURVE_TOLERANCE_MM`].
+
+use crate::mesh::Vec2;
+use std::f64::consts::PI;
+
+/// Largest distance between a flattened curve and the true one, in millimetres.
+pub const CURVE_TOLERANCE_MM: f64 = 0.02;
+
+/// A 2D affine map `p ↦ (a·x + c·y + e, b·x + d·y + f)`, SVG's `matrix(a b c d e f)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Affine(pub [f64; 6]);
+
+impl Affine {
+    /// The identity.
+    pub const IDENTITY: Affine = Affine([1.0, 0.0, 0.0, 1.0, 0.0, 0.0]);
+
+    /// Applies the map to a point.
+    pub fn apply(&self, p: Vec2) -> Vec2 {
+        let [a, b, c, d, e, f] = self.0;
+        Vec2::new(a * p.x + c * p.y + e, b * p.x + d * p.y + f)
+    }
+
+    /// `self ∘ other`: apply `other` first.
+    pub fn then_inner(&self, other: &Affine) -> Affine {
+        let [a, b, c, d, e, f] = self.0;
+        let [a2, b2, c2, d2, e2, f2] = other.0;
+        Affine([
+            a * a2 + c * b2,
+            b * a2 + d * b2,
+            a * c2 + c * d2,
+            b * c2 + d * d2,
+            a * e2 + c * f2 + e,
+            b * e2 + d * f2 + f,
+        ])
+    }
+
+    /// Scale factor of lengths (geometric mean of the axes).
+    pub fn scale(&self) -> f64 {
+        let [a, b, c, d, ..] = self.0;
+        (a * d - b * c).abs().sqrt()
+    }
+}
+
+/// Parses an SVG `transform` attribute (a list of matrix, translate, scale, rotate, skewX,
+/// skewY), composed left to right as SVG does.
+pub fn parse_transform(text: &str) -> Result<Affine, String> {
+    let mut result = Affine::IDENTITY;
+    let mut rest = text.trim();
+    while !rest.is_empty() {
+        let open = rest
+            .find('(')
+            .ok_or_else(|| format!("bad transform \"{text}\""))?;
+        let close = rest
+            .find(')')
+            .ok_or_else(|| format!("bad transform \"{text}\""))?;
+        let name = rest[..open].trim().trim_start_matches(',').trim();
+        let args: Vec<f64> = rest[open + 1..close]
+            .split(|c: char| c == ',' || c.is_whitespace())
+            .filter(|s| !s.is_empty())
+            .map(|s| {
+                s.parse::<f64>()
+                    .map_err(|_| format!("bad number \"{s}\" in transform"))
+            })
+            .collect::<Result<_, _>>()?;
+        let arg = |i: usize, default: f64| args.get(i).copied().unwrap_or(default);
+        let m = match (name, args.len()) {
+            ("matrix", 6) => Affine([args[0], args[1], args[2], args[3], args[4], args[5]]),
+            ("translate", 1 | 2) => Affine([1.0, 0.0, 0.0, 1.0, args[0], arg(1, 0.0)]),
+            ("scale", 1 | 2) => Affine([args[0], 0.0, 0.0, arg(1, args[0]), 0.0, 0.0]),
+            ("rotate", 1 | 3) => {
+                let (s, c) = args[0].to_radians().sin_cos();
+                let (cx, cy) = (arg(1, 0.0), arg(2, 0.0));
+                let r = Affine([c, s, -s, c, 0.0, 0.0]);
+                Affine([1.0, 0.0, 0.0, 1.0, cx, cy])
+                    .then_inner(&r)
+                    .then_inner(&Affine([1.0, 0.0, 0.0, 1.0, -cx, -cy]))
+            }
+            ("skewX", 1) => Affine([1.0, 0.0, args[0].to_radians().tan(), 1.0, 0.0, 0.0]),
+            ("skewY", 1) => Affine([1.0, args[0].to_radians().tan(), 0.0, 1.0, 0.0, 0.0]),
+            _ => {
+                return Err(format!(
+                    "unsupported transform \"{name}\" with {} arguments",
+                    args.len()
+                ))
+            }
+        };
+        result = result.then_inner(&m);
+        rest = rest[close + 1..].trim();
+    }
+    Ok(result)
+}
+
+struct Tokens<'a> {
+    s: &'a [u8],
+    i: usize,
+}
+
+impl Tokens<'_> {
+    fn skip_separators(&mut self) {
+        while self.i < self.s.len()
+            && (self.s[self.i].is_ascii_whitespace() || self.s[self.i] == b',')
+        {
+            self.i += 1;
+        }
+    }
+
+    fn command(&mut self) -> Option<u8> {
+        self.skip_separators();
+        let c = *self.s.get(self.i)?;
+        if c.is_ascii_alphabetic() && c != b'e' && c != b'E' {
+            self.i += 1;
+            Some(c)
+        } else {
+            None
+        }
+    }
+
+    fn at_number(&mut self) -> bool {
+        self.skip_separators();
+        matches!(self.s.get(self.i), Some(c) if c.is_ascii_digit() || *c == b'-' || *c == b'+' || *c == b'.')
+    }
+
+    fn number(&mut self) -> Result<f64, String> {
+        self.skip_separators();
+        let start = self.i;
+        let s = self.s;
+        let mut i = self.i;
+        if i < s.len() && (s[i] == b'-' || s[i] == b'+') {
+            i += 1;
+        }
+        let mut seen_dot = false;
+        while i < s.len() && (s[i].is_ascii_digit() || (s[i] == b'.' && !seen_dot)) {
+            seen_dot |= s[i] == b'.';
+            i += 1;
+        }
+        if i < s.len() && (s[i] == b'e' || s[i] == b'E') {
+            let mut j = i + 1;
+            if j < s.len() && (s[j] == b'-' || s[j] == b'+') {
+                j += 1;
+            }
+            if j < s.len() && s[j].is_ascii_digit() {
+                i = j;
+                while i < s.len() && s[i].is_ascii_digit() {
+                    i += 1;
+                }
+            }
+        }
+        self.i = i;
+        std::str::from_utf8(&s[start..i])
+            .ok()
+            .and_then(|t| t.parse().ok())
+            .ok_or_else(|| format!("bad number in path data at character {start}"))
+    }
+
+    fn flag(&mut self) -> Result<bool, String> {
+        self.skip_separators();
+        match self.s.get(self.i) {
+            Some(b'0') => {
+                self.i += 1;
+                Ok(false)
+            }
+            Some(b'1') => {
+                self.i += 1;
+                Ok(true)
+            }
+            _ => Err(format!("bad arc flag in path data at character {}", self.i)),
+        }
+    }
+}
+
+/// Flattens path data into polylines (one per subpath) in the coordinates `to_mm` maps to.
+/// Curves are subdivided there, so the tolerance holds in millimetres.
+pub fn flatten_path(d: &str, to_mm: &Affine) -> Result<Vec<Vec<Vec2>>, String> {
+    let mut t = Tokens {
+        s: d.as_bytes(),
+        i: 0,
+    };
+    let tol = CURVE_TOLERANCE_MM;
+    let mut paths: Vec<Vec<Vec2>> = Vec::new();
+    let mut current: Vec<Vec2> = Vec::new();
+    let (mut pos, mut start) = (Vec2::zeros(), Vec2::zeros());
+    let mut last_control: Option<(u8, Vec2)> = None;
+    let mut cmd = t
+        .command()
+        .ok_or("path data does not start with a command")?;
+    if cmd != b'M' && cmd != b'm' {
+        return Err("path data does not start with a move".into());
+    }
+    loop {
+        let rel = cmd.is_ascii_lowercase();
+        let base = if rel { pos } else { Vec2::zeros() };
+        let point = |t: &mut Tokens, base: Vec2| -> Result<Vec2, String> {
+            Ok(base + Vec2::new(t.number()?, t.number()?))
+        };
+        match cmd.to_ascii_uppercase() {
+            b'M' => {
+                if current.len() > 1 {
+                    paths.push(std::mem::take(&mut current));
+                }
+                pos = point(&mut t, base)?;
+                start = pos;
+                current = vec![to_mm.apply(pos)];
+                // Further pairs after a move are line-tos.
+                cmd = if rel { b'l' } else { b'L' };
+                last_control = None;
+                if !t.at_number() {
+                    match t.command() {
+                        Some(c) => {
+                            cmd = c;
+                            continue;
+                        }
+                        None => break,
+                    }
+                }
+                continue;
+            }
+            b'L' => pos = point(&mut t, base)?,
+            b'H' => pos = Vec2::new(t.number()? + if rel { pos.x } else { 0.0 }, pos.y),
+            b'V' => pos = Vec2::new(pos.x, t.number()? + if rel { pos.y } else { 0.0 }),
+            b'C' | b'S' => {
+                let c1 = if cmd.eq_ignore_ascii_case(&b'C') {
+                    point(&mut t, base)?
+                } else {
+                    match last_control {
+                        Some((b'C', c)) => pos * 2.0 - c,
+                        _ => pos,
+                    }
+                };
+                let c2 = point(&mut t, base)?;
+                let end = point(&mut t, base)?;
+                let ctrl = [pos, c1, c2, end].map(|p| to_mm.apply(p));
+                cubic(ctrl, tol, 0, &mut current);
+                last_control = Some((b'C', c2));
+                pos = end;
+            }
+            b'Q' | b'T' => {
+                let c = if cmd.eq_ignore_ascii_case(&b'Q') {
+                    point(&mut t, base)?
+                } else {
+                    match last_control {
+                        Some((b'Q', c)) => pos * 2.0 - c,
+                        _ => pos,
+                    }
+                };
+                let end = point(&mut t, base)?;
+                // Degree elevation: a quadratic is a cubic with these controls.
+                let c1 = pos + (c - pos) * (2.0 / 3.0);
+                let c2 = end + (c - end) * (2.0 / 3.0);
+                cubic(
+                    [pos, c1, c2, end].map(|p| to_mm.apply(p)),
+                    tol,
+                    0,
+                    &mut current,
+                );
+                last_control = Some((b'Q', c));
+                pos = end;
+            }
+            b'A' => {
+                let (rx, ry, phi) = (t.number()?, t.number()?, t.number()?);
+                let (large, sweep) = (t.flag()?, t.flag()?);
+                let end = point(&mut t, base)?;
+                for p in arc(
+                    pos,
+                    end,
+                    rx,
+                    ry,
+                    phi,
+                    large,
+                    sweep,
+                    tol / to_mm.scale().max(1e-300),
+                ) {
+                    current.push(to_mm.apply(p));
+                }
+                pos = end;
+            }
+            b'Z' => {
+                pos = start;
+                current.push(to_mm.apply(start));
+                paths.push(std::mem::take(&mut current));
+                current = vec![to_mm.apply(start)];
+            }
+            other => return Err(format!("unknown path command '{}'", other as char)),
+        }
+        if !matches!(cmd.to_ascii_uppercase(), b'C' | b'S' | b'Q' | b'T' | b'Z') {
+            last_control = None;
+        }
+        if !matches!(
+            cmd.to_ascii_uppercase(),
+            b'C' | b'S' | b'Q' | b'T' | b'A' | b'Z'
+        ) {
+            current.push(to_mm.apply(pos));
+        }
+        // Repeated parameters continue the same command; Z takes none.
+        if cmd.eq_ignore_ascii_case(&b'Z') || !t.at_number() {
+            match t.command() {
+                Some(c) => cmd = c,
+                None => break,
+            }
+        }
+    }
+    if t.i < t.s.len() {
+        t.skip_separators();
+        if t.i < t.s.len() {
+            return Err(format!("unexpected character in path data at {}", t.i));
+        }
+    }
+    if current.len() > 1 {
+        paths.push(current);
+    }
+    Ok(paths)
+}
+
+/// Adaptive subdivision until the control polygon is within `tol` of the chord; appends
+/// every point but the first.
+fn cubic(p: [Vec2; 4], tol: f64, depth: u32, out: &mut Vec<Vec2>) {
+    let chord = p[3] - p[0];
+    let len = chord.norm();
+    let dist = |q: Vec2| {
+        if len > 0.0 {
+            chord.perp(&(q - p[0])).abs() / len
+        } else {
+            (q - p[0]).norm()
+        }
+    };
+    if depth >= 16 || dist(p[1]).max(dist(p[2])) <= tol {
+        out.push(p[3]);
+        return;
+    }
+    let mid = |a: Vec2, b: Vec2| (a + b) * 0.5;
+    let (p01, p12, p23) = (mid(p[0], p[1]), mid(p[1], p[2]), mid(p[2], p[3]));
+    let (p012, p123) = (mid(p01, p12), mid(p12, p23));
+    let m = mid(p012, p123);
+    cubic([p[0], p01, p012, m], tol, depth + 1, out);
+    cubic([m, p123, p23, p[3]], tol, depth + 1, out);
+}
+
+/// Points along an elliptical arc (SVG implementation notes F.6.5), excluding the start,
+/// with chord deviation at most `tol` in the arc's own units.
+#[allow(clippy::too_many_arguments)]
+fn arc(
+    p0: Vec2,
+    p1: Vec2,
+    rx: f64,
+    ry: f64,
+    phi_deg: f64,
+    large: bool,
+    sweep: bool,
+    tol: f64,
+) -> Vec<Vec2> {
+    let (mut rx, mut ry) = (rx.abs(), ry.abs());
+    if rx == 0.0 || ry == 0.0 || p0 == p1 {
+        return vec![p1];
+    }
+    let (s, c) = phi_deg.to_radians().sin_cos();
+    let d = (p0 - p1) * 0.5;
+    let x1 = c * d.x + s * d.y;
+    let y1 = -s * d.x + c * d.y;
+    let lambda = (x1 * x1) / (rx * rx) + (y1 * y1) / (ry * ry);
+    if lambda > 1.0 {
+        rx *= lambda.sqrt();
+        ry *= lambda.sqrt();
+    }
+    let num = (rx * rx * ry * ry - rx * rx * y1 * y1 - ry * ry * x1 * x1).max(0.0);
+    let den = rx * rx * y1 * y1 + ry * ry * x1 * x1;
+    let mut k = (num / den).sqrt();
+    if large == sweep {
+        k = -k;
+    }
+    let (cx1, cy1) = (k * rx * y1 / ry, -k * ry * x1 / rx);
+    let mid = (p0 + p1) * 0.5;
+    let center = Vec2::new(c * cx1 - s * cy1 + mid.x, s * cx1 + c * cy1 + mid.y);
+    let angle = |u: Vec2| u.y.atan2(u.x);
+    let t0 = angle(Vec2::new((x1 - cx1) / rx, (y1 - cy1) / ry));
+    let t1 = angle(Vec2::new((-x1 - cx1) / rx, (-y1 - cy1) / ry));
+    let mut dt = t1 - t0;
+    if sweep && dt < 0.0 {
+        dt += 2.0 * PI;
+    } else if !sweep && dt > 0.0 {
+        dt -= 2.0 * PI;
+    }
+    let r = rx.max(ry);
+    let step = 2.0 * (1.0 - (tol / r).min(1.0)).acos();
+    let n = ((dt.abs() / step.max(1e-6)).ceil() as usize).clamp(1, 10_000);
+    (1..=n)
+        .map(|i| {
+            if i == n {
+                return p1;
+            }
+            let t = t0 + dt * i as f64 / n as f64;
+            let (st, ct) = t.sin_cos();
+            Vec2::new(
+                center.x + c * rx * ct - s * ry * st,
+                center.y + s * rx * ct + c * ry * st,
+            )
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn compact_numbers_and_implicit_line_tos_parse() {
+        let p = flatten_path("M10.5.5l1-1 2,0H20V5z", &Affine::IDENTITY).unwrap();
+        let pts = &p[0];
+        let expect = [
+            (10.5, 0.5),
+            (11.5, -0.5),
+            (13.5, -0.5),
+            (20.0, -0.5),
+            (20.0, 5.0),
+            (10.5, 0.5),
+        ];
+        assert_eq!(pts.len(), expect.len());
+        for (q, e) in pts.iter().zip(expect) {
+            assert!((q - Vec2::new(e.0, e.1)).norm() < 1e-12, "{q:?} vs {e:?}");
+        }
+    }
+
+    #[test]
+    fn flattened_semicircle_stays_within_tolerance_of_the_circle() {
+        let p = flatten_path("M0,0 A50,50 0 0 1 100,0", &Affine::IDENTITY).unwrap();
+        let c = Vec2::new(50.0, 0.0);
+        for w in p[0].windows(2) {
+            // Vertices on the circle, chord midpoints within tolerance of it.
+            assert!(((w[0] - c).norm() - 50.0).abs() < 1e-9);
+            let mid = (w[0] + w[1]) * 0.5;
+            assert!(50.0 - (mid - c).norm() <= CURVE_TOLERANCE_MM + 1e-12);
+        }
+        assert!((p[0].last().unwrap() - Vec2::new(100.0, 0.0)).norm() < 1e-12);
+    }
+
+    #[test]
+    fn flattened_cubic_stays_within_tolerance_of_the_curve() {
+        let ctrl = [
+            Vec2::new(0., 0.),
+            Vec2::new(0., 80.),
+            Vec2::new(100., 80.),
+            Vec2::new(100., 0.),
+        ];
+        let p = flatten_path("M0,0 C0,80 100,80 100,0", &Affine::IDENTITY).unwrap();
+        let bez = |t: f64| {
+            let u = 1.0 - t;
+            ctrl[0] * u * u * u
+                + ctrl[1] * 3.0 * u * u * t
+                + ctrl[2] * 3.0 * u * t * t
+                + ctrl[3] * t * t * t
+        };
+        let poly = &p[0];
+        for k in 0..=1000 {
+            let q = bez(k as f64 / 1000.0);
+            let d = poly
+                .windows(2)
+                .map(|w| {
+                    let (a, b) = (w[0], w[1]);
+                    let t = ((q - a).dot(&(b - a)) / (b - a).norm_squared()).clamp(0.0, 1.0);
+                    (a + (b - a) * t - q).norm()
+                })
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                d <= CURVE_TOLERANCE_MM,
+                "curve point {k} is {d} mm from the polyline"
+            );
+        }
+    }
+
+    #[test]
+    fn transforms_compose_left_to_right() {
+        let m = parse_transform("translate(10,0) scale(2)").unwrap();
+        assert_eq!(m.apply(Vec2::new(1.0, 1.0)), Vec2::new(12.0, 2.0));
+        let r = parse_transform("rotate(90)").unwrap();
+        assert!((r.apply(Vec2::new(1.0, 0.0)) - Vec2::new(0.0, 1.0)).norm() < 1e-12);
+        assert!(parse_transform("wobble(3)").is_err());
+    }
+}

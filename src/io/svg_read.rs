@@ -1,0 +1,287 @@
+//! Origami Simulator SVG crease patterns: stroke colour gives the crease type, opacity the
+//! fold angle (REFERENCE.md). SVG user units become millimetres through the root's width
+//! and viewBox (96 px per inch when no unit is given); the y axis is flipped so the
+//! pattern reads the same way up in crease's y-up coordinates.
+
+use super::planar::{mesh_from_segments, PlanarReport, Segment};
+use super::svg_path::{flatten_path, parse_transform, Affine};
+use crate::mesh::{split_along_cuts, Assignment, Mesh, Vec2};
+use std::f64::consts::PI;
+use svg::node::element::tag::Type;
+use svg::parser::Event;
+
+/// Millimetres per CSS pixel.
+const MM_PER_PX: f64 = 25.4 / 96.0;
+
+#[derive(Clone)]
+struct Style {
+    stroke: Option<String>,
+    opacity: f64,
+    stroke_opacity: f64,
+    transform: Affine,
+    hidden: bool,
+}
+
+/// Parses a colour to RGB: `#rgb`, `#rrggbb`, `rgb(r, g, b)` (numbers or percentages), or
+/// a CSS name among those crease patterns use.
+pub fn parse_colour(text: &str) -> Option<[u8; 3]> {
+    let t = text.trim().to_ascii_lowercase();
+    if let Some(hex) = t.strip_prefix('#') {
+        let v = |s: &str| u8::from_str_radix(s, 16).ok();
+        return match hex.len() {
+            3 => {
+                let d: Vec<u8> = hex
+                    .chars()
+                    .map(|c| c.to_digit(16).map(|x| x as u8 * 17))
+                    .collect::<Option<_>>()?;
+                Some([d[0], d[1], d[2]])
+            }
+            6 => Some([v(&hex[0..2])?, v(&hex[2..4])?, v(&hex[4..6])?]),
+            _ => None,
+        };
+    }
+    if let Some(inner) = t.strip_prefix("rgb(").and_then(|s| s.strip_suffix(')')) {
+        let parts: Vec<u8> = inner
+            .split(',')
+            .map(|p| {
+                let p = p.trim();
+                match p.strip_suffix('%') {
+                    Some(pc) => pc
+                        .trim()
+                        .parse::<f64>()
+                        .ok()
+                        .map(|x| (x * 2.55).round() as u8),
+                    None => p
+                        .parse::<f64>()
+                        .ok()
+                        .map(|x| x.round().clamp(0.0, 255.0) as u8),
+                }
+            })
+            .collect::<Option<_>>()?;
+        return (parts.len() == 3).then(|| [parts[0], parts[1], parts[2]]);
+    }
+    Some(match t.as_str() {
+        "black" => [0, 0, 0],
+        "white" => [255, 255, 255],
+        "red" => [255, 0, 0],
+        "lime" => [0, 255, 0],
+        "green" => [0, 128, 0],
+        "blue" => [0, 0, 255],
+        "yellow" => [255, 255, 0],
+        "magenta" | "fuchsia" => [255, 0, 255],
+        "cyan" | "aqua" => [0, 255, 255],
+        "gray" | "grey" => [128, 128, 128],
+        _ => return None,
+    })
+}
+
+/// The crease type of an exact Origami Simulator colour.
+pub fn assignment_of_colour(rgb: [u8; 3]) -> Option<Assignment> {
+    Some(match rgb {
+        [0, 0, 0] => Assignment::Boundary,
+        [255, 0, 0] => Assignment::Mountain,
+        [0, 0, 255] => Assignment::Valley,
+        [0, 255, 0] => Assignment::Cut,
+        [255, 255, 0] => Assignment::Flat,
+        [255, 0, 255] => Assignment::Unassigned,
+        _ => return None,
+    })
+}
+
+fn length_mm(text: &str) -> Option<f64> {
+    let t = text.trim();
+    let split = t
+        .find(|c: char| c.is_ascii_alphabetic() || c == '%')
+        .unwrap_or(t.len());
+    let value: f64 = t[..split].trim().parse().ok()?;
+    let unit = match &t[split..] {
+        "" | "px" => MM_PER_PX,
+        "mm" => 1.0,
+        "cm" => 10.0,
+        "in" => 25.4,
+        "pt" => 25.4 / 72.0,
+        "pc" => 25.4 / 6.0,
+        _ => return None,
+    };
+    Some(value * unit)
+}
+
+fn style_property(style: &str, name: &str) -> Option<String> {
+    style.split(';').find_map(|decl| {
+        let (k, v) = decl.split_once(':')?;
+        (k.trim() == name).then(|| v.trim().to_string())
+    })
+}
+
+/// Records what planar import changed as notes for the user.
+pub fn report_notes(report: &PlanarReport, notes: &mut Vec<String>) {
+    if report.dangling_removed > 0 {
+        notes.push(format!(
+            "dropped {} line piece(s) that end in open paper and bound no face",
+            report.dangling_removed
+        ));
+    }
+    if report.holes > 0 {
+        notes.push(format!("{} hole(s) cut out of the paper", report.holes));
+    }
+}
+
+pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, String> {
+    if text.trim().is_empty() {
+        return Err("the file is empty".into());
+    }
+    let parser = svg::read(text).map_err(|e| format!("not readable as SVG: {e}"))?;
+    let mut stack: Vec<Style> = Vec::new();
+    let root_style = Style {
+        stroke: None,
+        opacity: 1.0,
+        stroke_opacity: 1.0,
+        transform: Affine::IDENTITY,
+        hidden: false,
+    };
+    let mut segments: Vec<Segment> = Vec::new();
+    let mut saw_svg = false;
+    for (element_index, event) in parser.enumerate() {
+        let (name, kind, attrs) = match event {
+            Event::Tag(name, kind, attrs) => (name, kind, attrs),
+            Event::Error(e) => return Err(format!("not readable as SVG: {e}")),
+            _ => continue,
+        };
+        if kind == Type::End {
+            stack.pop();
+            continue;
+        }
+        let parent = stack.last().cloned().unwrap_or(root_style.clone());
+        let get = |k: &str| attrs.get(k).map(|v| v.to_string());
+        let style_attr = get("style").unwrap_or_default();
+        let prop = |k: &str| style_property(&style_attr, k).or_else(|| get(k));
+        let mut style = parent.clone();
+        if let Some(s) = prop("stroke") {
+            style.stroke = Some(s);
+        }
+        if let Some(o) = prop("opacity") {
+            style.opacity *= o
+                .parse::<f64>()
+                .map_err(|_| format!("bad opacity \"{o}\""))?;
+        }
+        if let Some(o) = prop("stroke-opacity") {
+            style.stroke_opacity = o
+                .parse::<f64>()
+                .map_err(|_| format!("bad stroke-opacity \"{o}\""))?;
+        }
+        if prop("display").as_deref() == Some("none") {
+            style.hidden = true;
+        }
+        if matches!(
+            name,
+            "defs" | "clipPath" | "mask" | "symbol" | "marker" | "pattern"
+        ) {
+            style.hidden = true;
+        }
+        if name == "svg" && !saw_svg {
+            saw_svg = true;
+            // User units to mm, then flip y.
+            let view: Option<Vec<f64>> = get("viewBox").map(|v| {
+                v.split(|c: char| c == ',' || c.is_whitespace())
+                    .filter(|s| !s.is_empty())
+                    .filter_map(|s| s.parse().ok())
+                    .collect()
+            });
+            let width = get("width").and_then(|w| length_mm(&w));
+            let (scale, ox, oy) = match (view.as_deref(), width) {
+                (Some([x, y, w, _]), Some(wmm)) if *w > 0.0 => (wmm / w, *x, *y),
+                (Some([x, y, ..]), None) => (MM_PER_PX, *x, *y),
+                _ => (MM_PER_PX, 0.0, 0.0),
+            };
+            style.transform = Affine([scale, 0.0, 0.0, -scale, -ox * scale, oy * scale]);
+        }
+        if let Some(t) = get("transform") {
+            style.transform = style.transform.then_inner(&parse_transform(&t)?);
+        }
+        if kind == Type::Start {
+            stack.push(style.clone());
+        }
+        let shapes = ["line", "rect", "polygon", "polyline", "path"];
+        if style.hidden || !shapes.contains(&name) {
+            continue;
+        }
+        let stroke = match style.stroke.as_deref() {
+            None | Some("none") => continue,
+            Some(s) => s,
+        };
+        let rgb = parse_colour(stroke).ok_or_else(|| {
+            format!(
+                "<{name}> (element {element_index}) has an unreadable stroke colour \"{stroke}\""
+            )
+        })?;
+        let assignment = assignment_of_colour(rgb).ok_or_else(|| {
+            format!(
+                "<{name}> (element {element_index}) has stroke colour \"{stroke}\", which is not a crease colour \
+                 (black border, red mountain, blue valley, green cut, yellow flat, magenta unassigned)"
+            )
+        })?;
+        let fold_angle = match assignment {
+            Assignment::Mountain => PI * style.opacity * style.stroke_opacity,
+            Assignment::Valley => -PI * style.opacity * style.stroke_opacity,
+            _ => 0.0,
+        };
+        let num = |k: &str| -> Result<f64, String> {
+            match get(k) {
+                None => Ok(0.0),
+                Some(v) => v.trim().trim_end_matches("px").parse().map_err(|_| {
+                    format!("<{name}> (element {element_index}) has a bad {k} \"{v}\"")
+                }),
+            }
+        };
+        let m = &style.transform;
+        let polylines: Vec<Vec<Vec2>> = match name {
+            "line" => vec![vec![
+                m.apply(Vec2::new(num("x1")?, num("y1")?)),
+                m.apply(Vec2::new(num("x2")?, num("y2")?)),
+            ]],
+            "rect" => {
+                let (x, y, w, h) = (num("x")?, num("y")?, num("width")?, num("height")?);
+                let c = [(x, y), (x + w, y), (x + w, y + h), (x, y + h), (x, y)];
+                vec![c.iter().map(|&(a, b)| m.apply(Vec2::new(a, b))).collect()]
+            }
+            "polygon" | "polyline" => {
+                let values: Vec<f64> = get("points")
+                    .unwrap_or_default()
+                    .split(|c: char| c == ',' || c.is_whitespace())
+                    .filter(|s| !s.is_empty())
+                    .map(|s| {
+                        s.parse::<f64>()
+                            .map_err(|_| format!("bad number \"{s}\" in <{name}> points"))
+                    })
+                    .collect::<Result<_, _>>()?;
+                let mut pts: Vec<Vec2> = values
+                    .chunks_exact(2)
+                    .map(|c| m.apply(Vec2::new(c[0], c[1])))
+                    .collect();
+                if name == "polygon" && !pts.is_empty() {
+                    pts.push(pts[0]);
+                }
+                vec![pts]
+            }
+            _ => flatten_path(&get("d").unwrap_or_default(), m)
+                .map_err(|e| format!("<path> (element {element_index}): {e}"))?,
+        };
+        for line in polylines {
+            for w in line.windows(2) {
+                segments.push(Segment {
+                    a: w[0],
+                    b: w[1],
+                    assignment,
+                    fold_angle,
+                });
+            }
+        }
+    }
+    if !saw_svg {
+        return Err("no <svg> element: not an SVG file".into());
+    }
+    let (mut parts, report) = mesh_from_segments(&segments)?;
+    report_notes(&report, notes);
+    split_along_cuts(&mut parts);
+    Mesh::new(parts).map_err(|e| e.to_string())
+}

@@ -1,0 +1,9 @@
+//! crease — design freeform variations of origami (Tachi 2010) and fabricate them.
+//!
+//! Data flows one way: [`mesh`] → constraints → solver → fabrication → output → plotter.
+#![warn(missing_docs)]
+
+pub mod generate;
+pub mod geometry;
+pub mod io;
+pub mod mesh;

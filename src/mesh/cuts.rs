@@ -1,0 +1,124 @@
+//! Kirigami: cutting the paper along cut lines so each side of a cut has its own vertices.
+
+use super::{Assignment, Edge, MeshParts};
+use std::collections::HashMap;
+
+fn key(a: usize, b: usize) -> (usize, usize) {
+    (a.min(b), a.max(b))
+}
+
+/// Separates the faces on the two sides of every cut (and of every boundary line drawn
+/// inside the paper): vertices along a cut are duplicated, one copy per side, and each
+/// side of the cut becomes a boundary edge. The tip of a slit, where the paper stays
+/// connected around the vertex, keeps a single vertex. Returns the number of vertices added.
+pub fn split_along_cuts(parts: &mut MeshParts) -> usize {
+    let mut face_count: HashMap<(usize, usize), usize> = HashMap::new();
+    for f in &parts.faces {
+        for k in 0..3 {
+            *face_count.entry(key(f[k], f[(k + 1) % 3])).or_default() += 1;
+        }
+    }
+    let is_cut: std::collections::HashSet<(usize, usize)> = parts
+        .edges
+        .iter()
+        .map(|e| key(e.vertices[0], e.vertices[1]))
+        .zip(parts.edges.iter())
+        .filter(|(k, e)| e.assignment.is_boundary() && face_count.get(k) == Some(&2))
+        .map(|(k, _)| k)
+        .collect();
+    if is_cut.is_empty() {
+        return 0;
+    }
+    let n0 = parts
+        .flat
+        .as_ref()
+        .map(|f| f.len())
+        .or(parts.positions.as_ref().map(|p| p.len()))
+        .unwrap_or(0);
+    let on_cut: std::collections::HashSet<usize> =
+        is_cut.iter().flat_map(|&(a, b)| [a, b]).collect();
+    let mut incident: HashMap<usize, Vec<usize>> = HashMap::new();
+    for (fi, f) in parts.faces.iter().enumerate() {
+        for &v in f {
+            if on_cut.contains(&v) {
+                incident.entry(v).or_default().push(fi);
+            }
+        }
+    }
+    let mut origin: Vec<usize> = (0..n0).collect();
+    let mut vertices: Vec<usize> = incident.keys().copied().collect();
+    vertices.sort_unstable();
+    for v in vertices {
+        let faces = &incident[&v];
+        // Union faces that share a spoke v–x which is not cut.
+        let mut group: Vec<usize> = (0..faces.len()).collect();
+        fn find(g: &mut [usize], i: usize) -> usize {
+            let mut r = i;
+            while g[r] != r {
+                r = g[r];
+            }
+            g[i] = r;
+            r
+        }
+        for i in 0..faces.len() {
+            for j in i + 1..faces.len() {
+                let (fi, fj) = (parts.faces[faces[i]], parts.faces[faces[j]]);
+                let shared = fi.iter().find(|&&x| x != v && fj.contains(&x));
+                if let Some(&x) = shared {
+                    if !is_cut.contains(&key(v, x)) {
+                        let (ri, rj) = (find(&mut group, i), find(&mut group, j));
+                        group[ri] = rj;
+                    }
+                }
+            }
+        }
+        let mut copy_of_root: HashMap<usize, usize> = HashMap::new();
+        let first_root = find(&mut group, 0);
+        for (i, &face) in faces.iter().enumerate() {
+            let r = find(&mut group, i);
+            if r == first_root {
+                continue;
+            }
+            let nv = *copy_of_root.entry(r).or_insert_with(|| {
+                if let Some(p) = parts.positions.as_mut() {
+                    p.push(p[v]);
+                }
+                if let Some(p) = parts.flat.as_mut() {
+                    p.push(p[v]);
+                }
+                origin.push(v);
+                origin.len() - 1
+            });
+            for c in parts.faces[face].iter_mut() {
+                if *c == v {
+                    *c = nv;
+                }
+            }
+        }
+    }
+    let by_key: HashMap<(usize, usize), &Edge> = parts
+        .edges
+        .iter()
+        .map(|e| (key(e.vertices[0], e.vertices[1]), e))
+        .collect();
+    let mut seen = std::collections::HashSet::new();
+    let mut edges = Vec::with_capacity(parts.edges.len());
+    for f in &parts.faces {
+        for k in 0..3 {
+            let (a, b) = (f[k], f[(k + 1) % 3]);
+            if !seen.insert(key(a, b)) {
+                continue;
+            }
+            if let Some(e) = by_key.get(&key(origin[a], origin[b])) {
+                let mut e = (*e).clone();
+                e.vertices = [a, b];
+                if e.assignment == Assignment::Cut {
+                    e.assignment = Assignment::Boundary;
+                }
+                edges.push(e);
+            }
+        }
+    }
+    parts.edges = edges;
+    origin.len() - n0
+}

@@ -1,0 +1,120 @@
+//! Ear-clipping triangulation of simple polygons, used to turn the polygon faces of a crease
+//! pattern into triangles joined by flat (target 0) creases, as the paper's model requires.
+
+use super::Vec2;
+
+/// Triangulates a simple polygon given by its corners in order (either orientation).
+/// Returns triangles as indices into `corners`, counter-clockwise when the polygon is.
+/// Among the available ears the fattest (largest smallest angle) is cut first, so the
+/// added creases avoid slivers. Corners lying on a straight side are kept as vertices.
+/// Returns `None` when the polygon is degenerate or self-intersecting.
+pub fn triangulate_polygon(corners: &[Vec2]) -> Option<Vec<[usize; 3]>> {
+    let n = corners.len();
+    if n < 3 {
+        return None;
+    }
+    let area2: f64 = (0..n).map(|i| corners[i].perp(&corners[(i + 1) % n])).sum();
+    let scale = corners
+        .iter()
+        .map(|p| (p - corners[0]).norm_squared())
+        .fold(0.0, f64::max);
+    if area2.is_nan() || area2.abs() <= 1e-14 * scale {
+        return None;
+    }
+    let mut ring: Vec<usize> = if area2 > 0.0 {
+        (0..n).collect()
+    } else {
+        (0..n).rev().collect()
+    };
+    let eps = 1e-12 * scale;
+    let mut triangles = Vec::with_capacity(n - 2);
+    while ring.len() > 3 {
+        let m = ring.len();
+        let mut best: Option<(usize, f64)> = None;
+        for i in 0..m {
+            let (a, b, c) = (ring[(i + m - 1) % m], ring[i], ring[(i + 1) % m]);
+            let (pa, pb, pc) = (corners[a], corners[b], corners[c]);
+            if (pb - pa).perp(&(pc - pa)) <= eps {
+                continue;
+            }
+            let blocked = ring.iter().any(|&k| {
+                k != a
+                    && k != b
+                    && k != c
+                    && corners[k] != pa
+                    && corners[k] != pb
+                    && corners[k] != pc
+                    && in_triangle(corners[k], pa, pb, pc, eps)
+            });
+            if blocked {
+                continue;
+            }
+            let q = min_angle(pa, pb, pc);
+            if best.is_none_or(|(_, bq)| q > bq) {
+                best = Some((i, q));
+            }
+        }
+        let (i, _) = best?;
+        let m = ring.len();
+        triangles.push([ring[(i + m - 1) % m], ring[i], ring[(i + 1) % m]]);
+        ring.remove(i);
+    }
+    let (a, b, c) = (corners[ring[0]], corners[ring[1]], corners[ring[2]]);
+    if (b - a).perp(&(c - a)) <= eps {
+        return None;
+    }
+    triangles.push([ring[0], ring[1], ring[2]]);
+    Some(triangles)
+}
+
+/// Inside or on the boundary of counter-clockwise triangle abc.
+fn in_triangle(p: Vec2, a: Vec2, b: Vec2, c: Vec2, eps: f64) -> bool {
+    (b - a).perp(&(p - a)) >= -eps
+        && (c - b).perp(&(p - b)) >= -eps
+        && (a - c).perp(&(p - c)) >= -eps
+}
+
+fn min_angle(a: Vec2, b: Vec2, c: Vec2) -> f64 {
+    let ang = |p: Vec2, q: Vec2, r: Vec2| (q - p).angle(&(r - p));
+    ang(a, b, c).min(ang(b, c, a)).min(ang(c, a, b))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn area(c: &[Vec2], t: [usize; 3]) -> f64 {
+        0.5 * (c[t[1]] - c[t[0]]).perp(&(c[t[2]] - c[t[0]]))
+    }
+
+    #[test]
+    fn l_shape_is_covered_exactly_by_positive_triangles() {
+        let c: Vec<Vec2> = [(0., 0.), (2., 0.), (2., 1.), (1., 1.), (1., 2.), (0., 2.)]
+            .iter()
+            .map(|&(x, y)| Vec2::new(x, y))
+            .collect();
+        let t = triangulate_polygon(&c).unwrap();
+        assert_eq!(t.len(), 4);
+        assert!(t.iter().all(|&t| area(&c, t) > 0.0));
+        let total: f64 = t.iter().map(|&t| area(&c, t)).sum();
+        assert!((total - 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn clockwise_input_gives_counter_clockwise_triangles_and_keeps_side_points() {
+        // Triangle with its three side midpoints, listed clockwise.
+        let c: Vec<Vec2> = [(0., 0.), (0.5, 1.), (1., 2.), (1.5, 1.), (2., 0.), (1., 0.)]
+            .iter()
+            .map(|&(x, y)| Vec2::new(x, y))
+            .collect();
+        let t = triangulate_polygon(&c).unwrap();
+        assert_eq!(t.len(), 4);
+        assert!(t.iter().all(|&t| area(&c, t) > 1e-9));
+    }
+
+    #[test]
+    fn degenerate_polygon_is_refused() {
+        let c = vec![Vec2::new(0., 0.), Vec2::new(1., 0.), Vec2::new(2., 0.)];
+        assert!(triangulate_polygon(&c).is_none());
+    }
+}
