@@ -5,8 +5,8 @@ use crate::mesh::{Assignment, Edge, MeshParts, Vec2};
 use std::collections::HashMap;
 
 /// Triangulates the strips between consecutive rows of points (row `j` at height
-/// `j · row_height`, x positions sorted), always advancing the row whose next point comes
-/// first. Returns the points, row after row, and counter-clockwise triangles.
+/// `j · row_height`, x positions sorted).
+/// Returns the points, row after row, and counter-clockwise triangles.
 pub fn rows_zipper(rows: &[Vec<f64>], row_height: f64) -> (Vec<Vec2>, Vec<[usize; 3]>) {
     let mut points = Vec::new();
     let mut start = Vec::with_capacity(rows.len());
@@ -20,7 +20,10 @@ pub fn rows_zipper(rows: &[Vec<f64>], row_height: f64) -> (Vec<Vec2>, Vec<[usize
         let (lo0, up0) = (start[j], start[j + 1]);
         let (mut i, mut k) = (0, 0);
         while i + 1 < lo.len() || k + 1 < up.len() {
-            let advance_lower = k + 1 == up.len() || (i + 1 < lo.len() && lo[i + 1] <= up[k + 1]);
+            // Advance the row whose step adds the shorter diagonal (the Delaunay choice
+            // between two rows); at a row's end only the other can advance.
+            let advance_lower = k + 1 == up.len()
+                || (i + 1 < lo.len() && (lo[i + 1] - up[k]).abs() <= (up[k + 1] - lo[i]).abs());
             if advance_lower {
                 faces.push([lo0 + i, lo0 + i + 1, up0 + k]);
                 i += 1;

@@ -344,7 +344,7 @@ fn triangulate_face(
         }
         (None, None) => unreachable!("positions were checked"),
     };
-    let tris = triangulate_polygon(&corners).ok_or_else(|| {
+    let tris = triangulate_polygon(&corners, 0.0).ok_or_else(|| {
         format!("face {index} cannot be triangulated (degenerate or self-intersecting)")
     })?;
     // Keep the file's winding: ear clipping returns counter-clockwise triangles.

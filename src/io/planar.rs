@@ -154,7 +154,9 @@ pub fn mesh_from_segments(segments: &[Segment]) -> Result<(MeshParts, PlanarRepo
             }
             let k = (p.min(q), p.max(q));
             let entry = graph.entry(k).or_insert((s.assignment, s.fold_angle));
-            if priority(s.assignment) > priority(entry.0) {
+            // Higher priority wins; between equals the larger assignment, so the result
+            // does not depend on drawing order.
+            if (priority(s.assignment), s.assignment) > (priority(entry.0), entry.0) {
                 *entry = (s.assignment, s.fold_angle);
             }
         }
@@ -181,7 +183,7 @@ pub fn mesh_from_segments(segments: &[Segment]) -> Result<(MeshParts, PlanarRepo
             e
         })
         .collect();
-    let faces = trace_faces(&flat, &edges, &mut report)?;
+    let faces = trace_faces(&flat, &edges, tol, &mut report)?;
     Ok((
         MeshParts {
             positions: None,
@@ -232,6 +234,7 @@ fn prune_dangling(
 fn trace_faces(
     flat: &[Vec2],
     edges: &[Edge],
+    tol: f64,
     report: &mut PlanarReport,
 ) -> Result<Vec<[usize; 3]>, String> {
     let n = flat.len();
@@ -305,7 +308,9 @@ fn trace_faces(
             continue;
         }
         let corners: Vec<Vec2> = c.iter().map(|&v| flat[v]).collect();
-        let tris = triangulate_polygon(&corners).ok_or_else(|| {
+        let tris = triangulate_polygon(&corners, tol)
+            .or_else(|| triangulate_polygon(&corners, 0.0))
+            .ok_or_else(|| {
             format!(
                 "the region with corners at vertices {:?} cannot be triangulated (self-touching or degenerate)",
                 c

@@ -188,12 +188,13 @@ pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, String> {
                     .collect()
             });
             let width = get("width").and_then(|w| length_mm(&w));
-            let (scale, ox, oy) = match (view.as_deref(), width) {
-                (Some([x, y, w, _]), Some(wmm)) if *w > 0.0 => (wmm / w, *x, *y),
-                (Some([x, y, ..]), None) => (MM_PER_PX, *x, *y),
-                _ => (MM_PER_PX, 0.0, 0.0),
+            // The viewBox origin only frames the picture; coordinates keep their origin so
+            // a pattern written by crease reads back in place.
+            let scale = match (view.as_deref(), width) {
+                (Some([_, _, w, _]), Some(wmm)) if *w > 0.0 => wmm / w,
+                _ => MM_PER_PX,
             };
-            style.transform = Affine([scale, 0.0, 0.0, -scale, -ox * scale, oy * scale]);
+            style.transform = Affine([scale, 0.0, 0.0, -scale, 0.0, 0.0]);
         }
         if let Some(t) = get("transform") {
             style.transform = style.transform.then_inner(&parse_transform(&t)?);

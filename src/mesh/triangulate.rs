@@ -7,8 +7,10 @@ use super::Vec2;
 /// Returns triangles as indices into `corners`, counter-clockwise when the polygon is.
 /// Among the available ears the fattest (largest smallest angle) is cut first, so the
 /// added creases avoid slivers. Corners lying on a straight side are kept as vertices.
+/// A new diagonal must pass no other corner closer than `clearance`, so that a drawing of
+/// the result, read back with that merge tolerance, gives the same graph.
 /// Returns `None` when the polygon is degenerate or self-intersecting.
-pub fn triangulate_polygon(corners: &[Vec2]) -> Option<Vec<[usize; 3]>> {
+pub fn triangulate_polygon(corners: &[Vec2], clearance: f64) -> Option<Vec<[usize; 3]>> {
     let n = corners.len();
     if n < 3 {
         return None;
@@ -44,7 +46,8 @@ pub fn triangulate_polygon(corners: &[Vec2]) -> Option<Vec<[usize; 3]>> {
                     && corners[k] != pa
                     && corners[k] != pb
                     && corners[k] != pc
-                    && in_triangle(corners[k], pa, pb, pc, eps)
+                    && (in_triangle(corners[k], pa, pb, pc, eps)
+                        || distance_to_segment(corners[k], pa, pc) < clearance)
             });
             if blocked {
                 continue;
@@ -74,6 +77,12 @@ fn in_triangle(p: Vec2, a: Vec2, b: Vec2, c: Vec2, eps: f64) -> bool {
         && (a - c).perp(&(p - c)) >= -eps
 }
 
+fn distance_to_segment(p: Vec2, a: Vec2, b: Vec2) -> f64 {
+    let d = b - a;
+    let t = ((p - a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
+    (a + d * t - p).norm()
+}
+
 fn min_angle(a: Vec2, b: Vec2, c: Vec2) -> f64 {
     let ang = |p: Vec2, q: Vec2, r: Vec2| (q - p).angle(&(r - p));
     ang(a, b, c).min(ang(b, c, a)).min(ang(c, a, b))
@@ -93,7 +102,7 @@ mod tests {
             .iter()
             .map(|&(x, y)| Vec2::new(x, y))
             .collect();
-        let t = triangulate_polygon(&c).unwrap();
+        let t = triangulate_polygon(&c, 0.0).unwrap();
         assert_eq!(t.len(), 4);
         assert!(t.iter().all(|&t| area(&c, t) > 0.0));
         let total: f64 = t.iter().map(|&t| area(&c, t)).sum();
@@ -107,7 +116,7 @@ mod tests {
             .iter()
             .map(|&(x, y)| Vec2::new(x, y))
             .collect();
-        let t = triangulate_polygon(&c).unwrap();
+        let t = triangulate_polygon(&c, 0.0).unwrap();
         assert_eq!(t.len(), 4);
         assert!(t.iter().all(|&t| area(&c, t) > 1e-9));
     }
@@ -115,6 +124,6 @@ mod tests {
     #[test]
     fn degenerate_polygon_is_refused() {
         let c = vec![Vec2::new(0., 0.), Vec2::new(1., 0.), Vec2::new(2., 0.)];
-        assert!(triangulate_polygon(&c).is_none());
+        assert!(triangulate_polygon(&c, 0.0).is_none());
     }
 }

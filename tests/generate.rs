@@ -1,0 +1,206 @@
+//! The generated starting patterns against invariants computed here from raw coordinates,
+//! independently of crease's geometry code: developability (angle sums), Kawasaki and
+//! Maekawa in the crease pattern, and isometry between the 3D and flat frames.
+
+use crease::generate::{generate, Params, PatternKind};
+use crease::mesh::{Assignment, Mesh};
+use std::collections::HashMap;
+use std::f64::consts::PI;
+
+fn angle3(a: [f64; 3], b: [f64; 3]) -> f64 {
+    let cross = [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ];
+    let c = (cross[0].powi(2) + cross[1].powi(2) + cross[2].powi(2)).sqrt();
+    c.atan2(a[0] * b[0] + a[1] * b[1] + a[2] * b[2])
+}
+
+fn sub(p: &Mesh, i: usize, j: usize) -> [f64; 3] {
+    let (a, b) = (p.positions()[i], p.positions()[j]);
+    [a.x - b.x, a.y - b.y, a.z - b.z]
+}
+
+/// Interior vertices: every edge at them has two faces (counted from the face list).
+fn interior_vertices(m: &Mesh) -> Vec<usize> {
+    let mut count: HashMap<(usize, usize), usize> = HashMap::new();
+    for f in m.faces() {
+        for k in 0..3 {
+            let (a, b) = (f[k], f[(k + 1) % 3]);
+            *count.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    let mut on_boundary = vec![false; m.vertex_count()];
+    for (&(a, b), &n) in &count {
+        if n == 1 {
+            on_boundary[a] = true;
+            on_boundary[b] = true;
+        }
+    }
+    (0..m.vertex_count()).filter(|&v| !on_boundary[v]).collect()
+}
+
+fn closed_form_kinds() -> Vec<PatternKind> {
+    PatternKind::ALL
+        .into_iter()
+        .filter(|k| k.has_closed_form_3d())
+        .collect()
+}
+
+#[test]
+fn folded_states_are_developable_at_every_interior_vertex() {
+    for kind in closed_form_kinds() {
+        for fold in [0.0, 0.1, 0.37, 0.5, 0.9, 1.0] {
+            let mut p = Params::defaults(kind);
+            p.fold = Some(fold);
+            let m = generate(&p).unwrap();
+            let mut sums = vec![0.0; m.vertex_count()];
+            for f in m.faces() {
+                for k in 0..3 {
+                    let (v, a, b) = (f[k], f[(k + 1) % 3], f[(k + 2) % 3]);
+                    sums[v] += angle3(sub(&m, a, v), sub(&m, b, v));
+                }
+            }
+            let interior = interior_vertices(&m);
+            assert!(interior.len() > 10, "{kind:?} has interior vertices");
+            for v in interior {
+                let g = 2.0 * PI - sums[v];
+                assert!(
+                    g.abs() < 1e-12,
+                    "{kind:?} fold {fold}: vertex {v} has Gauss area {g:e}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn folded_states_are_isometric_to_the_crease_pattern() {
+    for kind in closed_form_kinds() {
+        for fold in [0.2, 0.5, 0.8] {
+            let mut p = Params::defaults(kind);
+            p.fold = Some(fold);
+            let m = generate(&p).unwrap();
+            let flat = m.flat().unwrap();
+            let mut worst: f64 = 0.0;
+            for e in m.edges() {
+                let [a, b] = e.vertices;
+                let d3 = sub(&m, a, b);
+                let l3 = (d3[0].powi(2) + d3[1].powi(2) + d3[2].powi(2)).sqrt();
+                let l2 = ((flat[a].x - flat[b].x).powi(2) + (flat[a].y - flat[b].y).powi(2)).sqrt();
+                worst = worst.max((l3 - l2).abs() / l2);
+            }
+            assert!(
+                worst < 1e-12,
+                "{kind:?} fold {fold}: relative edge-length error {worst:e}"
+            );
+            // And it really is folded, not the flat sheet again.
+            let (lo, hi) = m.bounding_box();
+            assert!(
+                hi.z - lo.z > 1.0,
+                "{kind:?} fold {fold} is not lifted out of the plane"
+            );
+        }
+    }
+}
+
+/// Kawasaki (alternating sector sum π) and Maekawa (|M − V| = 2) over the folded creases,
+/// with the creases sorted by angle around each vertex in the crease pattern.
+#[test]
+fn flat_foldable_patterns_satisfy_kawasaki_and_maekawa() {
+    for kind in [
+        PatternKind::Miura,
+        PatternKind::Waterbomb,
+        PatternKind::Yoshimura,
+    ] {
+        let mut p = Params::defaults(kind);
+        p.fold = None;
+        let m = generate(&p).unwrap();
+        let flat = m.flat().unwrap();
+        let mut creases: Vec<Vec<(f64, Assignment)>> = vec![Vec::new(); m.vertex_count()];
+        for e in m.edges() {
+            if !matches!(e.assignment, Assignment::Mountain | Assignment::Valley) {
+                continue;
+            }
+            let [a, b] = e.vertices;
+            let d = flat[b] - flat[a];
+            creases[a].push((d.y.atan2(d.x), e.assignment));
+            creases[b].push(((-d.y).atan2(-d.x), e.assignment));
+        }
+        let interior = interior_vertices(&m);
+        assert!(!interior.is_empty());
+        for v in interior {
+            let mut c = creases[v].clone();
+            c.sort_by(|x, y| x.0.total_cmp(&y.0));
+            let n = c.len();
+            assert!(n >= 4 && n % 2 == 0, "{kind:?} vertex {v} has {n} creases");
+            let mut alternating = 0.0;
+            for i in 0..n {
+                let mut sector = c[(i + 1) % n].0 - c[i].0;
+                if sector <= 0.0 {
+                    sector += 2.0 * PI;
+                }
+                if i % 2 == 0 {
+                    alternating += sector;
+                }
+            }
+            assert!(
+                (alternating - PI).abs() < 1e-12,
+                "{kind:?} vertex {v}: Kawasaki sum {alternating}"
+            );
+            let mountains = c.iter().filter(|x| x.1 == Assignment::Mountain).count() as i64;
+            assert_eq!(
+                (2 * mountains - n as i64).abs(),
+                2,
+                "{kind:?} vertex {v}: Maekawa"
+            );
+        }
+    }
+}
+
+#[test]
+fn resch_has_one_tuck_star_per_upward_triangle_and_locks_its_topology() {
+    let mut p = Params::defaults(PatternKind::Resch);
+    p.nx = 3;
+    p.ny = 2;
+    let m = generate(&p).unwrap();
+    assert!(m.lock_topology);
+    // A star centre: six creases, three mountains to corners and three valleys.
+    let mut by_vertex: HashMap<usize, (usize, usize)> = HashMap::new();
+    for e in m.edges() {
+        for v in e.vertices {
+            let c = by_vertex.entry(v).or_default();
+            match e.assignment {
+                Assignment::Mountain => c.0 += 1,
+                Assignment::Valley => c.1 += 1,
+                _ => {}
+            }
+        }
+    }
+    let stars = by_vertex
+        .values()
+        .filter(|&&(mo, va)| mo == 3 && va == 3)
+        .count();
+    // Two rows of a 3-wide lattice: 3 upward triangles in the first row, 3 in the second.
+    assert_eq!(stars, 6);
+    let mountains = m
+        .edges()
+        .iter()
+        .filter(|e| e.assignment == Assignment::Mountain)
+        .count();
+    assert_eq!(mountains, 3 * stars);
+}
+
+#[test]
+fn bad_parameters_are_refused_with_a_reason() {
+    let mut p = Params::defaults(PatternKind::Miura);
+    p.angle_deg = 95.0;
+    assert!(generate(&p).unwrap_err().to_string().contains("angle"));
+    let mut p = Params::defaults(PatternKind::Waterbomb);
+    p.fold = Some(0.5);
+    assert!(generate(&p).unwrap_err().to_string().contains("solver"));
+    let mut p = Params::defaults(PatternKind::Plane);
+    p.fold = Some(1.5);
+    assert!(generate(&p).is_err());
+}

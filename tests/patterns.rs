@@ -1,0 +1,32 @@
+//! The files in `patterns/` are exactly what the generators produce with their defaults,
+//! so they never drift from the code. Regenerate with
+//! `crease generate NAME -o patterns/NAME.fold`.
+
+use crease::generate::{generate, Params, PatternKind};
+use std::path::Path;
+
+#[test]
+fn bundled_starting_patterns_match_the_generators_byte_for_byte() {
+    for kind in PatternKind::ALL {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("patterns")
+            .join(format!("{}.fold", kind.name()));
+        let on_disk =
+            std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let mesh = generate(&Params::defaults(kind)).unwrap();
+        let fresh = crease::io::fold::to_string(&mesh);
+        assert!(
+            on_disk == fresh,
+            "{} differs from the generator; run `crease generate {} -o {}`",
+            path.display(),
+            kind.name(),
+            path.display()
+        );
+        // And it reads back to the same mesh.
+        let back = crease::io::read(&path).unwrap();
+        assert_eq!(back.positions(), mesh.positions());
+        assert_eq!(back.flat(), mesh.flat());
+        assert_eq!(back.edges(), mesh.edges());
+        assert_eq!(back.faces(), mesh.faces());
+    }
+}
