@@ -3,6 +3,8 @@
 //! Data flows one way: [`mesh`] → constraints → solver → fabrication → output → plotter.
 #![warn(missing_docs)]
 
+pub mod constraints;
+pub mod fab;
 pub mod generate;
 pub mod geometry;
 pub mod io;

@@ -2,7 +2,7 @@
 //! Exit status: 0 success, 1 the design fails a check, 2 bad input or arguments.
 
 use clap::{Parser, Subcommand};
-use crease::{generate, io};
+use crease::{constraints::ConstraintSet, fab, generate, io};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -25,6 +25,23 @@ enum Command {
     Info {
         /// Pattern file (.fold, .cp, .svg, .obj).
         file: PathBuf,
+    },
+    /// Check a design against the origami conditions (exit 1 if one fails).
+    Verify {
+        /// Pattern file (.fold, .cp, .svg, .obj).
+        file: PathBuf,
+        /// Print the report as JSON.
+        #[arg(long)]
+        json: bool,
+        /// Tolerance for every condition (radians for angles, relative for lengths);
+        /// default 1e-6.
+        #[arg(long)]
+        tol: Option<f64>,
+        /// Comma-separated conditions: developability, boundary-angle, boundary-length,
+        /// convexity, flat-foldability, angular-inequality, fold-angle-range, edge-length.
+        /// Default: what the design's assignment calls for.
+        #[arg(long)]
+        conditions: Option<String>,
     },
     /// Convert between pattern formats, chosen by extension (.fold, .cp, .svg, .obj).
     Convert {
@@ -135,6 +152,35 @@ fn run(cli: Cli) -> Result<u8, String> {
             println!("file:         {}", file.display());
             print!("{}", imported.mesh.info());
             Ok(0)
+        }
+        Command::Verify {
+            file,
+            json,
+            tol,
+            conditions,
+        } => {
+            let set = conditions
+                .as_deref()
+                .map(ConstraintSet::parse)
+                .transpose()?;
+            let mut tolerances = fab::Tolerances::default();
+            if let Some(t) = tol {
+                if !(t.is_finite() && t > 0.0) {
+                    return Err(format!("--tol must be a positive number (got {t})"));
+                }
+                tolerances = fab::Tolerances {
+                    angle: t,
+                    length: t,
+                };
+            }
+            let mesh = io::read(&file).map_err(|e| e.to_string())?;
+            let report = fab::verify(&mesh, set.as_ref(), tolerances);
+            if json {
+                println!("{}", report.to_json());
+            } else {
+                print!("{report}");
+            }
+            Ok(if report.pass() { 0 } else { 1 })
         }
         Command::Convert { input, output } => {
             let imported = io::read_with_notes(&input).map_err(|e| e.to_string())?;

@@ -134,7 +134,10 @@ fn flat_foldable_patterns_satisfy_kawasaki_and_maekawa() {
             let mut c = creases[v].clone();
             c.sort_by(|x, y| x.0.total_cmp(&y.0));
             let n = c.len();
-            assert!(n >= 4 && n % 2 == 0, "{kind:?} vertex {v} has {n} creases");
+            assert!(
+                n >= 4 && n.is_multiple_of(2),
+                "{kind:?} vertex {v} has {n} creases"
+            );
             let mut alternating = 0.0;
             for i in 0..n {
                 let mut sector = c[(i + 1) % n].0 - c[i].0;

@@ -49,7 +49,9 @@ pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, String> {
     let (mut parts, report) = mesh_from_segments(&segments)?;
     super::svg_read::report_notes(&report, notes);
     split_along_cuts(&mut parts);
-    Mesh::new(parts).map_err(|e| e.to_string())
+    let mut mesh = Mesh::new(parts).map_err(|e| e.to_string())?;
+    mesh.coordinate_precision = super::decimal_quantum(text);
+    Ok(mesh)
 }
 
 pub fn to_string(mesh: &Mesh) -> Result<String, String> {

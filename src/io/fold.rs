@@ -242,6 +242,8 @@ pub fn parse(text: &str) -> Result<Mesh, String> {
     };
     split_along_cuts(&mut parts);
     let mut mesh = Mesh::new(parts).map_err(|e| e.to_string())?;
+    mesh.coordinate_precision =
+        super::decimal_quantum(text) * unit_scale(top.frame_unit.as_deref())?;
     mesh.title = title;
     mesh.lock_topology = top.lock_topology.unwrap_or(false);
     Ok(mesh)

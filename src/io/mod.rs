@@ -75,6 +75,40 @@ pub struct Imported {
     pub notes: Vec<String>,
 }
 
+/// Half the smallest decimal step written among the numbers of a text file: the rounding
+/// a drawing program applied to its coordinates (Illustrator writes 3 decimals). Zero when
+/// every number is an integer.
+pub fn decimal_quantum(text: &str) -> f64 {
+    let bytes = text.as_bytes();
+    let mut finest: i32 = i32::MIN;
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == b'.' && i + 1 < bytes.len() && bytes[i + 1].is_ascii_digit() {
+            let mut j = i + 1;
+            while j < bytes.len() && bytes[j].is_ascii_digit() {
+                j += 1;
+            }
+            let mut decimals = (j - i - 1) as i32;
+            if j + 1 < bytes.len() && (bytes[j] == b'e' || bytes[j] == b'E') {
+                let exp: String = text[j + 1..]
+                    .chars()
+                    .take_while(|c| c.is_ascii_digit() || *c == '-' || *c == '+')
+                    .collect();
+                decimals -= exp.parse::<i32>().unwrap_or(0);
+            }
+            finest = finest.max(decimals);
+            i = j;
+        } else {
+            i += 1;
+        }
+    }
+    if finest == i32::MIN {
+        0.0
+    } else {
+        0.5 * 10f64.powi(-finest)
+    }
+}
+
 /// Reads a pattern file of any supported format.
 pub fn read(path: &Path) -> Result<Mesh, FileError> {
     read_with_notes(path).map(|i| i.mesh)

@@ -123,11 +123,13 @@ pub fn parse(text: &str) -> Result<Mesh, String> {
     } else {
         None
     };
-    Mesh::new(MeshParts {
+    let mut mesh = Mesh::new(MeshParts {
         positions: Some(positions),
         flat,
         faces,
         edges,
     })
-    .map_err(|e| e.to_string())
+    .map_err(|e| e.to_string())?;
+    mesh.coordinate_precision = super::decimal_quantum(text);
+    Ok(mesh)
 }

@@ -141,6 +141,9 @@ pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, String> {
     };
     let mut segments: Vec<Segment> = Vec::new();
     let mut saw_svg = false;
+    let mut root_scale = MM_PER_PX;
+    // Only coordinates tell the drawing's rounding (metadata carries other precisions).
+    let mut geometry_text = String::new();
     for (element_index, event) in parser.enumerate() {
         let (name, kind, attrs) = match event {
             Event::Tag(name, kind, attrs) => (name, kind, attrs),
@@ -195,6 +198,7 @@ pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, String> {
                 _ => MM_PER_PX,
             };
             style.transform = Affine([scale, 0.0, 0.0, -scale, 0.0, 0.0]);
+            root_scale = scale;
         }
         if let Some(t) = get("transform") {
             style.transform = style.transform.then_inner(&parse_transform(&t)?);
@@ -234,6 +238,14 @@ pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, String> {
                 }),
             }
         };
+        for k in [
+            "d", "x1", "y1", "x2", "y2", "x", "y", "width", "height", "points",
+        ] {
+            if let Some(v) = get(k) {
+                geometry_text.push_str(&v);
+                geometry_text.push(' ');
+            }
+        }
         let m = &style.transform;
         let polylines: Vec<Vec<Vec2>> = match name {
             "line" => vec![vec![
@@ -284,5 +296,7 @@ pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, String> {
     let (mut parts, report) = mesh_from_segments(&segments)?;
     report_notes(&report, notes);
     split_along_cuts(&mut parts);
-    Mesh::new(parts).map_err(|e| e.to_string())
+    let mut mesh = Mesh::new(parts).map_err(|e| e.to_string())?;
+    mesh.coordinate_precision = super::decimal_quantum(&geometry_text) * root_scale;
+    Ok(mesh)
 }

@@ -147,6 +147,9 @@ pub struct Mesh {
     pub title: String,
     /// Patterns whose topology must stay (Resch, §6.4) set this; remeshing then refuses.
     pub lock_topology: bool,
+    /// Rounding step of the source file's coordinates in mm (half its last decimal place),
+    /// 0 when exact. Verification does not count rounding as a design error.
+    pub coordinate_precision: f64,
 }
 
 /// Raw parts of a mesh before validation.
@@ -198,6 +201,7 @@ impl Mesh {
             topology,
             title: String::new(),
             lock_topology: false,
+            coordinate_precision: 0.0,
         })
     }
 

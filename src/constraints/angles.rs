@@ -1,0 +1,230 @@
+//! Angle conditions: developability (1), boundary angles (2), convexity (4),
+//! flat-foldability (5), angular inequalities (6)–(8) and fold-angle ranges (§2.4).
+
+use super::context::flips;
+use super::{Element, Family, Reference, Rows};
+use crate::geometry::{
+    fold_angle, fold_angle_gradient, sector_angle, sector_angle_gradient, track_branch,
+};
+use crate::mesh::{Mesh, Vec3};
+use std::f64::consts::PI;
+
+/// The sector angle of fan face `i` at vertex `v`, with the face and `v`'s corner index.
+fn corner(mesh: &Mesh, v: usize, face: usize) -> ([usize; 3], usize) {
+    let f = mesh.faces()[face];
+    (
+        f,
+        f.iter()
+            .position(|&x| x == v)
+            .expect("fan face holds its vertex"),
+    )
+}
+
+/// Adds Σ wᵢ θᵢ over the given fan faces of `v` to `row`'s gradient; returns Σ wᵢ θᵢ.
+fn weighted_angles(
+    mesh: &Mesh,
+    x: &[Vec3],
+    v: usize,
+    faces: &[(usize, f64)],
+    row: Option<usize>,
+    rows: &mut Rows,
+) -> f64 {
+    let mut total = 0.0;
+    for &(face, w) in faces {
+        let (f, k) = corner(mesh, v, face);
+        total += w * sector_angle(x, f, k);
+        if let Some(r) = row {
+            let g = sector_angle_gradient(x, f, k);
+            for (j, gj) in g.iter().enumerate() {
+                rows.add_gradient(r, f[j], *gj, w);
+            }
+        }
+    }
+    total
+}
+
+fn angle_sum(mesh: &Mesh, x: &[Vec3], v: usize) -> f64 {
+    let faces: Vec<(usize, f64)> = mesh.topology().fans[v]
+        .faces
+        .iter()
+        .map(|&f| (f, 1.0))
+        .collect();
+    weighted_angles(mesh, x, v, &faces, None, &mut Rows::default())
+}
+
+fn ones(mesh: &Mesh, v: usize, w: f64) -> Vec<(usize, f64)> {
+    mesh.topology().fans[v]
+        .faces
+        .iter()
+        .map(|&f| (f, w))
+        .collect()
+}
+
+/// Eq. (1): G = 2π − Σθ at every interior vertex.
+pub fn developability(mesh: &Mesh, x: &[Vec3], rows: &mut Rows) {
+    for v in (0..mesh.vertex_count()).filter(|&v| mesh.is_interior(v)) {
+        let g = 2.0 * PI - angle_sum(mesh, x, v);
+        let row = rows.push(Family::Developability, Element::Vertex(v), g);
+        weighted_angles(mesh, x, v, &ones(mesh, v, -1.0), Some(row), rows);
+    }
+}
+
+/// Eq. (2): Σθ − Σθ⁰ at every boundary vertex.
+pub fn boundary_angle(mesh: &Mesh, reference: &Reference, x: &[Vec3], rows: &mut Rows) {
+    for v in (0..mesh.vertex_count()).filter(|&v| !mesh.is_interior(v)) {
+        let r = angle_sum(mesh, x, v) - reference.angle_sum[v];
+        let row = rows.push(Family::BoundaryAngle, Element::Vertex(v), r);
+        weighted_angles(mesh, x, v, &ones(mesh, v, 1.0), Some(row), rows);
+    }
+}
+
+/// Eq. (4): max(Σθ − π, 0) at every boundary vertex.
+pub fn convexity(mesh: &Mesh, x: &[Vec3], rows: &mut Rows) {
+    for v in (0..mesh.vertex_count()).filter(|&v| !mesh.is_interior(v)) {
+        let g = angle_sum(mesh, x, v) - PI;
+        let row = rows.push(Family::Convexity, Element::Vertex(v), g.max(0.0));
+        if g > 0.0 {
+            weighted_angles(mesh, x, v, &ones(mesh, v, 1.0), Some(row), rows);
+        }
+    }
+}
+
+/// Eq. (5): F = Σ σθ at every vertex where σ is defined.
+pub fn flat_foldability(mesh: &Mesh, reference: &Reference, x: &[Vec3], rows: &mut Rows) {
+    for (v, sigma) in reference.sigma.iter().enumerate() {
+        let Some(sigma) = sigma else { continue };
+        let faces: Vec<(usize, f64)> = mesh.topology().fans[v]
+            .faces
+            .iter()
+            .copied()
+            .zip(sigma.iter().copied())
+            .collect();
+        let value = weighted_angles(mesh, x, v, &faces, None, rows);
+        let row = rows.push(Family::FlatFoldability, Element::Vertex(v), value);
+        weighted_angles(mesh, x, v, &faces, Some(row), rows);
+    }
+}
+
+/// Eq. (6)–(8) at every vertex with σ: for consecutive folded creases of equal direction,
+/// the sector between them is not smaller than its neighbours as the equations say.
+pub fn angular_inequality(mesh: &Mesh, reference: &Reference, x: &[Vec3], rows: &mut Rows) {
+    for (v, sigma) in reference.sigma.iter().enumerate() {
+        if sigma.is_none() {
+            continue;
+        }
+        let fan = &mesh.topology().fans[v];
+        // Folded creases in counter-clockwise order and the fan faces between each and the next.
+        let creases: Vec<usize> = (0..fan.spokes.len())
+            .filter(|&i| flips(mesh.edges()[fan.spokes[i]].target))
+            .collect();
+        let n = creases.len();
+        if n < 4 {
+            continue;
+        }
+        let sector_faces = |i: usize| -> Vec<usize> {
+            let (from, to) = (creases[i], creases[(i + 1) % n]);
+            let len = (to + fan.faces.len() - from) % fan.faces.len();
+            (0..len)
+                .map(|k| fan.faces[(from + k) % fan.faces.len()])
+                .collect()
+        };
+        let direction = |i: usize| mesh.edges()[fan.spokes[creases[i % n]]].target.signum();
+        let sector = |i: usize| -> (f64, Vec<usize>) {
+            let faces = sector_faces(i % n);
+            let w: Vec<(usize, f64)> = faces.iter().map(|&f| (f, 1.0)).collect();
+            (
+                weighted_angles(mesh, x, v, &w, None, &mut Rows::default()),
+                faces,
+            )
+        };
+        for i in 0..n {
+            if direction(i) != direction(i + 1) {
+                continue;
+            }
+            let (prev, next) = ((i + n - 1) % n, (i + 1) % n);
+            let (s, sf) = sector(i);
+            let (sp, pf) = sector(prev);
+            let (sn, nf) = sector(next);
+            let element = Element::Sector(v, fan.spokes[creases[i]], fan.spokes[creases[next]]);
+            let mut conditions: Vec<(f64, &Vec<usize>)> =
+                vec![if sp <= sn { (sp, &pf) } else { (sn, &nf) }];
+            if direction(prev) != direction(i) {
+                conditions.push((sp, &pf));
+            }
+            if direction(i + 2) != direction(i + 1) {
+                conditions.push((sn, &nf));
+            }
+            for (bound, bound_faces) in conditions {
+                let g = bound - s;
+                let row = rows.push(Family::AngularInequality, element, g.max(0.0));
+                if g > 0.0 {
+                    let mut w: Vec<(usize, f64)> = bound_faces.iter().map(|&f| (f, 1.0)).collect();
+                    w.extend(sf.iter().map(|&f| (f, -1.0)));
+                    weighted_angles(mesh, x, v, &w, Some(row), rows);
+                }
+            }
+        }
+    }
+}
+
+/// The fold angle of edge `e` on its tracked branch, with its gradient's vertices.
+pub fn tracked_fold_angle(
+    mesh: &Mesh,
+    reference: &Reference,
+    x: &[Vec3],
+    e: usize,
+) -> Option<(f64, [usize; 4])> {
+    let topo = mesh.topology();
+    let [left, right] = topo.edge_faces[e];
+    let (l, r) = (left?, right?);
+    let [a, b] = mesh.edges()[e].vertices;
+    let third = |f: usize| {
+        *mesh.faces()[f]
+            .iter()
+            .find(|&&v| v != a && v != b)
+            .expect("triangle")
+    };
+    let raw = fold_angle(x, mesh.faces(), topo, e, [a, b]);
+    Some((
+        track_branch(raw, reference.previous_fold[e]),
+        [a, b, third(l), third(r)],
+    ))
+}
+
+/// §2.4: target π → 0 ≤ ρ ≤ π; target −π → −π ≤ ρ ≤ 0; target 0 → |ρ| ≤ απ.
+/// Unassigned creases and the boundary are free.
+pub fn fold_angle_range(mesh: &Mesh, reference: &Reference, x: &[Vec3], rows: &mut Rows) {
+    for (e, edge) in mesh.edges().iter().enumerate() {
+        if edge.assignment == crate::mesh::Assignment::Unassigned {
+            continue;
+        }
+        let Some((rho, [a, b, k, l])) = tracked_fold_angle(mesh, reference, x, e) else {
+            continue;
+        };
+        let t = edge.target;
+        let limit = t.abs().max(edge.alpha * PI);
+        // Signed so that g ≤ 0 inside the range; `dir` is ∂g/∂ρ.
+        let (g, dir) = if t > 0.0 {
+            if rho < 0.0 {
+                (-rho, -1.0)
+            } else {
+                (rho - limit, 1.0)
+            }
+        } else if t < 0.0 {
+            if rho > 0.0 {
+                (rho, 1.0)
+            } else {
+                (-rho - limit, -1.0)
+            }
+        } else {
+            (rho.abs() - limit, rho.signum())
+        };
+        let row = rows.push(Family::FoldAngleRange, Element::Edge(e), g.max(0.0));
+        if g > 0.0 {
+            let grad = fold_angle_gradient(x, a, b, k, l);
+            for (v, gv) in [a, b, k, l].into_iter().zip(grad) {
+                rows.add_gradient(row, v, gv, dir);
+            }
+        }
+    }
+}

@@ -1,0 +1,137 @@
+//! What the conditions compare against: the flat state's angles and lengths (or the loaded
+//! 3D state's, when no crease pattern is known), the facet orientations σ of eq. (5), and
+//! the fold angles that pick each crease's branch (§2).
+
+use crate::geometry::{fold_angle, sector_angle};
+use crate::mesh::{Mesh, Vec3};
+use std::f64::consts::PI;
+
+/// Whether a target angle folds the paper over (an odd multiple of π), flipping σ.
+pub fn flips(target: f64) -> bool {
+    ((target / PI).round() as i64).rem_euclid(2) == 1
+}
+
+/// Reference data for one mesh, computed once.
+#[derive(Clone, Debug)]
+pub struct Reference {
+    /// Sector-angle sum of every vertex in the reference state.
+    pub angle_sum: Vec<f64>,
+    /// Length of every edge in the reference state.
+    pub length: Vec<f64>,
+    /// Straight pieces of the perimeter, as edge lists (eq. 3).
+    pub boundary_lines: Vec<Vec<usize>>,
+    /// σ of each fan face (eq. 5) at interior vertices whose folded creases are even in
+    /// number and at least two; `None` elsewhere.
+    pub sigma: Vec<Option<Vec<f64>>>,
+    /// Fold angles at the last accepted state, for branch tracking.
+    pub previous_fold: Vec<f64>,
+    /// An interior vertex with an odd number of folded creases, if any.
+    pub odd_vertex: Option<usize>,
+}
+
+impl Reference {
+    /// Reference of a mesh: the crease pattern when known, else its current 3D form.
+    pub fn new(mesh: &Mesh) -> Reference {
+        let reference: Vec<Vec3> = match mesh.flat() {
+            Some(f) => f.iter().map(|p| Vec3::new(p.x, p.y, 0.0)).collect(),
+            None => mesh.positions().to_vec(),
+        };
+        let n = mesh.vertex_count();
+        let mut angle_sum = vec![0.0; n];
+        for f in mesh.faces() {
+            for k in 0..3 {
+                angle_sum[f[k]] += sector_angle(&reference, *f, k);
+            }
+        }
+        let length: Vec<f64> = mesh
+            .edges()
+            .iter()
+            .map(|e| (reference[e.vertices[1]] - reference[e.vertices[0]]).norm())
+            .collect();
+        let topo = mesh.topology();
+        let mut sigma = vec![None; n];
+        let mut odd_vertex = None;
+        for (v, fan) in topo.fans.iter().enumerate() {
+            if fan.boundary {
+                continue;
+            }
+            let folded = fan
+                .spokes
+                .iter()
+                .filter(|&&e| flips(mesh.edges()[e].target))
+                .count();
+            if folded % 2 == 1 {
+                odd_vertex.get_or_insert(v);
+                continue;
+            }
+            if folded < 2 {
+                continue;
+            }
+            // Face i lies after spoke i; σ flips across each folded spoke.
+            let mut s = 1.0;
+            let signs = fan
+                .spokes
+                .iter()
+                .map(|&e| {
+                    if flips(mesh.edges()[e].target) {
+                        s = -s;
+                    }
+                    s
+                })
+                .collect();
+            sigma[v] = Some(signs);
+        }
+        let previous_fold = mesh
+            .edges()
+            .iter()
+            .enumerate()
+            .map(|(e, edge)| {
+                let raw = fold_angle(mesh.positions(), mesh.faces(), topo, e, edge.vertices);
+                // A flat-folded source (|ρ| near π) takes the sign its target asks for.
+                if (raw.abs() - PI).abs() < 1e-6 && edge.target != 0.0 {
+                    edge.target.signum() * raw.abs()
+                } else {
+                    raw
+                }
+            })
+            .collect();
+        let boundary_lines = straight_pieces(mesh, &angle_sum);
+        Reference {
+            angle_sum,
+            length,
+            boundary_lines,
+            sigma,
+            previous_fold,
+            odd_vertex,
+        }
+    }
+
+    /// Whether the assignment can fold flat at all: every interior vertex has an even
+    /// number of folded creases.
+    pub fn is_flat_foldable(&self) -> bool {
+        self.odd_vertex.is_none() && self.sigma.iter().any(Option::is_some)
+    }
+}
+
+/// Splits each boundary loop at its corners (reference angle sum ≠ π).
+fn straight_pieces(mesh: &Mesh, angle_sum: &[f64]) -> Vec<Vec<usize>> {
+    let topo = mesh.topology();
+    let mut pieces = Vec::new();
+    for lp in &topo.boundary_loops {
+        let m = lp.len();
+        let corner = |v: usize| (angle_sum[v] - PI).abs() > 1e-9;
+        let start = (0..m).find(|&i| corner(lp[i])).unwrap_or(0);
+        let mut current = Vec::new();
+        for step in 0..m {
+            let (a, b) = (lp[(start + step) % m], lp[(start + step + 1) % m]);
+            if let Some(e) = topo.edge_between(a, b) {
+                current.push(e);
+            }
+            if corner(b) || step + 1 == m {
+                pieces.push(std::mem::take(&mut current));
+            }
+        }
+    }
+    pieces.retain(|p| !p.is_empty());
+    pieces
+}

@@ -1,0 +1,203 @@
+//! The origami conditions of the paper (§2) as residuals with exact sparse Jacobians
+//! (§3, eq. 11–18). Each family lives in its own module and appends rows to a [`Rows`]
+//! block; a [`ConstraintSet`] picks families by name (the paper's "sets of active
+//! conditions"). Inequalities `g ≤ 0` contribute `max(g, 0)` (§3).
+
+mod angles;
+mod context;
+mod lengths;
+
+pub use context::Reference;
+
+use crate::mesh::{Mesh, Vec3};
+use sprs::{CsMat, TriMat};
+
+/// A family of conditions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Family {
+    /// Eq. (1): sector angles sum to 2π at every interior vertex.
+    Developability,
+    /// Eq. (2): boundary vertices keep their sector-angle sums.
+    BoundaryAngle,
+    /// Eq. (3): straight pieces of the perimeter keep their lengths.
+    BoundaryLength,
+    /// Eq. (4), optional: the paper's boundary stays convex.
+    Convexity,
+    /// Eq. (5): Kawasaki's condition Σ σθ = 0 at flat-foldable vertices.
+    FlatFoldability,
+    /// Eq. (6)–(8): angular inequalities against local layer intersections.
+    AngularInequality,
+    /// §2.4: each fold angle stays in the range its target allows.
+    FoldAngleRange,
+    /// §5 simulation mode: every edge keeps its length (relative residual).
+    EdgeLength,
+}
+
+impl Family {
+    /// Every family, in report order.
+    pub const ALL: [Family; 8] = [
+        Family::Developability,
+        Family::BoundaryAngle,
+        Family::BoundaryLength,
+        Family::Convexity,
+        Family::FlatFoldability,
+        Family::AngularInequality,
+        Family::FoldAngleRange,
+        Family::EdgeLength,
+    ];
+
+    /// The name used on the command line and in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Family::Developability => "developability",
+            Family::BoundaryAngle => "boundary-angle",
+            Family::BoundaryLength => "boundary-length",
+            Family::Convexity => "convexity",
+            Family::FlatFoldability => "flat-foldability",
+            Family::AngularInequality => "angular-inequality",
+            Family::FoldAngleRange => "fold-angle-range",
+            Family::EdgeLength => "edge-length",
+        }
+    }
+
+    /// Looks a family up by name.
+    pub fn from_name(name: &str) -> Option<Family> {
+        Family::ALL.into_iter().find(|f| f.name() == name)
+    }
+
+    /// Whether the residual is a relative length (else an angle in radians).
+    pub fn is_length(self) -> bool {
+        matches!(self, Family::BoundaryLength | Family::EdgeLength)
+    }
+}
+
+/// What a residual row is about, so reports can name it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Element {
+    /// A vertex.
+    Vertex(usize),
+    /// An edge.
+    Edge(usize),
+    /// A pair of consecutive creases at a vertex (angular inequalities): vertex, edges.
+    Sector(usize, usize, usize),
+}
+
+impl std::fmt::Display for Element {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Element::Vertex(v) => write!(f, "vertex {v}"),
+            Element::Edge(e) => write!(f, "edge {e}"),
+            Element::Sector(v, a, b) => write!(f, "vertex {v} between edges {a} and {b}"),
+        }
+    }
+}
+
+/// Residual rows with their Jacobian entries, as triplets over columns `3·vertex + axis`.
+#[derive(Clone, Debug, Default)]
+pub struct Rows {
+    /// Residual values.
+    pub residuals: Vec<f64>,
+    /// The family and element of each row.
+    pub labels: Vec<(Family, Element)>,
+    /// Jacobian triplets (row, column, value).
+    pub triplets: Vec<(usize, usize, f64)>,
+}
+
+impl Rows {
+    /// Starts a row; returns its index.
+    pub fn push(&mut self, family: Family, element: Element, residual: f64) -> usize {
+        self.residuals.push(residual);
+        self.labels.push((family, element));
+        self.residuals.len() - 1
+    }
+
+    /// Adds `scale · g` to the derivative of `row` with respect to vertex `v`.
+    pub fn add_gradient(&mut self, row: usize, v: usize, g: Vec3, scale: f64) {
+        for k in 0..3 {
+            let value = scale * g[k];
+            if value != 0.0 {
+                self.triplets.push((row, 3 * v + k, value));
+            }
+        }
+    }
+
+    /// The Jacobian as a compressed sparse row matrix with `3 · vertices` columns.
+    pub fn jacobian(&self, vertices: usize) -> CsMat<f64> {
+        let mut t = TriMat::new((self.residuals.len(), 3 * vertices));
+        for &(r, c, v) in &self.triplets {
+            t.add_triplet(r, c, v);
+        }
+        t.to_csr()
+    }
+}
+
+/// A chosen set of families, evaluated against a reference state.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConstraintSet {
+    /// Families in evaluation order.
+    pub families: Vec<Family>,
+}
+
+impl ConstraintSet {
+    /// Parses a comma-separated list of family names.
+    pub fn parse(list: &str) -> Result<ConstraintSet, String> {
+        let families = list
+            .split(',')
+            .map(str::trim)
+            .filter(|s| !s.is_empty())
+            .map(|n| {
+                Family::from_name(n).ok_or_else(|| {
+                    let names: Vec<&str> = Family::ALL.iter().map(|f| f.name()).collect();
+                    format!(
+                        "unknown condition \"{n}\" (choose from: {})",
+                        names.join(", ")
+                    )
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        if families.is_empty() {
+            return Err("no conditions given".into());
+        }
+        Ok(ConstraintSet { families })
+    }
+
+    /// What a design's own crease assignment calls for: developability and fold-angle
+    /// ranges always, flat-foldability and its inequalities when every interior vertex
+    /// with folds has an even number of them (a necessary condition for folding flat).
+    pub fn default_for(reference: &Reference) -> ConstraintSet {
+        let mut families = vec![Family::Developability];
+        if reference.is_flat_foldable() {
+            families.extend([Family::FlatFoldability, Family::AngularInequality]);
+        }
+        families.push(Family::FoldAngleRange);
+        ConstraintSet { families }
+    }
+
+    /// Residuals and Jacobian rows of every family at `positions`.
+    pub fn evaluate(&self, mesh: &Mesh, reference: &Reference, positions: &[Vec3]) -> Rows {
+        let mut rows = Rows::default();
+        for &f in &self.families {
+            match f {
+                Family::Developability => angles::developability(mesh, positions, &mut rows),
+                Family::BoundaryAngle => {
+                    angles::boundary_angle(mesh, reference, positions, &mut rows)
+                }
+                Family::Convexity => angles::convexity(mesh, positions, &mut rows),
+                Family::FlatFoldability => {
+                    angles::flat_foldability(mesh, reference, positions, &mut rows)
+                }
+                Family::AngularInequality => {
+                    angles::angular_inequality(mesh, reference, positions, &mut rows)
+                }
+                Family::FoldAngleRange => {
+                    angles::fold_angle_range(mesh, reference, positions, &mut rows)
+                }
+                Family::BoundaryLength => {
+                    lengths::boundary_length(mesh, reference, positions, &mut rows)
+                }
+                Family::EdgeLength => lengths::edge_length(mesh, reference, positions, &mut rows),
+            }
+        }
+        rows
+    }
+}

@@ -1,0 +1,306 @@
+//! The verification report that gates fabrication: every chosen condition family with its
+//! largest and RMS residual, the worst element, the violation count and a verdict; plus
+//! Maekawa's count |M − V| = 2 at flat-foldable vertices.
+
+use crate::constraints::{ConstraintSet, Element, Family, Reference};
+use crate::mesh::{Assignment, Mesh};
+use serde_json::{json, Value};
+use std::fmt;
+
+/// Pass thresholds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tolerances {
+    /// Angle conditions, radians.
+    pub angle: f64,
+    /// Length conditions, relative.
+    pub length: f64,
+}
+
+impl Default for Tolerances {
+    fn default() -> Self {
+        Tolerances {
+            angle: 1e-6,
+            length: 1e-6,
+        }
+    }
+}
+
+/// One family's figures.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FamilyReport {
+    /// Family name (a [`Family`] name, or "maekawa").
+    pub name: &'static str,
+    /// Largest |residual|.
+    pub max: f64,
+    /// Root mean square residual.
+    pub rms: f64,
+    /// Where the largest residual is.
+    pub worst: Option<String>,
+    /// Rows above tolerance.
+    pub violations: usize,
+    /// The tolerance applied.
+    pub tolerance: f64,
+    /// Rows evaluated.
+    pub rows: usize,
+    /// Whether the family decides the verdict (Maekawa's count is reported only).
+    pub gating: bool,
+    /// The elements above tolerance, largest first (at most [`LISTED_VIOLATIONS`]).
+    pub violators: Vec<String>,
+}
+
+/// How many violating elements a report lists per family.
+pub const LISTED_VIOLATIONS: usize = 8;
+
+impl FamilyReport {
+    /// No row above tolerance.
+    pub fn pass(&self) -> bool {
+        self.violations == 0
+    }
+}
+
+/// The result of verifying a design.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Report {
+    /// One entry per family checked.
+    pub families: Vec<FamilyReport>,
+    /// Coordinate rounding of the source file (mm) that widened the tolerances, if any.
+    pub precision: f64,
+    /// What was not checked, and why.
+    pub notes: Vec<String>,
+}
+
+impl Report {
+    /// Every family passes.
+    pub fn pass(&self) -> bool {
+        self.families
+            .iter()
+            .filter(|f| f.gating)
+            .all(FamilyReport::pass)
+    }
+
+    /// The first failing family, for messages.
+    pub fn first_failure(&self) -> Option<&FamilyReport> {
+        self.families.iter().find(|f| f.gating && !f.pass())
+    }
+
+    /// `{"pass": bool, "families": {NAME: {"max", "rms", "worst", "violations"}}}`.
+    pub fn to_json(&self) -> Value {
+        let families: serde_json::Map<String, Value> = self
+            .families
+            .iter()
+            .map(|f| {
+                (
+                    f.name.to_string(),
+                    json!({"max": f.max, "rms": f.rms, "worst": f.worst, "violations": f.violations,
+                           "tolerance": f.tolerance, "rows": f.rows, "judged": f.gating,
+                           "violators": f.violators}),
+                )
+            })
+            .collect();
+        json!({"pass": self.pass(), "families": families, "coordinate_precision_mm": self.precision,
+               "notes": self.notes})
+    }
+}
+
+impl fmt::Display for Report {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "{:<20} {:>6} {:>10} {:>10} {:>6}  worst",
+            "condition", "rows", "max", "rms", "fail"
+        )?;
+        for r in &self.families {
+            writeln!(
+                f,
+                "{:<20} {:>6} {:>10.3e} {:>10.3e} {:>6}  {}",
+                r.name,
+                r.rows,
+                r.max,
+                r.rms,
+                r.violations,
+                r.worst.as_deref().unwrap_or("-")
+            )?;
+        }
+        for note in &self.notes {
+            writeln!(f, "note: {note}")?;
+        }
+        if self.precision > 0.0 {
+            writeln!(
+                f,
+                "(tolerances widened to the file's coordinate rounding, {:.1e} mm)",
+                self.precision
+            )?;
+        }
+        match self.first_failure() {
+            None => writeln!(f, "verdict: PASS"),
+            Some(r) => {
+                writeln!(
+                    f,
+                    "verdict: FAIL — {} at {} ({:.3e} > {:.0e})",
+                    r.name,
+                    r.worst.as_deref().unwrap_or("?"),
+                    r.max,
+                    r.tolerance
+                )?;
+                for failing in self.families.iter().filter(|r| r.gating && !r.pass()) {
+                    let more = failing.violations.saturating_sub(failing.violators.len());
+                    let tail = if more > 0 {
+                        format!(" and {more} more")
+                    } else {
+                        String::new()
+                    };
+                    writeln!(
+                        f,
+                        "  {} fails at {}{tail}",
+                        failing.name,
+                        failing.violators.join(", ")
+                    )?;
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+fn summarise(name: &'static str, values: &[(f64, String)], tolerance: f64) -> FamilyReport {
+    let mut max = 0.0;
+    let mut worst = None;
+    let mut sum2 = 0.0;
+    let mut violations = 0;
+    let mut over: Vec<(f64, &String)> = Vec::new();
+    for (v, label) in values {
+        let a = v.abs();
+        sum2 += a * a;
+        if a > tolerance || a.is_nan() {
+            violations += 1;
+            over.push((if a.is_nan() { f64::INFINITY } else { a }, label));
+        }
+        if a > max || a.is_nan() {
+            max = a;
+            worst = Some(label.clone());
+        }
+    }
+    over.sort_by(|x, y| y.0.total_cmp(&x.0));
+    FamilyReport {
+        violators: over
+            .iter()
+            .take(LISTED_VIOLATIONS)
+            .map(|(a, l)| format!("{l} ({a:.1e})"))
+            .collect(),
+        name,
+        max,
+        rms: if values.is_empty() {
+            0.0
+        } else {
+            (sum2 / values.len() as f64).sqrt()
+        },
+        worst,
+        violations,
+        tolerance,
+        rows: values.len(),
+        gating: true,
+    }
+}
+
+/// Verifies a design against a set of conditions (its own default set when `None`).
+pub fn verify(mesh: &Mesh, conditions: Option<&ConstraintSet>, tol: Tolerances) -> Report {
+    let reference = Reference::new(mesh);
+    let default;
+    let set = match conditions {
+        Some(s) => s,
+        None => {
+            default = ConstraintSet::default_for(&reference);
+            &default
+        }
+    };
+    let rows = set.evaluate(mesh, &reference, mesh.positions());
+    let widened = rounding_tolerances(mesh, tol);
+    let precision = if widened != tol { mesh.coordinate_precision } else { 0.0 };
+    let tol = widened;
+    let mut families = Vec::new();
+    for &family in &set.families {
+        let values: Vec<(f64, String)> = rows
+            .residuals
+            .iter()
+            .zip(&rows.labels)
+            .filter(|(_, (f, _))| *f == family)
+            .map(|(r, (_, el))| (*r, el.to_string()))
+            .collect();
+        let t = if family.is_length() {
+            tol.length
+        } else {
+            tol.angle
+        };
+        families.push(summarise(family.name(), &values, t));
+    }
+    if set.families.contains(&Family::FlatFoldability) {
+        families.push(maekawa(mesh, &reference));
+    }
+    let mut notes = Vec::new();
+    if conditions.is_none() && !set.families.contains(&Family::FlatFoldability) {
+        notes.push(match reference.odd_vertex {
+            Some(v) => format!(
+                "flat-foldability not checked: vertex {v} has an odd number of folded creases, so this \
+                 assignment cannot fold flat (check it anyway with --conditions)"
+            ),
+            None => "flat-foldability not checked: no vertex has folded creases".to_string(),
+        });
+    }
+    Report {
+        families,
+        precision,
+        notes,
+    }
+}
+
+/// Widens the tolerances to what rounding the coordinates to the file's precision `p`
+/// can cause: each point moves up to √2·p, which turns an arm of length ℓ by up to
+/// √2·p/ℓ at each end; a vertex sum over d sectors, each bounded by two arms moved at
+/// both ends, changes by at most 4√2·d·p/ℓ_min. Lengths change by at most 2√2·p/ℓ_min.
+fn rounding_tolerances(mesh: &Mesh, tol: Tolerances) -> Tolerances {
+    let p = mesh.coordinate_precision;
+    if p <= 0.0 {
+        return tol;
+    }
+    let x = mesh.positions();
+    let shortest = mesh
+        .edges()
+        .iter()
+        .map(|e| (x[e.vertices[1]] - x[e.vertices[0]]).norm())
+        .fold(f64::INFINITY, f64::min);
+    let degree = mesh
+        .topology()
+        .fans
+        .iter()
+        .map(|f| f.spokes.len())
+        .max()
+        .unwrap_or(0) as f64;
+    let s = std::f64::consts::SQRT_2;
+    Tolerances {
+        angle: tol.angle.max(4.0 * s * degree * p / shortest),
+        length: tol.length.max(2.0 * s * p / shortest),
+    }
+}
+
+/// |M − V| − 2 at every vertex where σ is defined (counts, so any nonzero value fails).
+fn maekawa(mesh: &Mesh, reference: &Reference) -> FamilyReport {
+    let mut values = Vec::new();
+    for (v, sigma) in reference.sigma.iter().enumerate() {
+        if sigma.is_none() {
+            continue;
+        }
+        let (mut m, mut val) = (0i64, 0i64);
+        for &e in &mesh.topology().fans[v].spokes {
+            match mesh.edges()[e].assignment {
+                Assignment::Mountain => m += 1,
+                Assignment::Valley => val += 1,
+                _ => {}
+            }
+        }
+        values.push((((m - val).abs() - 2) as f64, Element::Vertex(v).to_string()));
+    }
+    FamilyReport {
+        gating: false,
+        ..summarise("maekawa", &values, 0.5)
+    }
+}

@@ -1,0 +1,248 @@
+//! Constraint Jacobians against central finite differences, and `crease verify` on
+//! bundled patterns, anchor crease patterns and a broken Miura-ori.
+
+use crease::constraints::{ConstraintSet, Family, Reference};
+use crease::generate::{generate, Params, PatternKind};
+use crease::mesh::{Mesh, Vec3};
+use std::process::Command;
+
+/// A small deterministic generator (no dependency needed for a perturbation).
+struct Lcg(u64);
+impl Lcg {
+    fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+    }
+}
+
+fn perturbed(kind: PatternKind, fold: Option<f64>, seed: u64) -> (Mesh, Vec<Vec3>) {
+    let mut p = Params::defaults(kind);
+    p.nx = 4;
+    p.ny = 4;
+    p.fold = fold;
+    let m = generate(&p).unwrap();
+    let mut rng = Lcg(seed);
+    // Lift out of the plane and jitter, so fold angles and all inequalities are generic.
+    let x: Vec<Vec3> = m
+        .positions()
+        .iter()
+        .map(|q| q + Vec3::new(rng.next(), rng.next(), 3.0 * rng.next()) * 0.8)
+        .collect();
+    (m, x)
+}
+
+/// Every family whose rows are smooth at generic points; inequality rows are checked
+/// where active (their max(g, 0) has a kink only at g = 0).
+fn check_family(kind: PatternKind, fold: Option<f64>, family: Family) {
+    for seed in 1..=3 {
+        let (m, x) = perturbed(kind, fold, seed);
+        check_jacobian(&m, &x, family, &format!("{kind:?} seed {seed}"));
+    }
+}
+
+fn check_jacobian(m: &Mesh, x: &[Vec3], family: Family, what: &str) {
+    let reference = Reference::new(m);
+    let set = ConstraintSet {
+        families: vec![family],
+    };
+    let rows = set.evaluate(m, &reference, x);
+    if rows.residuals.is_empty() {
+        return;
+    }
+    let jac = rows.jacobian(m.vertex_count()).to_dense();
+    let h = 1e-6;
+    let mut worst: f64 = 0.0;
+    let scale = jac.iter().fold(0.0f64, |a, &b| a.max(b.abs())).max(1e-12);
+    for v in 0..m.vertex_count() {
+        for k in 0..3 {
+            let mut xp = x.to_vec();
+            let mut xm = x.to_vec();
+            xp[v][k] += h;
+            xm[v][k] -= h;
+            let rp = set.evaluate(m, &reference, &xp).residuals;
+            let rm = set.evaluate(m, &reference, &xm).residuals;
+            for r in 0..rows.residuals.len() {
+                // Skip rows sitting on an inequality's kink.
+                if (rp[r] == 0.0) != (rm[r] == 0.0) {
+                    continue;
+                }
+                let fd = (rp[r] - rm[r]) / (2.0 * h);
+                worst = worst.max((fd - jac[[r, 3 * v + k]]).abs() / scale);
+            }
+        }
+    }
+    assert!(
+        worst < 1e-6,
+        "{what} {family:?}: relative Jacobian error {worst:e}"
+    );
+}
+
+#[test]
+fn jacobians_match_finite_differences() {
+    let cases = [
+        (PatternKind::Miura, Some(0.4)),
+        (PatternKind::Waterbomb, None),
+        (PatternKind::Resch, None),
+        (PatternKind::Plane, Some(0.3)),
+    ];
+    for (kind, fold) in cases {
+        for family in Family::ALL {
+            check_family(kind, fold, family);
+        }
+    }
+}
+
+/// One degree-4 vertex, creases at 0°, 40°, 140°, 280° (sectors 40, 100, 140, 80:
+/// Kawasaki holds), assigned M, M, M, V: the 40° sector between the first two mountains
+/// is smaller than both its neighbours, which eq. (6) forbids, and smaller than the one
+/// after the valley, which eq. (7) forbids.
+fn bad_vertex() -> Mesh {
+    use crease::mesh::{Assignment, Edge, MeshParts, Vec2};
+    let mut flat = vec![Vec2::zeros()];
+    for deg in [0.0f64, 40.0, 140.0, 280.0] {
+        let (s, c) = deg.to_radians().sin_cos();
+        flat.push(Vec2::new(10.0 * c, 10.0 * s));
+    }
+    let faces = vec![[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 1]];
+    let kinds = [
+        Assignment::Mountain,
+        Assignment::Mountain,
+        Assignment::Mountain,
+        Assignment::Valley,
+    ];
+    let edges = (1..=4).map(|i| Edge::new(0, i, kinds[i - 1])).collect();
+    Mesh::new(MeshParts {
+        positions: None,
+        flat: Some(flat),
+        faces,
+        edges,
+    })
+    .unwrap()
+}
+
+#[test]
+fn angular_inequalities_catch_a_bad_assignment_and_have_exact_gradients() {
+    let m = bad_vertex();
+    let reference = Reference::new(&m);
+    let rows = ConstraintSet {
+        families: vec![Family::AngularInequality],
+    }
+    .evaluate(&m, &reference, m.positions());
+    let worst = rows.residuals.iter().cloned().fold(0.0, f64::max);
+    // Pair (c0, c1): min(80°, 100°) − 40° by eq. (6), 80° − 40° by eq. (7); pair
+    // (c1, c2), followed by the valley: 140° − 100° by eq. (8). All 40°.
+    assert!(
+        (worst - 40f64.to_radians()).abs() < 1e-12,
+        "residual {worst}"
+    );
+    assert_eq!(rows.residuals.iter().filter(|&&r| r > 0.0).count(), 3);
+    // Kawasaki alone is satisfied: the inequalities add information.
+    let kawasaki = ConstraintSet {
+        families: vec![Family::FlatFoldability],
+    }
+    .evaluate(&m, &reference, m.positions());
+    assert!(kawasaki.residuals[0].abs() < 1e-12);
+    let mut rng = Lcg(7);
+    let x: Vec<Vec3> = m
+        .positions()
+        .iter()
+        .map(|q| q + Vec3::new(rng.next(), rng.next(), rng.next()) * 0.5)
+        .collect();
+    check_jacobian(&m, &x, Family::AngularInequality, "bad vertex");
+}
+
+#[test]
+fn fold_angle_ranges_are_active_under_the_test_perturbation() {
+    // Otherwise the finite-difference test would prove nothing for them.
+    let (m, x) = perturbed(PatternKind::Miura, Some(0.4), 1);
+    let reference = Reference::new(&m);
+    let rows = ConstraintSet {
+        families: vec![Family::FoldAngleRange],
+    }
+    .evaluate(&m, &reference, &x);
+    assert!(rows.residuals.iter().any(|&r| r > 0.0));
+}
+
+fn crease(args: &[&str]) -> (i32, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_crease"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr),
+    )
+}
+
+#[test]
+fn verify_passes_bundled_patterns_and_flat_foldable_anchors() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let mut files: Vec<String> = PatternKind::ALL
+        .iter()
+        .map(|k| format!("{root}/patterns/{}.fold", k.name()))
+        .collect();
+    for a in [
+        "miura-ori.svg",
+        "waterbomb.svg",
+        "birdBase.svg",
+        "singlesquaretwist.svg",
+        "BoxPleatPyramid.fold",
+    ] {
+        files.push(format!(
+            "{root}/../shared/anchors/data/origamisimulator/{a}"
+        ));
+    }
+    for f in files {
+        let (code, out) = crease(&["verify", &f, "--json"]);
+        assert_eq!(code, 0, "{f}: {out}");
+        let v: serde_json::Value = serde_json::from_str(out.lines().next().unwrap()).unwrap();
+        assert_eq!(v["pass"], true);
+        if !f.contains("plane") && !f.contains("resch") {
+            assert!(
+                v["families"]["flat-foldability"]["violations"] == 0,
+                "{f} checked for flat-foldability"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_miura_with_one_vertex_moved_fails_and_names_it() {
+    // The bundled folded Miura-ori; one interior vertex of its 3D form moves 0.1 mm.
+    let mut m = generate(&Params::defaults(PatternKind::Miura)).unwrap();
+    let v = (0..m.vertex_count())
+        .filter(|&v| m.is_interior(v))
+        .nth(20)
+        .unwrap();
+    let mut x = m.positions().to_vec();
+    x[v].z += 0.1;
+    m.set_positions(x);
+    let dir = std::env::temp_dir().join(format!("crease-verify-{}", std::process::id()));
+    let path = dir.join("moved.fold");
+    crease::io::write(&m, &path).unwrap();
+    let (code, out) = crease(&["verify", path.to_str().unwrap()]);
+    assert_eq!(code, 1, "{out}");
+    assert!(
+        out.contains(&format!("vertex {v}")),
+        "names vertex {v}: {out}"
+    );
+    assert!(out.contains("FAIL"), "{out}");
+}
+
+#[test]
+fn verify_rejects_bad_input_with_status_2() {
+    let (code, out) = crease(&["verify", "/nonexistent.fold"]);
+    assert_eq!(code, 2, "{out}");
+    let root = env!("CARGO_MANIFEST_DIR");
+    let (code, out) = crease(&[
+        "verify",
+        &format!("{root}/patterns/miura.fold"),
+        "--conditions",
+        "kawasaki",
+    ]);
+    assert_eq!(code, 2);
+    assert!(out.contains("unknown condition"), "{out}");
+}
