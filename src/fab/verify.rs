@@ -215,7 +215,11 @@ pub fn verify(mesh: &Mesh, conditions: Option<&ConstraintSet>, tol: Tolerances) 
     };
     let rows = set.evaluate(mesh, &reference, mesh.positions());
     let widened = rounding_tolerances(mesh, tol);
-    let precision = if widened != tol { mesh.coordinate_precision } else { 0.0 };
+    let precision = if widened != tol {
+        mesh.coordinate_precision
+    } else {
+        0.0
+    };
     let tol = widened;
     let mut families = Vec::new();
     for &family in &set.families {

@@ -1,0 +1,50 @@
+//! `cargo bench --bench verify`: how long verification takes on real patterns.
+//! A plain timing harness (median of repeated runs) keeps the dependency list short.
+
+use crease::fab::{verify, Tolerances};
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+fn median(mut f: impl FnMut(), runs: usize) -> Duration {
+    let mut times: Vec<Duration> = (0..runs)
+        .map(|_| {
+            let t = Instant::now();
+            f();
+            t.elapsed()
+        })
+        .collect();
+    times.sort();
+    times[runs / 2]
+}
+
+fn main() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let cases = [
+        root.join("../shared/anchors/data/origamisimulator/BoxPleatPyramid.fold"),
+        root.join("patterns/resch.fold"),
+        root.join("patterns/miura.fold"),
+    ];
+    println!(
+        "{:<24} {:>9} {:>12} {:>12}",
+        "pattern", "vertices", "read", "verify"
+    );
+    for path in cases {
+        if !path.exists() {
+            eprintln!("skipping {} (not found)", path.display());
+            continue;
+        }
+        let mesh = crease::io::read(&path).expect("bench input reads");
+        let read = median(|| drop(crease::io::read(&path).unwrap()), 11);
+        let check = median(
+            || assert!(verify(&mesh, None, Tolerances::default()).pass()),
+            11,
+        );
+        println!(
+            "{:<24} {:>9} {:>10.2?} {:>10.2?}",
+            path.file_name().unwrap().to_string_lossy(),
+            mesh.vertex_count(),
+            read,
+            check
+        );
+    }
+}
