@@ -9,3 +9,5 @@ pub mod generate;
 pub mod geometry;
 pub mod io;
 pub mod mesh;
+pub mod pipeline;
+pub mod solver;

@@ -2,7 +2,10 @@
 //! Exit status: 0 success, 1 the design fails a check, 2 bad input or arguments.
 
 use clap::{Parser, Subcommand};
+use crease::pipeline::{run_design, DesignJob, PipelineError};
+use crease::solver::{Mode, Move, Script, Stage};
 use crease::{constraints::ConstraintSet, fab, generate, io};
+use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -42,6 +45,53 @@ enum Command {
         /// Default: what the design's assignment calls for.
         #[arg(long)]
         conditions: Option<String>,
+    },
+    /// Fold a pattern in simulation mode (rigid panels), driving every crease toward a
+    /// fraction of its target angle.
+    Fold {
+        /// Pattern file.
+        file: PathBuf,
+        /// Fraction of each crease's target angle, in [0, 1].
+        #[arg(long)]
+        amount: f64,
+        /// Vertices held still (default: the face nearest the middle).
+        #[arg(long, num_args = 1..)]
+        fix: Vec<usize>,
+        /// Output FOLD file.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
+    /// Vary a pattern by dragging vertices while the chosen conditions keep holding.
+    Deform {
+        /// Pattern file (may be omitted when the script names its base).
+        file: Option<PathBuf>,
+        /// Drag a vertex to a point: V=X,Y,Z (mm). Repeat for several vertices.
+        #[arg(long, value_parser = parse_drag)]
+        drag: Vec<Move>,
+        /// Vertices held still (default: the face nearest the middle).
+        #[arg(long, num_args = 1..)]
+        fix: Vec<usize>,
+        /// A TOML script of drags (see patterns/*.toml).
+        #[arg(long)]
+        script: Option<PathBuf>,
+        /// Euler steps for the --drag moves.
+        #[arg(long, default_value_t = 20)]
+        steps: usize,
+        /// design (chosen conditions, lengths free) or simulation (lengths kept).
+        #[arg(long)]
+        mode: Option<String>,
+        /// Comma-separated conditions (design mode), as for verify.
+        #[arg(long)]
+        conditions: Option<String>,
+        /// Twist allowance α of flat creases (paper §2.4).
+        #[arg(long)]
+        alpha: Option<f64>,
+        /// Drag falloff radius in mm (default: a quarter of the design's diagonal).
+        #[arg(long)]
+        radius: Option<f64>,
+        /// Output FOLD file.
+        #[arg(short, long)]
+        output: PathBuf,
     },
     /// Convert between pattern formats, chosen by extension (.fold, .cp, .svg, .obj).
     Convert {
@@ -113,6 +163,70 @@ impl GenerateArgs {
     }
 }
 
+/// Prints to standard output; a closed pipe (`crease info x | head`) is not an error.
+fn out(text: &str) {
+    use std::io::Write;
+    let _ = std::io::stdout().lock().write_all(text.as_bytes());
+}
+
+fn parse_drag(text: &str) -> Result<Move, String> {
+    let bad = || format!("expected V=X,Y,Z, got \"{text}\"");
+    let (v, xyz) = text.split_once('=').ok_or_else(bad)?;
+    let vertex = v.trim().parse().map_err(|_| bad())?;
+    let c: Vec<f64> = xyz
+        .split(',')
+        .map(|s| s.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| bad())?;
+    if c.len() != 3 {
+        return Err(bad());
+    }
+    Ok(Move {
+        vertex,
+        to: [c[0], c[1], c[2]],
+    })
+}
+
+/// A progress bar on standard error, shown only on a terminal and for long runs.
+fn progress_bar() -> impl FnMut(&str, usize, usize) {
+    let mut bar: Option<ProgressBar> = None;
+    let mut phase = String::new();
+    move |name: &str, done: usize, total: usize| {
+        if phase != name {
+            if let Some(b) = bar.take() {
+                b.finish_and_clear();
+            }
+            phase = name.to_string();
+            let b = ProgressBar::new(total as u64);
+            b.set_style(
+                ProgressStyle::with_template(
+                    "{msg:>6} [{bar:40}] {pos}/{len} steps, {elapsed} (eta {eta})",
+                )
+                .expect("valid template")
+                .progress_chars("=> "),
+            );
+            b.set_message(name.to_string());
+            bar = Some(b);
+        }
+        if let Some(b) = &bar {
+            b.set_position(done as u64);
+            if done >= total {
+                b.finish_and_clear();
+            }
+        }
+    }
+}
+
+/// Exit status for a failed design job: 2 for bad input, 1 for a solve that failed.
+fn design_failure(e: PipelineError) -> Result<u8, String> {
+    if e.is_input_error() {
+        Err(e.to_string())
+    } else {
+        eprintln!("error: {e}; nothing was written");
+        Ok(1)
+    }
+}
+
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(c) => c,
@@ -149,8 +263,11 @@ fn run(cli: Cli) -> Result<u8, String> {
             for note in &imported.notes {
                 eprintln!("note: {note}");
             }
-            println!("file:         {}", file.display());
-            print!("{}", imported.mesh.info());
+            out(&format!(
+                "file:         {}\n{}",
+                file.display(),
+                imported.mesh.info()
+            ));
             Ok(0)
         }
         Command::Verify {
@@ -176,11 +293,113 @@ fn run(cli: Cli) -> Result<u8, String> {
             let mesh = io::read(&file).map_err(|e| e.to_string())?;
             let report = fab::verify(&mesh, set.as_ref(), tolerances);
             if json {
-                println!("{}", report.to_json());
+                out(&format!("{}\n", report.to_json()));
             } else {
-                print!("{report}");
+                out(&report.to_string());
             }
             Ok(if report.pass() { 0 } else { 1 })
+        }
+        Command::Fold {
+            file,
+            amount,
+            fix,
+            output,
+        } => {
+            let mesh = io::read(&file).map_err(|e| e.to_string())?;
+            let mut job = DesignJob::new(mesh);
+            job.fold = Some(amount);
+            job.fixed = (!fix.is_empty()).then_some(fix);
+            job.mode = Mode::Simulation;
+            let outcome = match run_design(job, &mut progress_bar()) {
+                Ok(o) => o,
+                Err(e) => return design_failure(e),
+            };
+            io::write(&outcome.mesh, &output).map_err(|e| e.to_string())?;
+            if let Some(f) = outcome.fold {
+                eprintln!(
+                    "folded in {} steps to {:.1}% of the target angles on average (largest miss {:.3} rad); wrote {}",
+                    f.steps,
+                    100.0 * f.mean_fraction,
+                    f.error,
+                    output.display()
+                );
+            }
+            Ok(0)
+        }
+        Command::Deform {
+            file,
+            drag,
+            fix,
+            script,
+            steps,
+            mode,
+            conditions,
+            alpha,
+            radius,
+            output,
+        } => {
+            let mesh = file
+                .as_deref()
+                .map(io::read)
+                .transpose()
+                .map_err(|e| e.to_string())?;
+            let mut job = match &script {
+                Some(path) => {
+                    let text = std::fs::read_to_string(path)
+                        .map_err(|e| format!("{}: {e}", path.display()))?;
+                    let parsed =
+                        Script::parse(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+                    let dir = path.parent().unwrap_or(std::path::Path::new("."));
+                    DesignJob::from_script(&parsed, dir, mesh)
+                        .map_err(|e| format!("{}: {e}", path.display()))?
+                }
+                None => DesignJob::new(mesh.ok_or("give a pattern file or a --script")?),
+            };
+            if !drag.is_empty() {
+                job.stages.push(Stage { steps, moves: drag });
+            }
+            if job.stages.is_empty() && job.fold.is_none() {
+                return Err(
+                    "nothing to do: give --drag V=X,Y,Z or a --script with stages or a fold".into(),
+                );
+            }
+            if !fix.is_empty() {
+                job.fixed = Some(fix);
+            }
+            match mode.as_deref() {
+                None => {}
+                Some("design") => job.mode = Mode::Design,
+                Some("simulation") => job.mode = Mode::Simulation,
+                Some(other) => {
+                    return Err(format!("unknown mode \"{other}\" (design or simulation)"))
+                }
+            }
+            if let Some(c) = conditions {
+                job.conditions = Some(ConstraintSet::parse(&c)?);
+            }
+            job.alpha = alpha.or(job.alpha);
+            job.radius = radius.or(job.radius);
+            let outcome = match run_design(job, &mut progress_bar()) {
+                Ok(o) => o,
+                Err(e) => return design_failure(e),
+            };
+            io::write(&outcome.mesh, &output).map_err(|e| e.to_string())?;
+            let s = &outcome.stats;
+            eprintln!(
+                "{} steps, {} Newton iterations, {} halvings, largest residual {:.1e}; wrote {}",
+                s.steps,
+                s.newton_iterations,
+                s.halvings,
+                s.worst_residual,
+                output.display()
+            );
+            for d in outcome.drags.iter().flat_map(|d| &d.distances) {
+                eprintln!(
+                    "vertex {}: {:.2} mm from its target (was {:.2} mm)",
+                    d.0, d.2, d.1
+                );
+            }
+            Ok(0)
         }
         Command::Convert { input, output } => {
             let imported = io::read_with_notes(&input).map_err(|e| e.to_string())?;

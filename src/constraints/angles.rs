@@ -191,18 +191,19 @@ pub fn tracked_fold_angle(
     ))
 }
 
-/// §2.4: target π → 0 ≤ ρ ≤ π; target −π → −π ≤ ρ ≤ 0; target 0 → |ρ| ≤ απ.
-/// Unassigned creases and the boundary are free.
+/// §2.4 (1–2): target π → 0 ≤ ρ ≤ π; target −π → −π ≤ ρ ≤ 0 (merged creases of §4
+/// with targets ±2π may turn up to their target). Unassigned creases and the boundary are
+/// free; target-0 creases are [`twist_range`]'s.
 pub fn fold_angle_range(mesh: &Mesh, reference: &Reference, x: &[Vec3], rows: &mut Rows) {
     for (e, edge) in mesh.edges().iter().enumerate() {
-        if edge.assignment == crate::mesh::Assignment::Unassigned {
+        if edge.assignment == crate::mesh::Assignment::Unassigned || edge.target == 0.0 {
             continue;
         }
         let Some((rho, [a, b, k, l])) = tracked_fold_angle(mesh, reference, x, e) else {
             continue;
         };
         let t = edge.target;
-        let limit = t.abs().max(edge.alpha * PI);
+        let limit = t.abs();
         // Signed so that g ≤ 0 inside the range; `dir` is ∂g/∂ρ.
         let (g, dir) = if t > 0.0 {
             if rho < 0.0 {
@@ -210,20 +211,46 @@ pub fn fold_angle_range(mesh: &Mesh, reference: &Reference, x: &[Vec3], rows: &m
             } else {
                 (rho - limit, 1.0)
             }
-        } else if t < 0.0 {
-            if rho > 0.0 {
-                (rho, 1.0)
-            } else {
-                (-rho - limit, -1.0)
-            }
+        } else if rho > 0.0 {
+            (rho, 1.0)
         } else {
-            (rho.abs() - limit, rho.signum())
+            (-rho - limit, -1.0)
         };
         let row = rows.push(Family::FoldAngleRange, Element::Edge(e), g.max(0.0));
         if g > 0.0 {
             let grad = fold_angle_gradient(x, a, b, k, l);
             for (v, gv) in [a, b, k, l].into_iter().zip(grad) {
                 rows.add_gradient(row, v, gv, dir);
+            }
+        }
+    }
+}
+
+/// §2.4 (3): a target-0 crease (not unassigned) keeps |ρ| ≤ απ. With α = 0 the facet may
+/// not twist at all, which is the equality ρ = 0: a smooth row, so the solver does not
+/// chatter on the kink of |ρ| at the flat state where every design starts.
+pub fn twist_range(mesh: &Mesh, reference: &Reference, x: &[Vec3], rows: &mut Rows) {
+    for (e, edge) in mesh.edges().iter().enumerate() {
+        if edge.assignment == crate::mesh::Assignment::Unassigned || edge.target != 0.0 {
+            continue;
+        }
+        let Some((rho, [a, b, k, l])) = tracked_fold_angle(mesh, reference, x, e) else {
+            continue;
+        };
+        let grad = |rows: &mut Rows, row: usize, dir: f64| {
+            let g = fold_angle_gradient(x, a, b, k, l);
+            for (v, gv) in [a, b, k, l].into_iter().zip(g) {
+                rows.add_gradient(row, v, gv, dir);
+            }
+        };
+        if edge.alpha == 0.0 {
+            let row = rows.push_row(Family::TwistRange, Element::Edge(e), rho, false);
+            grad(rows, row, 1.0);
+        } else {
+            let g = rho.abs() - edge.alpha * PI;
+            let row = rows.push(Family::TwistRange, Element::Edge(e), g.max(0.0));
+            if g > 0.0 {
+                grad(rows, row, rho.signum());
             }
         }
     }

@@ -106,6 +106,16 @@ impl Reference {
         }
     }
 
+    /// Moves the branch reference to the fold angles at `x` (call after each accepted step,
+    /// §2: "the previous rotation angle value of each edge is stored for each frame").
+    pub fn track_folds(&mut self, mesh: &Mesh, x: &[Vec3]) {
+        for e in 0..mesh.edges().len() {
+            if let Some((rho, _)) = super::angles::tracked_fold_angle(mesh, self, x, e) {
+                self.previous_fold[e] = rho;
+            }
+        }
+    }
+
     /// Whether the assignment can fold flat at all: every interior vertex has an even
     /// number of folded creases.
     pub fn is_flat_foldable(&self) -> bool {

@@ -7,7 +7,8 @@ mod angles;
 mod context;
 mod lengths;
 
-pub use context::Reference;
+pub use angles::tracked_fold_angle;
+pub use context::{flips, Reference};
 
 use crate::mesh::{Mesh, Vec3};
 use sprs::{CsMat, TriMat};
@@ -27,15 +28,18 @@ pub enum Family {
     FlatFoldability,
     /// Eq. (6)–(8): angular inequalities against local layer intersections.
     AngularInequality,
-    /// §2.4: each fold angle stays in the range its target allows.
+    /// §2.4 (1–2): a mountain stays in [0, π], a valley in [−π, 0].
     FoldAngleRange,
+    /// §2.4 (3): a target-0 crease twists at most |ρ| ≤ απ; with α = 0 it stays flat
+    /// (an equality, ρ = 0).
+    TwistRange,
     /// §5 simulation mode: every edge keeps its length (relative residual).
     EdgeLength,
 }
 
 impl Family {
     /// Every family, in report order.
-    pub const ALL: [Family; 8] = [
+    pub const ALL: [Family; 9] = [
         Family::Developability,
         Family::BoundaryAngle,
         Family::BoundaryLength,
@@ -43,6 +47,7 @@ impl Family {
         Family::FlatFoldability,
         Family::AngularInequality,
         Family::FoldAngleRange,
+        Family::TwistRange,
         Family::EdgeLength,
     ];
 
@@ -56,6 +61,7 @@ impl Family {
             Family::FlatFoldability => "flat-foldability",
             Family::AngularInequality => "angular-inequality",
             Family::FoldAngleRange => "fold-angle-range",
+            Family::TwistRange => "twist-range",
             Family::EdgeLength => "edge-length",
         }
     }
@@ -63,6 +69,18 @@ impl Family {
     /// Looks a family up by name.
     pub fn from_name(name: &str) -> Option<Family> {
         Family::ALL.into_iter().find(|f| f.name() == name)
+    }
+
+    /// Whether the family is an inequality `g ≤ 0`, whose rows are `max(g, 0)` and carry
+    /// no Jacobian entries while inactive.
+    pub fn is_inequality(self) -> bool {
+        matches!(
+            self,
+            Family::Convexity
+                | Family::AngularInequality
+                | Family::FoldAngleRange
+                | Family::TwistRange
+        )
     }
 
     /// Whether the residual is a relative length (else an angle in radians).
@@ -99,6 +117,8 @@ pub struct Rows {
     pub residuals: Vec<f64>,
     /// The family and element of each row.
     pub labels: Vec<(Family, Element)>,
+    /// Whether each row is `max(g, 0)` of an inequality (no Jacobian entries while 0).
+    pub inequality: Vec<bool>,
     /// Jacobian triplets (row, column, value).
     pub triplets: Vec<(usize, usize, f64)>,
 }
@@ -106,6 +126,18 @@ pub struct Rows {
 impl Rows {
     /// Starts a row; returns its index.
     pub fn push(&mut self, family: Family, element: Element, residual: f64) -> usize {
+        self.push_row(family, element, residual, family.is_inequality())
+    }
+
+    /// Starts a row, saying whether it is an inequality's `max(g, 0)`.
+    pub fn push_row(
+        &mut self,
+        family: Family,
+        element: Element,
+        residual: f64,
+        inequality: bool,
+    ) -> usize {
+        self.inequality.push(inequality);
         self.residuals.push(residual);
         self.labels.push((family, element));
         self.residuals.len() - 1
@@ -169,7 +201,7 @@ impl ConstraintSet {
         if reference.is_flat_foldable() {
             families.extend([Family::FlatFoldability, Family::AngularInequality]);
         }
-        families.push(Family::FoldAngleRange);
+        families.extend([Family::FoldAngleRange, Family::TwistRange]);
         ConstraintSet { families }
     }
 
@@ -189,6 +221,7 @@ impl ConstraintSet {
                 Family::AngularInequality => {
                     angles::angular_inequality(mesh, reference, positions, &mut rows)
                 }
+                Family::TwistRange => angles::twist_range(mesh, reference, positions, &mut rows),
                 Family::FoldAngleRange => {
                     angles::fold_angle_range(mesh, reference, positions, &mut rows)
                 }

@@ -1,0 +1,307 @@
+//! Whole jobs that chain the stages (solver → fab), shared by the CLI and the tests so
+//! both run exactly the same thing: folding a pattern, and running a design script.
+
+use crate::constraints::{tracked_fold_angle, ConstraintSet, Reference};
+use crate::fab::{unfold, UnfoldError};
+use crate::mesh::{Assignment, Mesh, Vec3};
+use crate::solver::{
+    fold_toward, run_stage, DragReport, FoldReport, Mode, Options, Script, Solver, SolverError,
+    Stage, Stats,
+};
+use std::path::Path;
+
+/// Why a job failed. `is_input_error` separates bad arguments (exit 2) from solves that
+/// did not work out (exit 1).
+#[derive(Debug, thiserror::Error)]
+pub enum PipelineError {
+    /// A bad argument or script entry.
+    #[error("{0}")]
+    Input(String),
+    /// The solver failed.
+    #[error(transparent)]
+    Solver(#[from] SolverError),
+    /// The result could not be unfolded.
+    #[error(transparent)]
+    Unfold(#[from] UnfoldError),
+}
+
+impl PipelineError {
+    /// Bad input rather than a failed solve.
+    pub fn is_input_error(&self) -> bool {
+        matches!(
+            self,
+            PipelineError::Input(_)
+                | PipelineError::Solver(
+                    SolverError::UnknownVertex { .. } | SolverError::NotADisk { .. }
+                )
+        )
+    }
+}
+
+/// A design job: a mesh and what to do to it.
+#[derive(Clone, Debug)]
+pub struct DesignJob {
+    /// The starting mesh.
+    pub mesh: Mesh,
+    /// Design or simulation (§5).
+    pub mode: Mode,
+    /// Conditions in design mode; default from the assignment.
+    pub conditions: Option<ConstraintSet>,
+    /// Twist allowance for flat creases.
+    pub alpha: Option<f64>,
+    /// Fixed vertices; default the face nearest the middle.
+    pub fixed: Option<Vec<usize>>,
+    /// Drag falloff radius (mm).
+    pub radius: Option<f64>,
+    /// Fold toward this fraction of the targets first.
+    pub fold: Option<f64>,
+    /// The drags.
+    pub stages: Vec<Stage>,
+    /// Solver settings.
+    pub options: Options,
+}
+
+/// What a design job produced.
+#[derive(Clone, Debug)]
+pub struct DesignOutcome {
+    /// The result: 3D form, crease pattern, fold angles.
+    pub mesh: Mesh,
+    /// Solver counters of the drag phase.
+    pub stats: Stats,
+    /// Per stage, how close the dragged vertices came.
+    pub drags: Vec<DragReport>,
+    /// The folding phase, if any.
+    pub fold: Option<FoldReport>,
+}
+
+impl DesignJob {
+    /// A job with defaults around a mesh.
+    pub fn new(mesh: Mesh) -> DesignJob {
+        DesignJob {
+            mesh,
+            mode: Mode::Design,
+            conditions: None,
+            alpha: None,
+            fixed: None,
+            radius: None,
+            fold: None,
+            stages: Vec::new(),
+            options: Options::default(),
+        }
+    }
+
+    /// A job from a script; its `base` is read relative to `script_dir` unless `mesh` is
+    /// given.
+    pub fn from_script(
+        script: &Script,
+        script_dir: &Path,
+        mesh: Option<Mesh>,
+    ) -> Result<DesignJob, PipelineError> {
+        let mesh = match (mesh, &script.base) {
+            (Some(m), _) => m,
+            (None, Some(base)) => crate::io::read(&script_dir.join(base))
+                .map_err(|e| PipelineError::Input(e.to_string()))?,
+            (None, None) => {
+                return Err(PipelineError::Input(
+                    "the script names no base pattern and none was given".into(),
+                ))
+            }
+        };
+        let mut job = DesignJob::new(mesh);
+        job.mode = match script.mode.as_deref() {
+            None | Some("design") => Mode::Design,
+            Some("simulation") => Mode::Simulation,
+            Some(other) => {
+                return Err(PipelineError::Input(format!(
+                    "unknown mode \"{other}\" (design or simulation)"
+                )))
+            }
+        };
+        job.conditions = script
+            .conditions
+            .as_ref()
+            .map(|c| ConstraintSet::parse(&c.join(",")))
+            .transpose()
+            .map_err(PipelineError::Input)?;
+        job.alpha = script.alpha;
+        job.fixed = script.fix.clone();
+        job.radius = script.radius;
+        job.fold = script.fold;
+        job.stages = script.stage.clone();
+        Ok(job)
+    }
+}
+
+/// Progress callback: phase name, steps done, steps planned.
+pub type Progress<'a> = &'a mut dyn FnMut(&str, usize, usize);
+
+/// Runs a design job: optional folding, then the drags, then the unfolded crease pattern
+/// (design mode changes lengths, so the pattern is laid out anew from the 3D form).
+pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, PipelineError> {
+    let DesignJob {
+        mut mesh,
+        mode,
+        conditions,
+        alpha,
+        fixed,
+        radius,
+        fold,
+        stages,
+        options,
+    } = job;
+    if let Some(a) = alpha {
+        if !(0.0..1.0).contains(&a) {
+            return Err(PipelineError::Input(format!(
+                "alpha must be in [0, 1) (got {a})"
+            )));
+        }
+        for e in mesh.edges_mut() {
+            if e.target == 0.0 && matches!(e.assignment, Assignment::Flat | Assignment::Join) {
+                e.alpha = a;
+            }
+        }
+    }
+    let dragged: Vec<usize> = stages
+        .iter()
+        .flat_map(|s| s.moves.iter().map(|m| m.vertex))
+        .collect();
+    let fixed = fixed.unwrap_or_else(|| Solver::default_fixed(&mesh, &dragged));
+    let mut fold_report = None;
+    if let Some(amount) = fold {
+        if !(0.0..=1.0).contains(&amount) {
+            return Err(PipelineError::Input(format!(
+                "fold amount must be in [0, 1] (got {amount})"
+            )));
+        }
+        // Folding shrinks the sheet; only a face in the middle is held for it.
+        let centre = Solver::default_fixed(&mesh, &[]);
+        let mut solver = Solver::new(mesh, Mode::folding_set(), &centre, options.clone())?;
+        let report = fold_toward(&mut solver, amount, 4000, &mut |k| {
+            progress("fold", k, 4000)
+        })?;
+        mesh = solver.into_mesh();
+        fold_report = Some(report);
+    }
+    let mut stats = Stats::default();
+    let mut drags = Vec::new();
+    if !stages.is_empty() {
+        check_targets(&mesh, &stages, &fixed, mode)?;
+        let set = match mode {
+            Mode::Simulation => Mode::simulation_set(),
+            Mode::Design => {
+                conditions.unwrap_or_else(|| ConstraintSet::default_for(&Reference::new(&mesh)))
+            }
+        };
+        let mut solver = Solver::new(mesh, set, &fixed, options)?;
+        solver.correct()?;
+        let (lo, hi) = solver.mesh().bounding_box();
+        let radius = radius.unwrap_or(0.25 * (hi - lo).norm());
+        if !(radius.is_finite() && radius > 0.0) {
+            return Err(PipelineError::Input(format!(
+                "radius must be a positive length (got {radius})"
+            )));
+        }
+        let total: usize = stages.iter().map(|s| s.steps).sum();
+        let mut done = 0;
+        for stage in &stages {
+            drags.push(run_stage(&mut solver, stage, radius, &mut || {
+                done += 1;
+                progress("drag", done, total)
+            })?);
+        }
+        stats = solver.stats.clone();
+        mesh = solver.into_mesh();
+    }
+    record_fold_angles(&mut mesh);
+    if mode == Mode::Design && !stages.is_empty() {
+        let flat = unfold(&mesh)?;
+        mesh.set_flat(flat);
+    }
+    Ok(DesignOutcome {
+        mesh,
+        stats,
+        drags,
+        fold: fold_report,
+    })
+}
+
+/// Targets must be numbers and within reach: in simulation mode no farther from a fixed
+/// vertex than the paper's extent; in design mode within ten times the design's size.
+fn check_targets(
+    mesh: &Mesh,
+    stages: &[Stage],
+    fixed: &[usize],
+    mode: Mode,
+) -> Result<(), PipelineError> {
+    let (lo, hi) = mesh.bounding_box();
+    let size = (hi - lo).norm();
+    let paper = match mesh.flat() {
+        Some(f) => {
+            let (mut a, mut b) = (f[0], f[0]);
+            for p in f {
+                a = a.inf(p);
+                b = b.sup(p);
+            }
+            (b - a).norm()
+        }
+        None => size,
+    };
+    for stage in stages {
+        if stage.steps == 0 {
+            return Err(PipelineError::Input(
+                "a drag needs at least one step".into(),
+            ));
+        }
+        for m in &stage.moves {
+            if m.vertex >= mesh.vertex_count() {
+                return Err(SolverError::UnknownVertex {
+                    vertex: m.vertex,
+                    count: mesh.vertex_count(),
+                }
+                .into());
+            }
+            if fixed.contains(&m.vertex) {
+                return Err(PipelineError::Input(format!(
+                    "vertex {} is both fixed and dragged",
+                    m.vertex
+                )));
+            }
+            let t = Vec3::new(m.to[0], m.to[1], m.to[2]);
+            if !t.iter().all(|c| c.is_finite()) {
+                return Err(PipelineError::Input(format!(
+                    "target of vertex {} is not a finite point",
+                    m.vertex
+                )));
+            }
+            let reach = match mode {
+                Mode::Simulation => paper,
+                Mode::Design => 10.0 * size,
+            };
+            for &f in fixed {
+                let d = (t - mesh.positions()[f]).norm();
+                if d > reach {
+                    return Err(PipelineError::Input(format!(
+                        "target of vertex {} is unreachable: {d:.1} mm from fixed vertex {f}, but the paper spans only {reach:.1} mm",
+                        m.vertex
+                    )));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Stores each crease's fold angle in the 3D form as its `fold_angle` (FOLD's
+/// `edges_foldAngle` on output), on the branch its target implies near ±π.
+pub fn record_fold_angles(mesh: &mut Mesh) {
+    let reference = Reference::new(mesh);
+    let angles: Vec<Option<f64>> = (0..mesh.edges().len())
+        .map(|e| tracked_fold_angle(mesh, &reference, mesh.positions(), e).map(|(r, _)| r))
+        .collect();
+    let has_3d = mesh.has_3d();
+    for (e, rho) in mesh.edges_mut().iter_mut().zip(angles) {
+        if let (Some(r), true) = (rho, has_3d) {
+            e.fold_angle = r;
+        }
+    }
+}

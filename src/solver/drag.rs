@@ -1,0 +1,117 @@
+//! Dragging (§5): Euler integration of a user's drag. Each step asks the dragged vertices
+//! to cover an equal share of their remaining way, spreads that wish smoothly to nearby
+//! vertices (a surface, not a single point, is being pulled), projects it into the null
+//! space, and corrects.
+
+use super::{Solver, SolverError};
+use crate::mesh::Vec3;
+use serde::Deserialize;
+use std::path::PathBuf;
+
+/// One vertex pulled toward a target.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Move {
+    /// The vertex.
+    pub vertex: usize,
+    /// Where it should go (mm).
+    pub to: [f64; 3],
+}
+
+/// Moves made together over a number of steps.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Stage {
+    /// Euler steps for this stage.
+    pub steps: usize,
+    /// The vertices pulled and their targets.
+    pub moves: Vec<Move>,
+}
+
+/// A reproducible design: a base pattern and a sequence of drags (TOML).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Script {
+    /// The pattern to start from, relative to the script's folder.
+    pub base: Option<PathBuf>,
+    /// "design" (default) or "simulation".
+    pub mode: Option<String>,
+    /// Condition names; default: what the pattern's assignment calls for.
+    pub conditions: Option<Vec<String>>,
+    /// Twist allowance α for every flat crease (§2.4).
+    pub alpha: Option<f64>,
+    /// Vertices held still; default: the face nearest the middle.
+    pub fix: Option<Vec<usize>>,
+    /// Falloff radius of a drag (mm); default a quarter of the design's diagonal.
+    pub radius: Option<f64>,
+    /// Fold the base toward this fraction of its targets first (simulation mode).
+    pub fold: Option<f64>,
+    /// The drags, in order.
+    #[serde(default)]
+    pub stage: Vec<Stage>,
+}
+
+impl Script {
+    /// Parses script text.
+    pub fn parse(text: &str) -> Result<Script, String> {
+        toml::from_str(text).map_err(|e| e.to_string())
+    }
+}
+
+/// What a drag did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct DragReport {
+    /// For each move of each stage: distance to target before and after (mm).
+    pub distances: Vec<(usize, f64, f64)>,
+}
+
+/// Runs one stage. `progress` is called after every accepted step.
+pub fn run_stage(
+    solver: &mut Solver,
+    stage: &Stage,
+    radius: f64,
+    progress: &mut dyn FnMut(),
+) -> Result<DragReport, SolverError> {
+    let n = solver.positions().len();
+    for m in &stage.moves {
+        if m.vertex >= n {
+            return Err(SolverError::UnknownVertex {
+                vertex: m.vertex,
+                count: n,
+            });
+        }
+    }
+    let target = |m: &Move| Vec3::new(m.to[0], m.to[1], m.to[2]);
+    let before: Vec<f64> = stage
+        .moves
+        .iter()
+        .map(|m| (target(m) - solver.positions()[m.vertex]).norm())
+        .collect();
+    for k in 0..stage.steps {
+        let x = solver.positions().to_vec();
+        let mut dx0 = vec![Vec3::zeros(); n];
+        for m in &stage.moves {
+            let share = (target(m) - x[m.vertex]) / (stage.steps - k) as f64;
+            let centre = x[m.vertex];
+            for (u, d) in dx0.iter_mut().enumerate() {
+                let w = (-(x[u] - centre).norm_squared() / (radius * radius)).exp();
+                *d += share * w;
+            }
+        }
+        solver.step(&dx0)?;
+        progress();
+    }
+    let distances = stage
+        .moves
+        .iter()
+        .zip(before)
+        .map(|(m, b)| {
+            (
+                m.vertex,
+                b,
+                (target(m) - solver.positions()[m.vertex]).norm(),
+            )
+        })
+        .collect();
+    Ok(DragReport { distances })
+}

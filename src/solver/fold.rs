@@ -1,0 +1,124 @@
+//! Folding a pattern in simulation mode: every folded crease is driven toward a fraction of
+//! its target angle while the panels stay rigid. This gives the 3D states of patterns
+//! without a closed form (waterbomb, Resch).
+//!
+//! The flat state is a singular point: every out-of-plane motion keeps lengths to first
+//! order, so projecting a drive into the null space (eq. 10) mostly yields motions that
+//! second-order terms forbid, and Newton undoes them. Folding therefore follows a
+//! continuation of weighted least-squares problems (lengths stiff, fold goals soft,
+//! Levenberg–Marquardt steps), which leaves the singular point along the assignment's own
+//! mode, and ends with the exact Newton projection onto the constraints.
+
+use super::{NormalSolver, Solver, SolverError};
+use crate::constraints::{flips, tracked_fold_angle, Element, Family};
+use crate::geometry::fold_angle_gradient;
+use sprs::TriMat;
+
+/// Where folding stopped.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FoldReport {
+    /// Continuation steps taken.
+    pub steps: usize,
+    /// Largest |ρ − amount·target| over the folded creases at the end (radians).
+    pub error: f64,
+    /// Mean ρ / target over the folded creases at the end.
+    pub mean_fraction: f64,
+}
+
+/// Weight of a fold goal against a relative length error of 1.
+const GOAL_WEIGHT: f64 = 0.003;
+/// Continuation steps from the current fold to the goal.
+const STEPS: usize = 60;
+/// Levenberg–Marquardt iterations per continuation step.
+const INNER: usize = 6;
+
+/// Folds toward `amount` × every crease's target (0 flat, 1 fully folded). The solver's
+/// conditions (rigid panels, untwisted facets) hold exactly at the end.
+pub fn fold_toward(
+    solver: &mut Solver,
+    amount: f64,
+    max_steps: usize,
+    progress: &mut dyn FnMut(usize),
+) -> Result<FoldReport, SolverError> {
+    let mesh = solver.mesh().clone();
+    let creases: Vec<usize> = (0..mesh.edges().len())
+        .filter(|&e| flips(mesh.edges()[e].target))
+        .collect();
+    let steps = STEPS.min(max_steps.max(1));
+    let start: Vec<f64> = creases
+        .iter()
+        .map(|&e| solver.reference().previous_fold[e])
+        .collect();
+    let mut normal = NormalSolver::default();
+    for k in 1..=steps {
+        let s = k as f64 / steps as f64;
+        for _ in 0..INNER {
+            let x = solver.x.clone();
+            let mut rows = solver.set.evaluate(&mesh, &solver.reference, &x);
+            for (i, &e) in creases.iter().enumerate() {
+                let Some((rho, [a, b, c, d])) = tracked_fold_angle(&mesh, &solver.reference, &x, e)
+                else {
+                    continue;
+                };
+                let t = mesh.edges()[e].target;
+                let goal = start[i] + s * (amount * t - start[i]);
+                let grad = fold_angle_gradient(&x, a, b, c, d);
+                let row = rows.push(
+                    Family::FoldAngleRange,
+                    Element::Edge(e),
+                    GOAL_WEIGHT * (rho - goal),
+                );
+                for (v, g) in [a, b, c, d].into_iter().zip(grad) {
+                    rows.add_gradient(row, v, g, GOAL_WEIGHT);
+                }
+                // A crease turning the wrong way is as stiff as a stretched panel (§2.4).
+                if rho * t.signum() < 0.0 {
+                    let row = rows.push(Family::FoldAngleRange, Element::Edge(e), rho * t.signum());
+                    for (v, g) in [a, b, c, d].into_iter().zip(grad) {
+                        rows.add_gradient(row, v, g, t.signum());
+                    }
+                }
+            }
+            // Normal equations in the free variables: factorising Jᵀ as "J" gives JᵀJ + λI.
+            let mut t = TriMat::new((solver.free, rows.residuals.len()));
+            for &(r, col, v) in &rows.triplets {
+                if let Some(c) = solver.columns[col] {
+                    t.add_triplet(c, r, v);
+                }
+            }
+            normal.factorise(t.to_csr())?;
+            // dx = −(JᵀJ)⁻¹ Jᵀ r
+            let jt_r = normal.apply(&rows.residuals);
+            let dx: Vec<f64> = normal.solve(&jt_r).into_iter().map(|v| -v).collect();
+            let mut next = solver.x.clone();
+            solver.add_free(&mut next, &dx, 1.0);
+            solver.x = next;
+            solver.reference.track_folds(&mesh, &solver.x);
+            if dx.iter().fold(0.0f64, |m, v| m.max(v.abs())) < 1e-10 {
+                break;
+            }
+        }
+        solver.stats.steps += 1;
+        progress(k);
+    }
+    // The soft solution is close; make the rigid conditions exact. Redundant rows (a
+    // closed tuck's panels) slow Newton to linear convergence, so it gets more room here.
+    let newton = solver.options.max_newton;
+    solver.options.max_newton = newton.max(60);
+    let corrected = solver.correct();
+    solver.options.max_newton = newton;
+    corrected?;
+    let mut worst: f64 = 0.0;
+    let mut fraction = 0.0;
+    for &e in &creases {
+        let t = mesh.edges()[e].target;
+        let rho = solver.reference.previous_fold[e];
+        worst = worst.max((rho - amount * t).abs());
+        fraction += rho / t;
+    }
+    Ok(FoldReport {
+        steps,
+        error: worst,
+        mean_fraction: fraction / creases.len().max(1) as f64,
+    })
+}

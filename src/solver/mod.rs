@@ -1,0 +1,400 @@
+//! The freeform solver (paper §3, §5): moves a mesh only inside the null space of the
+//! constraint Jacobian (eq. 9–10), then removes the drift of nonlinear and inequality
+//! conditions with Newton–Raphson steps, and tracks every fold angle's branch.
+
+mod drag;
+mod fold;
+mod linear;
+
+pub use drag::{run_stage, DragReport, Move, Script, Stage};
+pub use fold::{fold_toward, FoldReport};
+pub use linear::{LinearError, NormalSolver};
+
+use crate::constraints::{ConstraintSet, Family, Reference, Rows};
+use crate::mesh::{Mesh, Vec3};
+use sprs::TriMat;
+
+/// What the solver preserves (§5).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// The chosen conditions; lengths are free, so the crease pattern changes.
+    Design,
+    /// Every edge keeps its length: how the designed paper behaves.
+    Simulation,
+}
+
+impl Mode {
+    /// The conditions of simulation mode: rigid panels (edge lengths) within their
+    /// fold-angle and twist ranges.
+    pub fn simulation_set() -> ConstraintSet {
+        ConstraintSet {
+            families: vec![
+                Family::EdgeLength,
+                Family::FoldAngleRange,
+                Family::TwistRange,
+            ],
+        }
+    }
+
+    /// Folding from the flat state: rigid panels and untwisted facets. The mountain and
+    /// valley sign ranges sit exactly on their bound there and would make Newton's active
+    /// set chatter; the fold drive itself pulls each crease the right way.
+    pub fn folding_set() -> ConstraintSet {
+        ConstraintSet {
+            families: vec![Family::EdgeLength, Family::TwistRange],
+        }
+    }
+}
+
+/// Why a solve failed.
+#[derive(Debug, thiserror::Error)]
+pub enum SolverError {
+    /// A named vertex does not exist.
+    #[error("vertex {vertex} does not exist (the mesh has {count} vertices)")]
+    UnknownVertex {
+        /// The vertex.
+        vertex: usize,
+        /// Vertex count.
+        count: usize,
+    },
+    /// The solver needs a disk.
+    #[error("the solver needs a single sheet without holes (a disk); this mesh has {components} piece(s) and {holes} hole(s)")]
+    NotADisk {
+        /// Pieces of paper.
+        components: usize,
+        /// Holes.
+        holes: usize,
+    },
+    /// Newton's method did not bring the residual under tolerance.
+    #[error("the solve did not converge at step {step}: residual {residual:.2e} after {iterations} Newton iterations (tolerance {tolerance:.0e})")]
+    NotConverged {
+        /// Step number.
+        step: usize,
+        /// Remaining max |residual|.
+        residual: f64,
+        /// Iterations spent.
+        iterations: usize,
+        /// The tolerance.
+        tolerance: f64,
+    },
+    /// The normal equations could not be factorised.
+    #[error(transparent)]
+    Linear(#[from] LinearError),
+}
+
+/// Solver settings.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// Residual tolerance (radians / relative length).
+    pub tolerance: f64,
+    /// Newton iterations per step.
+    pub max_newton: usize,
+    /// Times a step is halved when its correction fails.
+    pub max_halvings: usize,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            // Two orders below verification's 1e-6, so a solved design always verifies.
+            tolerance: 1e-8,
+            max_newton: 20,
+            max_halvings: 6,
+        }
+    }
+}
+
+/// Counters for reports and benchmarks.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Stats {
+    /// Accepted steps.
+    pub steps: usize,
+    /// Newton iterations over all steps.
+    pub newton_iterations: usize,
+    /// Steps that had to be halved.
+    pub halvings: usize,
+    /// Largest residual left after a step.
+    pub worst_residual: f64,
+}
+
+/// A mesh being deformed under a set of conditions.
+pub struct Solver {
+    mesh: Mesh,
+    reference: Reference,
+    set: ConstraintSet,
+    x: Vec<Vec3>,
+    fixed: Vec<bool>,
+    columns: Vec<Option<usize>>,
+    free: usize,
+    linear: NormalSolver,
+    options: Options,
+    /// Work done so far.
+    pub stats: Stats,
+}
+
+impl Solver {
+    /// Prepares a solve. `fixed` vertices never move, which removes rigid motions.
+    pub fn new(
+        mesh: Mesh,
+        set: ConstraintSet,
+        fixed: &[usize],
+        options: Options,
+    ) -> Result<Solver, SolverError> {
+        let n = mesh.vertex_count();
+        let summary = mesh
+            .topology()
+            .summary(n, mesh.edges().len(), mesh.faces().len());
+        if !summary.is_disk {
+            return Err(SolverError::NotADisk {
+                components: summary.components,
+                holes: summary.holes,
+            });
+        }
+        let mut is_fixed = vec![false; n];
+        for &v in fixed {
+            *is_fixed.get_mut(v).ok_or(SolverError::UnknownVertex {
+                vertex: v,
+                count: n,
+            })? = true;
+        }
+        let mut columns = vec![None; 3 * n];
+        let mut free = 0;
+        for v in (0..n).filter(|&v| !is_fixed[v]) {
+            for k in 0..3 {
+                columns[3 * v + k] = Some(free);
+                free += 1;
+            }
+        }
+        let reference = Reference::new(&mesh);
+        Ok(Solver {
+            x: mesh.positions().to_vec(),
+            mesh,
+            reference,
+            set,
+            fixed: is_fixed,
+            columns,
+            free,
+            linear: NormalSolver::default(),
+            options,
+            stats: Stats::default(),
+        })
+    }
+
+    /// A default set of fixed vertices: the face nearest the middle of the mesh, avoiding
+    /// the given vertices (those being dragged).
+    pub fn default_fixed(mesh: &Mesh, avoid: &[usize]) -> Vec<usize> {
+        let (lo, hi) = mesh.bounding_box();
+        let centre = (lo + hi) / 2.0;
+        let x = mesh.positions();
+        mesh.faces()
+            .iter()
+            .filter(|f| f.iter().all(|v| !avoid.contains(v)))
+            .min_by(|a, b| {
+                let d =
+                    |f: &&[usize; 3]| (f.iter().map(|&v| x[v]).sum::<Vec3>() / 3.0 - centre).norm();
+                d(a).total_cmp(&d(b))
+            })
+            .map(|f| f.to_vec())
+            .unwrap_or_default()
+    }
+
+    /// The mesh being solved (positions as of the last accepted step are in [`Solver::positions`]).
+    pub fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+
+    /// Current positions.
+    pub fn positions(&self) -> &[Vec3] {
+        &self.x
+    }
+
+    /// The conditions being held.
+    pub fn conditions(&self) -> &ConstraintSet {
+        &self.set
+    }
+
+    /// The reference state (for fold-angle branches).
+    pub fn reference(&self) -> &Reference {
+        &self.reference
+    }
+
+    /// Whether a vertex is held still.
+    pub fn is_fixed(&self, v: usize) -> bool {
+        self.fixed[v]
+    }
+
+    /// The mesh with the solved positions.
+    pub fn into_mesh(mut self) -> Mesh {
+        self.mesh.set_positions(self.x);
+        self.mesh
+    }
+
+    /// Rows at `x` that constrain motion: every equality row and the active inequalities.
+    fn active_rows(&self, x: &[Vec3]) -> Rows {
+        let all = self.set.evaluate(&self.mesh, &self.reference, x);
+        let keep: Vec<bool> = all
+            .residuals
+            .iter()
+            .zip(&all.inequality)
+            .map(|(&r, &ineq)| !ineq || r > 0.0)
+            .collect();
+        let mut index = vec![usize::MAX; keep.len()];
+        let mut rows = Rows::default();
+        for (i, &k) in keep.iter().enumerate() {
+            if k {
+                index[i] = rows.push_row(
+                    all.labels[i].0,
+                    all.labels[i].1,
+                    all.residuals[i],
+                    all.inequality[i],
+                );
+            }
+        }
+        rows.triplets = all
+            .triplets
+            .into_iter()
+            .filter(|&(r, _, _)| keep[r])
+            .map(|(r, c, v)| (index[r], c, v))
+            .collect();
+        rows
+    }
+
+    fn factorise(&mut self, rows: &Rows) -> Result<(), SolverError> {
+        let mut t = TriMat::new((rows.residuals.len(), self.free));
+        for &(r, c, v) in &rows.triplets {
+            if let Some(col) = self.columns[c] {
+                t.add_triplet(r, col, v);
+            }
+        }
+        self.linear.factorise(t.to_csr())?;
+        Ok(())
+    }
+
+    fn to_free(&self, d: &[Vec3]) -> Vec<f64> {
+        let mut out = vec![0.0; self.free];
+        for (v, dv) in d.iter().enumerate() {
+            for k in 0..3 {
+                if let Some(c) = self.columns[3 * v + k] {
+                    out[c] = dv[k];
+                }
+            }
+        }
+        out
+    }
+
+    fn add_free(&self, x: &mut [Vec3], d: &[f64], scale: f64) {
+        for (v, xv) in x.iter_mut().enumerate() {
+            for k in 0..3 {
+                if let Some(c) = self.columns[3 * v + k] {
+                    xv[k] += scale * d[c];
+                }
+            }
+        }
+    }
+
+    /// Largest |residual| of the conditions at the current positions.
+    pub fn residual(&self) -> f64 {
+        self.set
+            .evaluate(&self.mesh, &self.reference, &self.x)
+            .residuals
+            .iter()
+            .fold(0.0, |a, r| a.max(r.abs()))
+    }
+
+    /// Eq. (10) at the current positions: the valid motion nearest to `dx0` (per vertex;
+    /// fixed vertices' entries are ignored).
+    pub fn null_space_step(&mut self, dx0: &[Vec3]) -> Result<Vec<Vec3>, SolverError> {
+        let rows = self.active_rows(&self.x);
+        self.factorise(&rows)?;
+        let dx = self.linear.project(&self.to_free(dx0));
+        let mut out = vec![Vec3::zeros(); self.x.len()];
+        self.add_free(&mut out, &dx, 1.0);
+        Ok(out)
+    }
+
+    /// Newton–Raphson on F(x) = 0 with the inequality penalties of §3, from `x`.
+    /// Returns the iterations used, or the residual that remained.
+    fn correct_from(&mut self, x: &mut [Vec3]) -> Result<usize, (f64, usize)> {
+        let tol = self.options.tolerance;
+        let mut last = f64::INFINITY;
+        for it in 0..=self.options.max_newton {
+            let rows = self.active_rows(x);
+            let r = rows.residuals.iter().fold(0.0, |a: f64, v| a.max(v.abs()));
+            if r <= tol {
+                return Ok(it);
+            }
+            if it == self.options.max_newton || !r.is_finite() {
+                return Err((r, it));
+            }
+            // A diverging iteration will not come back.
+            if r > 10.0 * last && it > 2 {
+                return Err((r, it));
+            }
+            last = r;
+            if self.factorise(&rows).is_err() {
+                return Err((r, it));
+            }
+            let dx = self.linear.newton_step(&rows.residuals);
+            self.add_free(x, &dx, 1.0);
+        }
+        unreachable!("the loop returns")
+    }
+
+    /// Brings the current positions back onto the constraints (used after loading a
+    /// design that is slightly off). Errors say what residual remained.
+    pub fn correct(&mut self) -> Result<usize, SolverError> {
+        let mut x = self.x.clone();
+        match self.correct_from(&mut x) {
+            Ok(it) => {
+                self.x = x;
+                self.reference.track_folds(&self.mesh, &self.x);
+                self.stats.newton_iterations += it;
+                Ok(it)
+            }
+            Err((residual, iterations)) => Err(SolverError::NotConverged {
+                step: self.stats.steps,
+                residual,
+                iterations,
+                tolerance: self.options.tolerance,
+            }),
+        }
+    }
+
+    /// One Euler step (§3): project `dx0` into the null space, move, correct. A step
+    /// whose correction fails is halved and retried; positions only change when a step
+    /// is accepted. Returns the motion applied.
+    pub fn step(&mut self, dx0: &[Vec3]) -> Result<Vec<Vec3>, SolverError> {
+        let dx = self.null_space_step(dx0)?;
+        let mut scale = 1.0;
+        let mut failure = (f64::NAN, 0);
+        for _ in 0..=self.options.max_halvings {
+            let mut x = self.x.clone();
+            for (xv, d) in x.iter_mut().zip(&dx) {
+                *xv += d * scale;
+            }
+            match self.correct_from(&mut x) {
+                Ok(it) => {
+                    let moved: Vec<Vec3> = x.iter().zip(&self.x).map(|(a, b)| a - b).collect();
+                    self.x = x;
+                    self.reference.track_folds(&self.mesh, &self.x);
+                    self.stats.steps += 1;
+                    self.stats.newton_iterations += it;
+                    let r = self.residual();
+                    self.stats.worst_residual = self.stats.worst_residual.max(r);
+                    return Ok(moved);
+                }
+                Err(f) => {
+                    failure = f;
+                    scale *= 0.5;
+                    self.stats.halvings += 1;
+                }
+            }
+        }
+        Err(SolverError::NotConverged {
+            step: self.stats.steps + 1,
+            residual: failure.0,
+            iterations: failure.1,
+            tolerance: self.options.tolerance,
+        })
+    }
+}

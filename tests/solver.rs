@@ -1,0 +1,306 @@
+//! The freeform solver: null-space steps keep the conditions to first order, Newton
+//! removes the drift, long drags keep every condition, and the designs in `patterns/`
+//! rebuild from their scripts, verify, and differ from the regular patterns.
+
+use crease::constraints::{ConstraintSet, Reference};
+use crease::fab::{verify, Tolerances};
+use crease::generate::{generate, Params, PatternKind};
+use crease::mesh::{Mesh, Vec3};
+use crease::pipeline::{run_design, DesignJob, PipelineError};
+use crease::solver::{Move, Options, Script, Solver, SolverError, Stage};
+use nalgebra::Matrix3;
+use std::path::Path;
+
+fn miura() -> Mesh {
+    generate(&Params::defaults(PatternKind::Miura)).unwrap()
+}
+
+#[test]
+fn a_null_space_step_keeps_the_conditions_to_first_order() {
+    let m = miura();
+    let set = ConstraintSet::default_for(&Reference::new(&m));
+    let fixed = Solver::default_fixed(&m, &[0]);
+    let mut s = Solver::new(m.clone(), set.clone(), &fixed, Options::default()).unwrap();
+    let mut dx0 = vec![Vec3::zeros(); m.vertex_count()];
+    dx0[0] = Vec3::new(0.0, 0.0, 1.0);
+    dx0[10] = Vec3::new(0.5, -0.3, 0.2);
+    let dx = s.null_space_step(&dx0).unwrap();
+    assert!(
+        dx.iter().map(|d| d.norm()).sum::<f64>() > 1e-3,
+        "the step moves something"
+    );
+    let reference = Reference::new(&m);
+    let r0 = set.evaluate(&m, &reference, m.positions()).residuals;
+    // Equality residuals change at second order along dx: halving ε quarters the change.
+    let change = |eps: f64| {
+        let x: Vec<Vec3> = m
+            .positions()
+            .iter()
+            .zip(&dx)
+            .map(|(p, d)| p + d * eps)
+            .collect();
+        let r = set.evaluate(&m, &reference, &x).residuals;
+        r.iter()
+            .zip(&r0)
+            .fold(0.0f64, |a, (p, q)| a.max((p - q).abs()))
+    };
+    let (c1, c2) = (change(1e-2), change(5e-3));
+    assert!(c1 < 1e-4, "first-order change {c1}");
+    assert!(c2 < 0.3 * c1, "second order: {c1:e} then {c2:e}");
+    for &v in &fixed {
+        assert_eq!(dx[v], Vec3::zeros());
+    }
+}
+
+#[test]
+fn newton_converges_quadratically_from_a_perturbed_state() {
+    let mut m = miura();
+    let x: Vec<Vec3> = m
+        .positions()
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            p + Vec3::new(
+                ((i * 7) % 5) as f64,
+                ((i * 3) % 4) as f64,
+                ((i * 11) % 3) as f64,
+            ) * 0.02
+        })
+        .collect();
+    m.set_positions(x);
+    let set = ConstraintSet::parse("developability,flat-foldability").unwrap();
+    let fixed = Solver::default_fixed(&m, &[]);
+    let mut s = Solver::new(m, set, &fixed, Options::default()).unwrap();
+    assert!(s.residual() > 1e-4);
+    let iterations = s.correct().unwrap();
+    assert!(s.residual() <= 1e-8);
+    assert!(iterations <= 6, "Newton took {iterations} iterations");
+}
+
+#[test]
+fn a_long_drag_keeps_every_condition_and_moves_toward_the_target() {
+    let m = miura();
+    let set = ConstraintSet::default_for(&Reference::new(&m));
+    let fixed = Solver::default_fixed(&m, &[0, 80]);
+    let mut s = Solver::new(m.clone(), set, &fixed, Options::default()).unwrap();
+    let targets = [
+        (0usize, Vec3::new(-10.0, -10.0, 40.0)),
+        (80, Vec3::new(150.0, 140.0, -30.0)),
+    ];
+    let dist = |s: &Solver| {
+        targets
+            .iter()
+            .map(|(v, t)| (s.positions()[*v] - t).norm())
+            .collect::<Vec<_>>()
+    };
+    let start = dist(&s);
+    let steps = 60;
+    for k in 0..steps {
+        let mut dx0 = vec![Vec3::zeros(); m.vertex_count()];
+        for (v, t) in targets {
+            dx0[v] = (t - s.positions()[v]) / (steps - k) as f64;
+        }
+        s.step(&dx0).unwrap();
+        assert!(s.residual() <= 1e-8, "step {k}: residual {}", s.residual());
+        for &v in &fixed {
+            assert_eq!(s.positions()[v], m.positions()[v], "fixed vertex {v} moved");
+        }
+    }
+    let end = dist(&s);
+    for (a, b) in start.iter().zip(&end) {
+        assert!(b < &(0.5 * a), "dragged vertex got closer: {a} → {b}");
+    }
+    let report = verify(&s.into_mesh(), None, Tolerances::default());
+    assert!(report.pass(), "{report}");
+}
+
+fn patterns_dir() -> &'static Path {
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/patterns"))
+}
+
+fn run_script(name: &str, keep_stages: bool) -> Mesh {
+    let path = patterns_dir().join(format!("{name}.toml"));
+    let script = Script::parse(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let mut job = DesignJob::from_script(&script, patterns_dir(), None).unwrap();
+    if !keep_stages {
+        job.stages.clear();
+    }
+    run_design(job, &mut |_, _, _| {}).unwrap().mesh
+}
+
+/// RMS distance after the best rigid alignment (Kabsch): how far a shape is from another
+/// beyond moving it around.
+fn aligned_rms(a: &[Vec3], b: &[Vec3]) -> f64 {
+    let n = a.len() as f64;
+    let (ca, cb) = (a.iter().sum::<Vec3>() / n, b.iter().sum::<Vec3>() / n);
+    let mut h = Matrix3::zeros();
+    for (p, q) in a.iter().zip(b) {
+        h += (p - ca) * (q - cb).transpose();
+    }
+    let svd = h.svd(true, true);
+    let (u, vt) = (svd.u.unwrap(), svd.v_t.unwrap());
+    let mut r = vt.transpose() * u.transpose();
+    if r.determinant() < 0.0 {
+        let mut v = vt.transpose();
+        v.column_mut(2).neg_mut();
+        r = v * u.transpose();
+    }
+    (a.iter()
+        .zip(b)
+        .map(|(p, q)| (r * (p - ca) - (q - cb)).norm_squared())
+        .sum::<f64>()
+        / n)
+        .sqrt()
+}
+
+#[test]
+fn designs_rebuild_from_their_scripts_verify_and_differ_from_the_regular_pattern() {
+    for name in [
+        "miura-bent",
+        "waterbomb-curved",
+        "yoshimura-shell",
+        "plane-crumpled",
+    ] {
+        let rebuilt = run_script(name, true);
+        let regular = run_script(name, false);
+        let committed = crease::io::read(&patterns_dir().join(format!("{name}.fold"))).unwrap();
+        for (p, q) in rebuilt.positions().iter().zip(committed.positions()) {
+            assert!(
+                (p - q).norm() < 1e-6,
+                "{name}.fold is stale: rebuild it from {name}.toml"
+            );
+        }
+        let script = Script::parse(
+            &std::fs::read_to_string(patterns_dir().join(format!("{name}.toml"))).unwrap(),
+        )
+        .unwrap();
+        let set = script
+            .conditions
+            .map(|c| ConstraintSet::parse(&c.join(",")).unwrap());
+        let report = verify(&committed, set.as_ref(), Tolerances::default());
+        assert!(report.pass(), "{name}: {report}");
+        // Visibly not the regular pattern: at least 3 mm RMS apart after the best rigid fit.
+        let rms = aligned_rms(committed.positions(), regular.positions());
+        assert!(
+            rms > 3.0,
+            "{name} is only {rms:.2} mm RMS from the regular pattern"
+        );
+        // And its crease pattern is that of the 3D form (unfolded isometrically).
+        let flat = committed.flat().unwrap();
+        for e in committed.edges() {
+            let [a, b] = e.vertices;
+            let l3 = (committed.positions()[a] - committed.positions()[b]).norm();
+            let l2 = (flat[a] - flat[b]).norm();
+            assert!(
+                (l3 - l2).abs() / l3 < 1e-6,
+                "{name}: edge {a}–{b} {l3} vs {l2}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_solve_that_cannot_converge_fails_and_says_so() {
+    let mut job = DesignJob::new(miura());
+    job.stages.push(Stage {
+        steps: 1,
+        moves: vec![Move {
+            vertex: 0,
+            to: [0.0, 0.0, 30.0],
+        }],
+    });
+    job.options.max_newton = 0;
+    job.options.max_halvings = 0;
+    job.options.tolerance = 1e-300;
+    let err = run_design(job, &mut |_, _, _| {}).unwrap_err();
+    assert!(
+        matches!(err, PipelineError::Solver(SolverError::NotConverged { .. })),
+        "{err}"
+    );
+    assert!(!err.is_input_error());
+    assert!(err.to_string().contains("did not converge"));
+}
+
+#[test]
+fn bad_deform_arguments_exit_2_and_write_nothing() {
+    let bin = env!("CARGO_BIN_EXE_crease");
+    let miura = patterns_dir().join("miura.fold");
+    let kiri = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/anchors/data/origamisimulator/honeycombKiri.svg");
+    let out = std::env::temp_dir().join(format!("crease-deform-{}.fold", std::process::id()));
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (
+            vec![
+                miura.display().to_string(),
+                "--drag".into(),
+                "999=0,0,0".into(),
+            ],
+            "does not exist",
+        ),
+        (
+            vec![
+                miura.display().to_string(),
+                "--drag".into(),
+                "0=0,0,5000".into(),
+                "--mode".into(),
+                "simulation".into(),
+            ],
+            "unreachable",
+        ),
+        (
+            vec![
+                kiri.display().to_string(),
+                "--drag".into(),
+                "0=0,0,5".into(),
+            ],
+            "disk",
+        ),
+        (
+            vec![
+                miura.display().to_string(),
+                "--drag".into(),
+                "0=0,zero,5".into(),
+            ],
+            "V=X,Y,Z",
+        ),
+    ];
+    for (args, says) in cases {
+        let o = std::process::Command::new(bin)
+            .arg("deform")
+            .args(&args)
+            .arg("-o")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(says), "{args:?}: {err}");
+        assert!(!out.exists());
+    }
+}
+
+#[test]
+fn folding_gives_a_rigid_state_with_every_crease_turned_its_own_way() {
+    let folded = run_script("waterbomb-folded", true);
+    let committed = crease::io::read(&patterns_dir().join("waterbomb-folded.fold")).unwrap();
+    for (p, q) in folded.positions().iter().zip(committed.positions()) {
+        assert!((p - q).norm() < 1e-6, "waterbomb-folded.fold is stale");
+    }
+    // Rigid panels: every edge keeps its crease-pattern length; creases fold the right way.
+    let set = ConstraintSet::parse("edge-length,fold-angle-range,developability,flat-foldability")
+        .unwrap();
+    let report = verify(&committed, Some(&set), Tolerances::default());
+    assert!(report.pass(), "{report}");
+    let folded_creases: Vec<f64> = committed
+        .edges()
+        .iter()
+        .filter(|e| e.assignment.is_folded())
+        .map(|e| e.fold_angle / e.target)
+        .collect();
+    let mean = folded_creases.iter().sum::<f64>() / folded_creases.len() as f64;
+    assert!((mean - 0.3).abs() < 0.05, "mean fold fraction {mean}");
+    assert!(
+        folded_creases.iter().all(|&f| f > 0.0),
+        "no crease turned the wrong way"
+    );
+}
