@@ -11,7 +11,7 @@ pub use angles::tracked_fold_angle;
 pub use context::{flips, Reference};
 
 use crate::mesh::{Mesh, Vec3};
-use sprs::{CsMat, TriMat};
+use sprs::CsMat;
 
 /// A family of conditions.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -155,11 +155,55 @@ impl Rows {
 
     /// The Jacobian as a compressed sparse row matrix with `3 · vertices` columns.
     pub fn jacobian(&self, vertices: usize) -> CsMat<f64> {
-        let mut t = TriMat::new((self.residuals.len(), 3 * vertices));
-        for &(r, c, v) in &self.triplets {
-            t.add_triplet(r, c, v);
+        self.jacobian_mapped(3 * vertices, |c| Some(c))
+    }
+
+    /// The Jacobian over a subset of columns: `column(c)` gives the new index of column
+    /// `c`, or `None` to drop it (fixed vertices). Built row by row in linear time;
+    /// repeated entries are summed.
+    pub fn jacobian_mapped(
+        &self,
+        columns: usize,
+        column: impl Fn(usize) -> Option<usize>,
+    ) -> CsMat<f64> {
+        let m = self.residuals.len();
+        let mut count = vec![0usize; m + 1];
+        for &(r, c, _) in &self.triplets {
+            if column(c).is_some() {
+                count[r + 1] += 1;
+            }
         }
-        t.to_csr()
+        for r in 0..m {
+            count[r + 1] += count[r];
+        }
+        let mut fill = count.clone();
+        let mut entries = vec![(0usize, 0.0f64); count[m]];
+        for &(r, c, v) in &self.triplets {
+            if let Some(c) = column(c) {
+                entries[fill[r]] = (c, v);
+                fill[r] += 1;
+            }
+        }
+        let (mut indptr, mut indices, mut data) = (
+            Vec::with_capacity(m + 1),
+            Vec::with_capacity(entries.len()),
+            Vec::with_capacity(entries.len()),
+        );
+        indptr.push(0);
+        for r in 0..m {
+            let row = &mut entries[count[r]..count[r + 1]];
+            row.sort_unstable_by_key(|e| e.0);
+            for &(c, v) in row.iter() {
+                if indices.len() > indptr[r] && *indices.last().unwrap() == c {
+                    *data.last_mut().unwrap() += v;
+                } else {
+                    indices.push(c);
+                    data.push(v);
+                }
+            }
+            indptr.push(indices.len());
+        }
+        CsMat::new((m, columns), indptr, indices, data)
     }
 }
 

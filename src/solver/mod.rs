@@ -12,7 +12,9 @@ pub use linear::{LinearError, NormalSolver};
 
 use crate::constraints::{ConstraintSet, Family, Reference, Rows};
 use crate::mesh::{Mesh, Vec3};
-use sprs::TriMat;
+
+/// Steps a factorisation of J Jᵀ may serve projections before it is recomputed.
+pub const MAX_FACTOR_AGE: usize = 8;
 
 /// What the solver preserves (§5).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -127,6 +129,13 @@ pub struct Solver {
     columns: Vec<Option<usize>>,
     free: usize,
     linear: NormalSolver,
+    /// Rows of the Jacobian currently factorised, so Newton can reuse the factor while
+    /// the active set stays (a chord iteration) instead of refactorising.
+    factored: Vec<(Family, crate::constraints::Element)>,
+    /// Steps since the factor was computed; a projection reuses a factor at most
+    /// [`MAX_FACTOR_AGE`] steps old (the Newton correction removes what a slightly stale
+    /// projection lets through).
+    factor_age: usize,
     options: Options,
     /// Work done so far.
     pub stats: Stats,
@@ -175,6 +184,8 @@ impl Solver {
             columns,
             free,
             linear: NormalSolver::default(),
+            factored: Vec::new(),
+            factor_age: 0,
             options,
             stats: Stats::default(),
         })
@@ -260,13 +271,11 @@ impl Solver {
     }
 
     fn factorise(&mut self, rows: &Rows) -> Result<(), SolverError> {
-        let mut t = TriMat::new((rows.residuals.len(), self.free));
-        for &(r, c, v) in &rows.triplets {
-            if let Some(col) = self.columns[c] {
-                t.add_triplet(r, col, v);
-            }
-        }
-        self.linear.factorise(t.to_csr())?;
+        let columns = &self.columns;
+        self.linear
+            .factorise(rows.jacobian_mapped(self.free, |c| columns[c]))?;
+        self.factored.clone_from(&rows.labels);
+        self.factor_age = 0;
         Ok(())
     }
 
@@ -304,8 +313,16 @@ impl Solver {
     /// Eq. (10) at the current positions: the valid motion nearest to `dx0` (per vertex;
     /// fixed vertices' entries are ignored).
     pub fn null_space_step(&mut self, dx0: &[Vec3]) -> Result<Vec<Vec3>, SolverError> {
+        self.project(dx0, false)
+    }
+
+    fn project(&mut self, dx0: &[Vec3], allow_stale: bool) -> Result<Vec<Vec3>, SolverError> {
         let rows = self.active_rows(&self.x);
-        self.factorise(&rows)?;
+        let stale_ok =
+            allow_stale && self.factor_age < MAX_FACTOR_AGE && rows.labels == self.factored;
+        if !stale_ok {
+            self.factorise(&rows)?;
+        }
         let dx = self.linear.project(&self.to_free(dx0));
         let mut out = vec![Vec3::zeros(); self.x.len()];
         self.add_free(&mut out, &dx, 1.0);
@@ -313,15 +330,19 @@ impl Solver {
     }
 
     /// Newton–Raphson on F(x) = 0 with the inequality penalties of §3, from `x`.
-    /// Returns the iterations used, or the residual that remained.
-    fn correct_from(&mut self, x: &mut [Vec3]) -> Result<usize, (f64, usize)> {
+    /// While the active rows are those last factorised and the residual falls fast, the
+    /// factor is reused (a chord iteration: the Jacobian barely changes over one small
+    /// step); otherwise J is refactorised where we are. Returns the iterations used and
+    /// the final residual, or the residual that remained.
+    fn correct_from(&mut self, x: &mut [Vec3]) -> Result<(usize, f64), (f64, usize)> {
         let tol = self.options.tolerance;
         let mut last = f64::INFINITY;
+        let mut fresh = false;
         for it in 0..=self.options.max_newton {
             let rows = self.active_rows(x);
             let r = rows.residuals.iter().fold(0.0, |a: f64, v| a.max(v.abs()));
             if r <= tol {
-                return Ok(it);
+                return Ok((it, r));
             }
             if it == self.options.max_newton || !r.is_finite() {
                 return Err((r, it));
@@ -330,9 +351,16 @@ impl Solver {
             if r > 10.0 * last && it > 2 {
                 return Err((r, it));
             }
+            let reuse = !fresh && rows.labels == self.factored && r < 0.25 * last;
+            let reuse = reuse || (it == 0 && rows.labels == self.factored);
             last = r;
-            if self.factorise(&rows).is_err() {
-                return Err((r, it));
+            if !reuse {
+                if self.factorise(&rows).is_err() {
+                    return Err((r, it));
+                }
+                fresh = true;
+            } else {
+                fresh = false;
             }
             let dx = self.linear.newton_step(&rows.residuals);
             self.add_free(x, &dx, 1.0);
@@ -345,7 +373,7 @@ impl Solver {
     pub fn correct(&mut self) -> Result<usize, SolverError> {
         let mut x = self.x.clone();
         match self.correct_from(&mut x) {
-            Ok(it) => {
+            Ok((it, _)) => {
                 self.x = x;
                 self.reference.track_folds(&self.mesh, &self.x);
                 self.stats.newton_iterations += it;
@@ -364,7 +392,8 @@ impl Solver {
     /// whose correction fails is halved and retried; positions only change when a step
     /// is accepted. Returns the motion applied.
     pub fn step(&mut self, dx0: &[Vec3]) -> Result<Vec<Vec3>, SolverError> {
-        let dx = self.null_space_step(dx0)?;
+        let dx = self.project(dx0, true)?;
+        self.factor_age += 1;
         let mut scale = 1.0;
         let mut failure = (f64::NAN, 0);
         for _ in 0..=self.options.max_halvings {
@@ -373,13 +402,13 @@ impl Solver {
                 *xv += d * scale;
             }
             match self.correct_from(&mut x) {
-                Ok(it) => {
+                Ok((it, r)) => {
                     let moved: Vec<Vec3> = x.iter().zip(&self.x).map(|(a, b)| a - b).collect();
                     self.x = x;
                     self.reference.track_folds(&self.mesh, &self.x);
                     self.stats.steps += 1;
                     self.stats.newton_iterations += it;
-                    let r = self.residual();
+                    // Inactive inequality rows are 0, so the active rows' max is the residual.
                     self.stats.worst_residual = self.stats.worst_residual.max(r);
                     return Ok(moved);
                 }
