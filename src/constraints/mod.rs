@@ -155,7 +155,7 @@ impl Rows {
 
     /// The Jacobian as a compressed sparse row matrix with `3 · vertices` columns.
     pub fn jacobian(&self, vertices: usize) -> CsMat<f64> {
-        self.jacobian_mapped(3 * vertices, |c| Some(c))
+        self.jacobian_mapped(3 * vertices, Some)
     }
 
     /// The Jacobian over a subset of columns: `column(c)` gives the new index of column

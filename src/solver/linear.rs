@@ -159,8 +159,9 @@ mod tests {
         s.factorise(j).unwrap();
         let dx0 = [0.3, -1.0, 2.0, 0.5];
         let dx = s.project(&dx0);
+        // Exact but for the relative shift λ = 1e-12·max diag(J Jᵀ).
         for r in s.apply(&dx) {
-            assert!(r.abs() < 1e-12, "J dx = {r}");
+            assert!(r.abs() < 1e-10, "J dx = {r}");
         }
         let again = s.project(&dx);
         for (a, b) in dx.iter().zip(&again) {
