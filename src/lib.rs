@@ -9,5 +9,7 @@ pub mod generate;
 pub mod geometry;
 pub mod io;
 pub mod mesh;
+pub mod output;
 pub mod pipeline;
+pub mod plotter;
 pub mod solver;

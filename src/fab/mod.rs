@@ -1,7 +1,16 @@
-//! Fabrication: verify a design before anything is cut, unfold it (later: lay out, score).
+//! Fabrication: verify a design before anything is cut, unfold it, lay it out on the media,
+//! score it with dash codes and order the cuts.
 
+pub mod layout;
+pub mod lines;
+pub mod route;
+pub mod score;
 pub mod unfold;
 pub mod verify;
 
-pub use unfold::{unfold, UnfoldError};
+pub use layout::{layout, LayoutError, Media, Sheet};
+pub use lines::{crease_lines, CreaseLine, LineKind};
+pub use route::route;
+pub use score::{score, DashCode, ScoreSettings, Stroke, Toolpath};
+pub use unfold::{check_overlap, unfold, UnfoldError};
 pub use verify::{verify, FamilyReport, Report, Tolerances};

@@ -12,6 +12,84 @@ pub enum UnfoldError {
     /// Some faces are not reachable from the first across shared edges.
     #[error("the design has {0} separate pieces; unfold them one at a time")]
     Disconnected(usize),
+    /// The flat sheet would lie over itself.
+    #[error("the unfolded sheet overlaps itself: faces {0} and {1} cover the same paper")]
+    Overlap(usize, usize),
+    /// A face comes out mirrored (the sheet folds over itself).
+    #[error("the unfolded sheet overlaps itself: face {0} is laid out mirrored")]
+    Flipped(usize),
+}
+
+/// Checks that no two faces of a flat layout cover the same paper (interiors overlapping by
+/// more than `1e-9` of the layout's size), and none is mirrored.
+pub fn check_overlap(faces: &[[usize; 3]], flat: &[Vec2]) -> Result<(), UnfoldError> {
+    let tri = |f: [usize; 3]| [flat[f[0]], flat[f[1]], flat[f[2]]];
+    let (lo, hi) = flat.iter().fold(
+        (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.inf(p), hi.sup(p)),
+    );
+    let eps = 1e-9 * (hi - lo).norm().max(1e-300);
+    for (i, &f) in faces.iter().enumerate() {
+        let [a, b, c] = tri(f);
+        if (b - a).perp(&(c - a)) <= 0.0 {
+            return Err(UnfoldError::Flipped(i));
+        }
+    }
+    // Grid of face bounding boxes; cells about the size of an average face.
+    let area: f64 = faces
+        .iter()
+        .map(|&f| {
+            let [a, b, c] = tri(f);
+            0.5 * (b - a).perp(&(c - a))
+        })
+        .sum();
+    let cell = (area / faces.len() as f64).sqrt().max(1e-12) * 2.0;
+    let mut grid: std::collections::HashMap<(i64, i64), Vec<usize>> =
+        std::collections::HashMap::new();
+    let key = |p: Vec2| {
+        (
+            ((p.x - lo.x) / cell).floor() as i64,
+            ((p.y - lo.y) / cell).floor() as i64,
+        )
+    };
+    for (i, &f) in faces.iter().enumerate() {
+        let t = tri(f);
+        let (a, b) = (
+            key(t[0].inf(&t[1]).inf(&t[2])),
+            key(t[0].sup(&t[1]).sup(&t[2])),
+        );
+        for x in a.0..=b.0 {
+            for y in a.1..=b.1 {
+                let list = grid.entry((x, y)).or_default();
+                for &j in list.iter() {
+                    if interiors_overlap(tri(faces[j]), t, eps) {
+                        return Err(UnfoldError::Overlap(j, i));
+                    }
+                }
+                list.push(i);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Separating-axis test on two counter-clockwise triangles: interiors overlap unless some
+/// edge's outward normal separates them (touching within `eps` counts as separate).
+fn interiors_overlap(p: [Vec2; 3], q: [Vec2; 3], eps: f64) -> bool {
+    for (t, other) in [(p, q), (q, p)] {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            let n = Vec2::new(b.y - a.y, a.x - b.x).normalize(); // outward for CCW
+            let min_other = other
+                .iter()
+                .map(|v| (v - a).dot(&n))
+                .fold(f64::INFINITY, f64::min);
+            if min_other >= -eps {
+                return false;
+            }
+        }
+    }
+    true
 }
 
 /// The flat layout of `mesh`'s 3D form, aligned to its current crease pattern if any.

@@ -148,6 +148,31 @@ pub fn write(mesh: &Mesh, path: &Path) -> Result<(), FileError> {
     write_atomic(path, text.as_bytes())
 }
 
+/// Writes several files into `dir` as one step: every file goes to a temporary name first,
+/// and only when all are written are they renamed into place. A failure removes the
+/// temporary files, so a run never leaves a partial set behind.
+pub fn write_all_atomic(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<(), FileError> {
+    std::fs::create_dir_all(dir).map_err(|e| FileError::new(dir, e.to_string()))?;
+    let temp = |name: &str| dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    let mut written = Vec::new();
+    for (name, bytes) in files {
+        let t = temp(name);
+        if let Err(e) = std::fs::write(&t, bytes) {
+            let _ = std::fs::remove_file(&t);
+            for w in &written {
+                let _ = std::fs::remove_file(w);
+            }
+            return Err(FileError::new(&dir.join(name), e.to_string()));
+        }
+        written.push(t);
+    }
+    for ((name, _), t) in files.iter().zip(&written) {
+        std::fs::rename(t, dir.join(name))
+            .map_err(|e| FileError::new(&dir.join(name), e.to_string()))?;
+    }
+    Ok(())
+}
+
 /// Writes bytes to `path` through a temporary file in the same folder and a rename, so
 /// readers never see a partial file. Creates missing parent folders.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), FileError> {

@@ -1,0 +1,237 @@
+//! Placing a flat pattern on the media: scale (design units are mm unless a width is
+//! asked for), turn to the orientation of least bounding area that fits, centre within
+//! the margins.
+
+use super::lines::CreaseLine;
+use crate::mesh::Vec2;
+
+/// A sheet of media.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Media {
+    /// Name as given ("a4", "300x200mm").
+    pub name: String,
+    /// Width in mm.
+    pub width: f64,
+    /// Height in mm.
+    pub height: f64,
+}
+
+impl Media {
+    /// Parses `a4`, `a3`, `letter`, `12x12in`, `WxHmm` (or `WxH`, in mm).
+    pub fn parse(text: &str) -> Result<Media, String> {
+        let t = text.trim().to_ascii_lowercase();
+        let (w, h) = match t.as_str() {
+            "a4" => (210.0, 297.0),
+            "a3" => (297.0, 420.0),
+            "a5" => (148.0, 210.0),
+            "letter" => (215.9, 279.4),
+            "legal" => (215.9, 355.6),
+            _ => {
+                let (dims, unit) = if let Some(d) = t.strip_suffix("mm") {
+                    (d, 1.0)
+                } else if let Some(d) = t.strip_suffix("in") {
+                    (d, 25.4)
+                } else if let Some(d) = t.strip_suffix("cm") {
+                    (d, 10.0)
+                } else {
+                    (t.as_str(), 1.0)
+                };
+                let bad = || {
+                    format!(
+                        "unknown media \"{text}\" (a4, a3, a5, letter, legal, 12x12in or WxHmm)"
+                    )
+                };
+                let (a, b) = dims.split_once('x').ok_or_else(bad)?;
+                let (a, b): (f64, f64) = (
+                    a.trim().parse().map_err(|_| bad())?,
+                    b.trim().parse().map_err(|_| bad())?,
+                );
+                if !(a > 0.0 && b > 0.0 && a.is_finite() && b.is_finite()) {
+                    return Err(bad());
+                }
+                (a * unit, b * unit)
+            }
+        };
+        Ok(Media {
+            name: text.to_string(),
+            width: w,
+            height: h,
+        })
+    }
+}
+
+/// The pattern placed on the media.
+#[derive(Clone, Debug)]
+pub struct Sheet {
+    /// The media.
+    pub media: Media,
+    /// Margin kept clear on every side (mm).
+    pub margin: f64,
+    /// Scale applied to the design (1 = design millimetres).
+    pub scale: f64,
+    /// Rotation applied, radians.
+    pub rotation: f64,
+    /// Crease lines in media coordinates (mm, origin bottom-left, y up).
+    pub lines: Vec<CreaseLine>,
+    /// The pattern's vertices in media coordinates.
+    pub vertices: Vec<Vec2>,
+    /// Size of the pattern's bounding box on the media (mm).
+    pub size: [f64; 2],
+}
+
+/// Why a pattern does not go on the media.
+#[derive(Debug, thiserror::Error)]
+pub enum LayoutError {
+    /// Too big for the media.
+    #[error("the pattern needs {need_w:.1} × {need_h:.1} mm with margins, but {media} is {media_w:.1} × {media_h:.1} mm; use a larger --media, a smaller --width, or --tile")]
+    TooLarge {
+        /// Needed width.
+        need_w: f64,
+        /// Needed height.
+        need_h: f64,
+        /// Media name.
+        media: String,
+        /// Media width.
+        media_w: f64,
+        /// Media height.
+        media_h: f64,
+    },
+    /// A bad option.
+    #[error("{0}")]
+    Bad(String),
+}
+
+fn rotate(p: Vec2, angle: f64) -> Vec2 {
+    let (s, c) = angle.sin_cos();
+    Vec2::new(c * p.x - s * p.y, s * p.x + c * p.y)
+}
+
+fn bounds(points: &[Vec2]) -> (Vec2, Vec2) {
+    points.iter().fold(
+        (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.inf(p), hi.sup(p)),
+    )
+}
+
+/// Convex hull (Andrew's monotone chain), counter-clockwise.
+fn hull(points: &[Vec2]) -> Vec<Vec2> {
+    let mut p: Vec<Vec2> = points.to_vec();
+    p.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    p.dedup();
+    if p.len() < 3 {
+        return p;
+    }
+    let cross = |o: Vec2, a: Vec2, b: Vec2| (a - o).perp(&(b - o));
+    let mut lower: Vec<Vec2> = Vec::new();
+    for &q in &p {
+        while lower.len() >= 2 && cross(lower[lower.len() - 2], lower[lower.len() - 1], q) <= 0.0 {
+            lower.pop();
+        }
+        lower.push(q);
+    }
+    let mut upper: Vec<Vec2> = Vec::new();
+    for &q in p.iter().rev() {
+        while upper.len() >= 2 && cross(upper[upper.len() - 2], upper[upper.len() - 1], q) <= 0.0 {
+            upper.pop();
+        }
+        upper.push(q);
+    }
+    lower.pop();
+    upper.pop();
+    lower.extend(upper);
+    lower
+}
+
+/// Places `vertices` and `lines` (flat pattern, mm) on `media`. `width` scales the pattern
+/// so its bounding box is that wide before turning.
+pub fn layout(
+    vertices: &[Vec2],
+    lines: &[CreaseLine],
+    media: &Media,
+    margin: f64,
+    width: Option<f64>,
+) -> Result<Sheet, LayoutError> {
+    let (lo, hi) = bounds(vertices);
+    let scale = match width {
+        Some(w) if w.is_finite() && w > 0.0 => w / (hi.x - lo.x),
+        Some(w) => {
+            return Err(LayoutError::Bad(format!(
+                "--width must be a positive length in mm (got {w})"
+            )))
+        }
+        None => 1.0,
+    };
+    let usable = Vec2::new(media.width - 2.0 * margin, media.height - 2.0 * margin);
+    if usable.x <= 0.0 || usable.y <= 0.0 {
+        return Err(LayoutError::Bad(format!(
+            "the margin of {margin} mm leaves no room on {} ({} × {} mm)",
+            media.name, media.width, media.height
+        )));
+    }
+    // Candidate turns: every hull edge laid flat (the least-area box is among them), each
+    // also turned a quarter; keep the fitting one of least area, preferring no turn.
+    let scaled: Vec<Vec2> = vertices.iter().map(|p| (p - lo) * scale).collect();
+    let h = hull(&scaled);
+    let mut candidates = vec![0.0, std::f64::consts::FRAC_PI_2];
+    for i in 0..h.len() {
+        let d = h[(i + 1) % h.len()] - h[i];
+        let a = -d.y.atan2(d.x);
+        candidates.extend([a, a + std::f64::consts::FRAC_PI_2]);
+    }
+    let size_at = |angle: f64| {
+        let turned: Vec<Vec2> = h.iter().map(|&p| rotate(p, angle)).collect();
+        let (a, b) = bounds(&turned);
+        b - a
+    };
+    let fits = |s: Vec2| s.x <= usable.x + 1e-9 && s.y <= usable.y + 1e-9;
+    let best = candidates
+        .iter()
+        .copied()
+        .map(|a| (a, size_at(a)))
+        .filter(|(_, s)| fits(*s))
+        .min_by(|(a1, s1), (a2, s2)| {
+            let (x, y) = (s1.x * s1.y, s2.x * s2.y);
+            // Within 0.1% of area, the smaller turn wins (keeps the design upright).
+            if (x - y).abs() <= 1e-3 * x.max(y) {
+                a1.abs().total_cmp(&a2.abs())
+            } else {
+                x.total_cmp(&y)
+            }
+        });
+    let Some((angle, size)) = best else {
+        let (angle, s) = candidates
+            .iter()
+            .map(|&a| (a, size_at(a)))
+            .min_by(|a, b| (a.1.x * a.1.y).total_cmp(&(b.1.x * b.1.y)))
+            .unwrap_or((0.0, hi - lo));
+        let _ = angle;
+        return Err(LayoutError::TooLarge {
+            need_w: s.x + 2.0 * margin,
+            need_h: s.y + 2.0 * margin,
+            media: media.name.clone(),
+            media_w: media.width,
+            media_h: media.height,
+        });
+    };
+    let turned: Vec<Vec2> = scaled.iter().map(|&p| rotate(p, angle)).collect();
+    let (tlo, _) = bounds(&turned);
+    let offset = Vec2::new(media.width - size.x, media.height - size.y) / 2.0 - tlo;
+    let place = |p: Vec2| rotate((p - lo) * scale, angle) + offset;
+    let placed_lines = lines
+        .iter()
+        .map(|l| CreaseLine {
+            a: place(l.a),
+            b: place(l.b),
+            ..l.clone()
+        })
+        .collect();
+    Ok(Sheet {
+        media: media.clone(),
+        margin,
+        scale,
+        rotation: angle,
+        lines: placed_lines,
+        vertices: vertices.iter().map(|&p| place(p)).collect(),
+        size: [size.x, size.y],
+    })
+}

@@ -1,0 +1,151 @@
+//! Crease lines of a flat pattern: edges of one fold type that continue straight through a
+//! vertex are merged into one line, so a plotter draws each fold in one pass. Each line
+//! remembers the points along it where three or more creases meet, where dashes must stop.
+
+use crate::mesh::{Assignment, Mesh, Vec2};
+use std::collections::HashMap;
+
+/// What a line does to the paper.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LineKind {
+    /// Paper boundary: cut through.
+    Cut,
+    /// Mountain fold: scored (from the front, or the back in a mirrored pass).
+    Mountain,
+    /// Valley fold: scored.
+    Valley,
+    /// Unfolded or free crease (triangulation, twist, unassigned): not scored by default.
+    Flat,
+}
+
+impl LineKind {
+    /// Every kind, in cutting order: scores before the cut so the sheet stays held.
+    pub const ALL: [LineKind; 4] = [
+        LineKind::Valley,
+        LineKind::Mountain,
+        LineKind::Flat,
+        LineKind::Cut,
+    ];
+
+    /// The kind of an edge assignment.
+    pub fn of(a: Assignment) -> LineKind {
+        match a {
+            Assignment::Boundary | Assignment::Cut => LineKind::Cut,
+            Assignment::Mountain => LineKind::Mountain,
+            Assignment::Valley => LineKind::Valley,
+            Assignment::Flat | Assignment::Join | Assignment::Unassigned => LineKind::Flat,
+        }
+    }
+
+    /// Lower-case name, for layers and reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            LineKind::Cut => "cut",
+            LineKind::Mountain => "mountain",
+            LineKind::Valley => "valley",
+            LineKind::Flat => "flat",
+        }
+    }
+}
+
+/// A straight crease line on the flat pattern.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CreaseLine {
+    /// Start point (mm).
+    pub a: Vec2,
+    /// End point (mm).
+    pub b: Vec2,
+    /// Fold type.
+    pub kind: LineKind,
+    /// Positions along the line (0 = a, 1 = b) of vertices where three or more creases or
+    /// cuts meet, ends included when they qualify.
+    pub junctions: Vec<f64>,
+}
+
+impl CreaseLine {
+    /// Length in mm.
+    pub fn length(&self) -> f64 {
+        (self.b - self.a).norm()
+    }
+}
+
+/// Merges the mesh's edges, laid out at `flat`, into straight lines per kind.
+pub fn crease_lines(mesh: &Mesh, flat: &[Vec2]) -> Vec<CreaseLine> {
+    let edges = mesh.edges();
+    // Creases and cuts meeting at each vertex (flat lines are not scored, so they do not
+    // weaken the paper and do not count).
+    let mut degree = vec![0usize; flat.len()];
+    for e in edges {
+        if LineKind::of(e.assignment) != LineKind::Flat {
+            degree[e.vertices[0]] += 1;
+            degree[e.vertices[1]] += 1;
+        }
+    }
+    let mut by_vertex: HashMap<(usize, LineKind), Vec<usize>> = HashMap::new();
+    for (i, e) in edges.iter().enumerate() {
+        let k = LineKind::of(e.assignment);
+        by_vertex.entry((e.vertices[0], k)).or_default().push(i);
+        by_vertex.entry((e.vertices[1], k)).or_default().push(i);
+    }
+    let dir = |e: usize, from: usize| -> Vec2 {
+        let other = edges[e].other(from);
+        (flat[other] - flat[from]).normalize()
+    };
+    // The edge continuing `e` straight through vertex `v`, if exactly one does.
+    let continuation = |e: usize, v: usize| -> Option<usize> {
+        let k = LineKind::of(edges[e].assignment);
+        let d = -dir(e, v);
+        let mut found = by_vertex[&(v, k)]
+            .iter()
+            .copied()
+            .filter(|&f| f != e && dir(f, v).dot(&d) > 1.0 - 1e-9);
+        let first = found.next();
+        first.filter(|_| found.next().is_none())
+    };
+    let mut used = vec![false; edges.len()];
+    let mut lines = Vec::new();
+    for start in 0..edges.len() {
+        if used[start] {
+            continue;
+        }
+        used[start] = true;
+        let kind = LineKind::of(edges[start].assignment);
+        // Walk both ways from the edge.
+        let mut chain = vec![edges[start].vertices[0], edges[start].vertices[1]];
+        for forward in [true, false] {
+            let (mut e, mut v) = if forward {
+                (start, edges[start].vertices[1])
+            } else {
+                (start, edges[start].vertices[0])
+            };
+            while let Some(next) = continuation(e, v) {
+                if used[next] {
+                    break;
+                }
+                used[next] = true;
+                v = edges[next].other(v);
+                e = next;
+                if forward {
+                    chain.push(v);
+                } else {
+                    chain.insert(0, v);
+                }
+            }
+        }
+        let (a, b) = (flat[chain[0]], flat[*chain.last().unwrap()]);
+        let len = (b - a).norm();
+        let junctions = chain
+            .iter()
+            .filter(|&&v| degree[v] >= 3)
+            .map(|&v| (flat[v] - a).norm() / len)
+            .collect();
+        lines.push(CreaseLine {
+            a,
+            b,
+            kind,
+            junctions,
+        });
+    }
+    lines
+}

@@ -1,0 +1,201 @@
+//! Scoring: each crease line becomes cut strokes. Folds are perforated with a dash code
+//! (cut length, gap length) per fold type, laid out symmetrically along every span and
+//! stopping a clearance short of any point where three or more creases meet, where a
+//! perforation would tear; the boundary is cut through.
+
+use super::layout::{Media, Sheet};
+use super::lines::LineKind;
+use crate::mesh::Vec2;
+use std::collections::BTreeMap;
+
+/// Perforation of a fold line: cut `cut` mm, leave `gap` mm, repeat.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct DashCode {
+    /// Length of each cut dash (mm).
+    pub cut: f64,
+    /// Length of paper left between dashes (mm).
+    pub gap: f64,
+}
+
+/// How each kind of line is cut.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScoreSettings {
+    /// Per kind: `Some(None)` cuts a solid line, `Some(Some(code))` perforates, a missing
+    /// kind is not cut at all.
+    pub codes: BTreeMap<LineKind, Option<DashCode>>,
+    /// Distance kept from points where three or more creases meet (mm).
+    pub clearance: f64,
+    /// Shortest dash worth cutting (mm).
+    pub min_dash: f64,
+}
+
+impl Default for ScoreSettings {
+    fn default() -> Self {
+        ScoreSettings {
+            codes: BTreeMap::from([
+                (LineKind::Cut, None),
+                (LineKind::Mountain, Some(DashCode { cut: 3.0, gap: 1.5 })),
+                (LineKind::Valley, Some(DashCode { cut: 1.5, gap: 1.5 })),
+            ]),
+            clearance: 1.0,
+            min_dash: 0.3,
+        }
+    }
+}
+
+/// One pen-down segment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stroke {
+    /// What the stroke is for (selects the tool).
+    pub kind: LineKind,
+    /// Start (mm on the media).
+    pub from: Vec2,
+    /// End.
+    pub to: Vec2,
+}
+
+impl Stroke {
+    /// Length in mm.
+    pub fn length(&self) -> f64 {
+        (self.to - self.from).norm()
+    }
+
+    /// The same stroke drawn the other way.
+    pub fn reversed(self) -> Stroke {
+        Stroke {
+            from: self.to,
+            to: self.from,
+            ..self
+        }
+    }
+}
+
+/// Ordered strokes for one sheet.
+#[derive(Clone, Debug)]
+pub struct Toolpath {
+    /// The media.
+    pub media: Media,
+    /// Strokes in cutting order.
+    pub strokes: Vec<Stroke>,
+}
+
+impl Toolpath {
+    /// Pen-up distance from the origin through every stroke and back to the origin (mm).
+    pub fn travel(&self) -> f64 {
+        let mut at = Vec2::zeros();
+        let mut total = 0.0;
+        for s in &self.strokes {
+            total += (s.from - at).norm();
+            at = s.to;
+        }
+        total + at.norm()
+    }
+
+    /// Pen-down length per kind (mm).
+    pub fn cut_length(&self) -> BTreeMap<LineKind, f64> {
+        let mut out = BTreeMap::new();
+        for s in &self.strokes {
+            *out.entry(s.kind).or_insert(0.0) += s.length();
+        }
+        out
+    }
+}
+
+/// Dashes `(start, end)` along a span of length `len`, symmetric about its middle.
+pub fn dashes(len: f64, code: DashCode, min_dash: f64) -> Vec<(f64, f64)> {
+    if len < min_dash {
+        return Vec::new();
+    }
+    let period = code.cut + code.gap;
+    let n = (((len + code.gap) / period).floor() as usize).max(1);
+    let dash = code.cut.min(len);
+    let used = n as f64 * dash + (n - 1) as f64 * code.gap;
+    let start = (len - used) / 2.0;
+    (0..n)
+        .map(|i| {
+            let s = start + i as f64 * period;
+            (s, s + dash)
+        })
+        .collect()
+}
+
+/// Turns the sheet's lines into strokes (unordered; see [`super::route`]).
+pub fn score(sheet: &Sheet, settings: &ScoreSettings) -> Vec<Stroke> {
+    let mut strokes = Vec::new();
+    for line in &sheet.lines {
+        let Some(code) = settings.codes.get(&line.kind) else {
+            continue;
+        };
+        let len = line.length();
+        if len <= 0.0 {
+            continue;
+        }
+        let u = (line.b - line.a) / len;
+        let at = |s: f64| line.a + u * s;
+        let Some(code) = code else {
+            strokes.push(Stroke {
+                kind: line.kind,
+                from: line.a,
+                to: line.b,
+            });
+            continue;
+        };
+        // Spans between junctions, each shortened by the clearance at junction ends.
+        let mut stops: Vec<f64> = line.junctions.iter().map(|t| t * len).collect();
+        stops.extend([0.0, len]);
+        stops.sort_by(f64::total_cmp);
+        stops.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+        let is_junction = |s: f64| line.junctions.iter().any(|t| (t * len - s).abs() < 1e-9);
+        for w in stops.windows(2) {
+            let lo = w[0]
+                + if is_junction(w[0]) {
+                    settings.clearance
+                } else {
+                    0.0
+                };
+            let hi = w[1]
+                - if is_junction(w[1]) {
+                    settings.clearance
+                } else {
+                    0.0
+                };
+            if hi <= lo {
+                continue;
+            }
+            for (s, e) in dashes(hi - lo, *code, settings.min_dash) {
+                strokes.push(Stroke {
+                    kind: line.kind,
+                    from: at(lo + s),
+                    to: at(lo + e),
+                });
+            }
+        }
+    }
+    strokes
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dashes_are_symmetric_and_keep_the_code() {
+        let code = DashCode { cut: 3.0, gap: 1.5 };
+        let d = dashes(20.0, code, 0.3);
+        // floor((20 + 1.5) / 4.5) = 4 dashes: 4·3 + 3·1.5 = 16.5, margins 1.75 each side.
+        assert_eq!(d.len(), 4);
+        assert!((d[0].0 - 1.75).abs() < 1e-12 && (20.0 - d[3].1 - 1.75).abs() < 1e-12);
+        for w in d.windows(2) {
+            assert!((w[1].0 - w[0].1 - 1.5).abs() < 1e-12);
+        }
+        assert!(d.iter().all(|(s, e)| (e - s - 3.0).abs() < 1e-12));
+    }
+
+    #[test]
+    fn short_spans_get_one_short_dash_or_none() {
+        let code = DashCode { cut: 3.0, gap: 1.5 };
+        assert_eq!(dashes(2.0, code, 0.3), vec![(0.0, 2.0)]);
+        assert!(dashes(0.2, code, 0.3).is_empty());
+    }
+}

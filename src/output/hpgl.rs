@@ -1,0 +1,181 @@
+//! HP-GL/1 for plotters and cutters: integers only, relative moves computed from rounded
+//! absolute positions (so rounding never drifts), one tool selection per tool, pen up and
+//! parked at the end. Every byte costs plot time on a 960 B/s line, so nothing is sent
+//! twice. Also an interpreter of what we write, to read a job back.
+
+use crate::fab::{LineKind, Stroke, Toolpath};
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+
+/// How one kind of line is cut.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ToolSetting {
+    /// Pen or tool number (`SP n`).
+    pub pen: u32,
+    /// Speed in mm/s (`VS`, sent in cm/s), if the machine takes one.
+    pub speed: Option<f64>,
+    /// Force (`FS`), in the machine's units, if it takes one.
+    pub force: Option<f64>,
+}
+
+/// What the writer needs from a machine profile.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HpglSettings {
+    /// Plotter units per millimetre (40 for HP-GL).
+    pub units_per_mm: f64,
+    /// Tool per line kind.
+    pub tools: BTreeMap<LineKind, ToolSetting>,
+}
+
+fn round(v: f64) -> i64 {
+    v.round() as i64
+}
+
+/// Writes a toolpath. Strokes whose kind has no tool are an error.
+pub fn to_string(path: &Toolpath, settings: &HpglSettings) -> Result<String, String> {
+    let mut out = String::from("IN;PR;");
+    let mut at = (0i64, 0i64);
+    let mut tool: Option<LineKind> = None;
+    let mut pen_down_open = false;
+    let pos = |p: crate::mesh::Vec2| {
+        (
+            round(p.x * settings.units_per_mm),
+            round(p.y * settings.units_per_mm),
+        )
+    };
+    for s in &path.strokes {
+        if tool != Some(s.kind) {
+            let t = settings
+                .tools
+                .get(&s.kind)
+                .ok_or_else(|| format!("the machine has no tool for {} lines", s.kind.name()))?;
+            if pen_down_open {
+                out.push(';');
+                pen_down_open = false;
+            }
+            let _ = write!(out, "SP{};", t.pen);
+            if let Some(v) = t.speed {
+                let _ = write!(out, "VS{};", round(v / 10.0).max(1));
+            }
+            if let Some(f) = t.force {
+                let _ = write!(out, "FS{};", round(f).max(1));
+            }
+            tool = Some(s.kind);
+        }
+        let (from, to) = (pos(s.from), pos(s.to));
+        if from != at {
+            if pen_down_open {
+                out.push(';');
+                pen_down_open = false;
+            }
+            let _ = write!(out, "PU{},{};", from.0 - at.0, from.1 - at.1);
+        }
+        if to == from {
+            at = from;
+            continue; // shorter than a plotter unit
+        }
+        if pen_down_open {
+            let _ = write!(out, ",{},{}", to.0 - from.0, to.1 - from.1);
+        } else {
+            let _ = write!(out, "PD{},{}", to.0 - from.0, to.1 - from.1);
+            pen_down_open = true;
+        }
+        at = to;
+    }
+    if pen_down_open {
+        out.push(';');
+    }
+    // Pen up, back to the origin, tool put away.
+    let _ = write!(out, "PU{},{};SP0;", -at.0, -at.1);
+    Ok(out)
+}
+
+/// What a plotter draws when it runs an HP-GL job: pen-down segments in plotter units.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PenPath {
+    /// (pen, from, to) for every pen-down move.
+    pub segments: Vec<(u32, [i64; 2], [i64; 2])>,
+    /// Where the pen ended.
+    pub end: [i64; 2],
+    /// Whether the pen ended up.
+    pub pen_up_at_end: bool,
+}
+
+/// Interprets the subset of HP-GL/1 that plots: IN, SP, PU, PD, PA, PR (VS, FS and others
+/// are accepted and ignored). Errors name the command.
+pub fn interpret(job: &str) -> Result<PenPath, String> {
+    let mut path = PenPath {
+        pen_up_at_end: true,
+        ..Default::default()
+    };
+    let (mut at, mut pen, mut down, mut relative) = ([0i64; 2], 0u32, false, false);
+    for raw in job.split(';') {
+        let cmd = raw.trim();
+        if cmd.is_empty() {
+            continue;
+        }
+        if cmd.len() < 2 {
+            return Err(format!("bad command \"{cmd}\""));
+        }
+        let (name, args) = cmd.split_at(2);
+        let numbers: Vec<i64> = args
+            .split(',')
+            .map(str::trim)
+            .filter(|s| !s.is_empty())
+            .map(|s| s.parse::<f64>().map(|v| v.round() as i64))
+            .collect::<Result<_, _>>()
+            .map_err(|_| format!("bad numbers in \"{cmd}\""))?;
+        match name.to_ascii_uppercase().as_str() {
+            "IN" => {
+                at = [0, 0];
+                down = false;
+                relative = false;
+                pen = 0;
+            }
+            "SP" => pen = numbers.first().copied().unwrap_or(0) as u32,
+            "PA" => relative = false,
+            "PR" => relative = true,
+            "PU" | "PD" => {
+                down = name.eq_ignore_ascii_case("PD");
+                if !numbers.len().is_multiple_of(2) {
+                    return Err(format!("odd number of coordinates in \"{cmd}\""));
+                }
+                for xy in numbers.chunks(2) {
+                    let next = if relative {
+                        [at[0] + xy[0], at[1] + xy[1]]
+                    } else {
+                        [xy[0], xy[1]]
+                    };
+                    if down && next != at {
+                        path.segments.push((pen, at, next));
+                    }
+                    at = next;
+                }
+            }
+            _ => {}
+        }
+    }
+    path.end = at;
+    path.pen_up_at_end = !down;
+    Ok(path)
+}
+
+/// The pen-down segments a toolpath should produce, in plotter units, for comparison.
+pub fn expected_segments(
+    path: &Toolpath,
+    settings: &HpglSettings,
+) -> Vec<(u32, [i64; 2], [i64; 2])> {
+    let pos = |p: crate::mesh::Vec2| {
+        [
+            round(p.x * settings.units_per_mm),
+            round(p.y * settings.units_per_mm),
+        ]
+    };
+    path.strokes
+        .iter()
+        .filter_map(|s: &Stroke| {
+            let (a, b) = (pos(s.from), pos(s.to));
+            (a != b).then(|| (settings.tools[&s.kind].pen, a, b))
+        })
+        .collect()
+}

@@ -1,0 +1,226 @@
+//! Machine profiles: data, not code (`machines/NAME.toml`). Unknown keys are an error, so a
+//! typo in a profile is caught instead of silently ignored.
+
+use crate::fab::{DashCode, LineKind, ScoreSettings};
+use crate::output::{HpglSettings, ToolSetting};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// One tool of a machine and how it treats its lines.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Tool {
+    /// Pen or tool number.
+    pub pen: u32,
+    /// Cutting or drawing speed, mm/s.
+    pub speed_mm_s: Option<f64>,
+    /// Blade force in the machine's units.
+    pub force: Option<f64>,
+    /// Perforation `[cut, gap]` in mm; absent for a solid line.
+    pub dash: Option<[f64; 2]>,
+}
+
+/// A plotter or cutter profile.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Machine {
+    /// Human name.
+    pub name: String,
+    /// "hpgl" (GP-GL to come).
+    pub protocol: String,
+    /// Plotter units per mm.
+    pub units_per_mm: f64,
+    /// Default media (a4, letter, 12x12in, WxHmm).
+    pub media: String,
+    /// Margin the machine cannot reach, mm.
+    pub margin_mm: f64,
+    /// Serial speed.
+    pub baud: u32,
+    /// xonxoff, rtscts, query or none.
+    pub flow_control: String,
+    /// Input buffer of the machine, bytes.
+    pub buffer_bytes: usize,
+    /// Pen-up travel speed, mm/s.
+    pub pen_up_speed_mm_s: f64,
+    /// Distance dashes keep from points where three or more creases meet, mm.
+    pub clearance_mm: f64,
+    /// Tools by line kind: cut, mountain, valley, and optionally flat.
+    pub tools: BTreeMap<String, Tool>,
+}
+
+/// Why a machine profile cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum MachineError {
+    /// No such profile.
+    #[error("unknown machine \"{name}\"; known: {known}")]
+    Unknown {
+        /// What was asked for.
+        name: String,
+        /// Profiles found.
+        known: String,
+    },
+    /// The profile file is wrong.
+    #[error("{path}: {cause}")]
+    Invalid {
+        /// The file.
+        path: String,
+        /// The cause.
+        cause: String,
+    },
+}
+
+/// Folders searched for profiles by name: `$CREASE_MACHINES`, `./machines`, and the
+/// `machines/` folder crease was built from.
+pub fn search_path() -> Vec<PathBuf> {
+    let mut dirs = Vec::new();
+    if let Ok(d) = std::env::var("CREASE_MACHINES") {
+        dirs.push(PathBuf::from(d));
+    }
+    dirs.push(PathBuf::from("machines"));
+    dirs.push(Path::new(env!("CARGO_MANIFEST_DIR")).join("machines"));
+    dirs
+}
+
+impl Machine {
+    /// Loads a profile by name (searched in [`search_path`]) or by path.
+    pub fn load(name_or_path: &str) -> Result<Machine, MachineError> {
+        let as_path = Path::new(name_or_path);
+        let path = if as_path.extension().is_some_and(|e| e == "toml") || name_or_path.contains('/')
+        {
+            Some(as_path.to_path_buf())
+        } else {
+            search_path()
+                .into_iter()
+                .map(|d| d.join(format!("{name_or_path}.toml")))
+                .find(|p| p.is_file())
+        };
+        let path = match path {
+            Some(p) if p.is_file() => p,
+            _ => {
+                let mut known: Vec<String> = search_path()
+                    .iter()
+                    .filter_map(|d| std::fs::read_dir(d).ok())
+                    .flatten()
+                    .flatten()
+                    .filter_map(|e| {
+                        let p = e.path();
+                        if p.extension()? != "toml" {
+                            return None;
+                        }
+                        Some(p.file_stem()?.to_string_lossy().into_owned())
+                    })
+                    .collect();
+                known.sort();
+                known.dedup();
+                return Err(MachineError::Unknown {
+                    name: name_or_path.to_string(),
+                    known: if known.is_empty() {
+                        "none found".into()
+                    } else {
+                        known.join(", ")
+                    },
+                });
+            }
+        };
+        let invalid = |cause: String| MachineError::Invalid {
+            path: path.display().to_string(),
+            cause,
+        };
+        let text = std::fs::read_to_string(&path).map_err(|e| invalid(e.to_string()))?;
+        Machine::parse(&text).map_err(invalid)
+    }
+
+    /// Parses and checks profile text.
+    pub fn parse(text: &str) -> Result<Machine, String> {
+        let m: Machine = toml::from_str(text).map_err(|e| e.to_string())?;
+        if m.protocol != "hpgl" {
+            return Err(format!(
+                "protocol \"{}\" is not supported yet (hpgl)",
+                m.protocol
+            ));
+        }
+        if m.units_per_mm.is_nan() || m.units_per_mm <= 0.0 {
+            return Err("units_per_mm must be positive".into());
+        }
+        if !["xonxoff", "rtscts", "query", "none"].contains(&m.flow_control.as_str()) {
+            return Err(format!(
+                "flow_control \"{}\" is not one of xonxoff, rtscts, query, none",
+                m.flow_control
+            ));
+        }
+        for (k, t) in &m.tools {
+            if Machine::kind(k).is_none() {
+                return Err(format!(
+                    "unknown tool \"{k}\" (cut, mountain, valley, flat)"
+                ));
+            }
+            if let Some([c, g]) = t.dash {
+                if !(c > 0.0 && g > 0.0) {
+                    return Err(format!("tool {k}: dash lengths must be positive"));
+                }
+            }
+        }
+        if !m.tools.contains_key("cut") {
+            return Err("the profile needs a \"cut\" tool for the outline".into());
+        }
+        Ok(m)
+    }
+
+    fn kind(name: &str) -> Option<LineKind> {
+        Some(match name {
+            "cut" => LineKind::Cut,
+            "mountain" => LineKind::Mountain,
+            "valley" => LineKind::Valley,
+            "flat" => LineKind::Flat,
+            _ => return None,
+        })
+    }
+
+    /// Dash codes and clearance for [`crate::fab::score`].
+    pub fn score_settings(&self) -> ScoreSettings {
+        ScoreSettings {
+            codes: self
+                .tools
+                .iter()
+                .filter_map(|(k, t)| {
+                    Some((
+                        Machine::kind(k)?,
+                        t.dash.map(|[cut, gap]| DashCode { cut, gap }),
+                    ))
+                })
+                .collect(),
+            clearance: self.clearance_mm,
+            ..ScoreSettings::default()
+        }
+    }
+
+    /// Units and tools for the HP-GL writer.
+    pub fn hpgl_settings(&self) -> HpglSettings {
+        HpglSettings {
+            units_per_mm: self.units_per_mm,
+            tools: self
+                .tools
+                .iter()
+                .filter_map(|(k, t)| {
+                    Some((
+                        Machine::kind(k)?,
+                        ToolSetting {
+                            pen: t.pen,
+                            speed: t.speed_mm_s,
+                            force: t.force,
+                        },
+                    ))
+                })
+                .collect(),
+        }
+    }
+
+    /// Speed of the tool for a kind (mm/s), falling back to the pen-up speed.
+    pub fn speed(&self, kind: LineKind) -> f64 {
+        self.tools
+            .get(kind.name())
+            .and_then(|t| t.speed_mm_s)
+            .unwrap_or(self.pen_up_speed_mm_s)
+    }
+}

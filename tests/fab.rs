@@ -1,0 +1,365 @@
+//! Fabrication end to end: every design in `patterns/` becomes a scored sheet whose
+//! layout is isometric to the design, whose dashes keep clear of crease junctions, whose
+//! HP-GL draws exactly the toolpath, and whose PDF is 1:1 with a true 100 mm scale bar.
+
+use crease::fab::{LineKind, Stroke};
+use crease::mesh::{Mesh, Vec2};
+use crease::output::hpgl;
+use crease::pipeline::{fabricate, FabError, FabOptions};
+use crease::plotter::Machine;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn patterns() -> Vec<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns");
+    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "fold"))
+        .collect();
+    v.sort();
+    assert!(v.len() >= 10);
+    v
+}
+
+fn a3() -> FabOptions {
+    FabOptions {
+        media: Some(crease::fab::Media::parse("a3").unwrap()),
+        ..Default::default()
+    }
+}
+
+fn distance_to_segment(p: Vec2, s: &Stroke) -> f64 {
+    let d = s.to - s.from;
+    let t = ((p - s.from).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
+    (s.from + d * t - p).norm()
+}
+
+/// Vertices where three or more creases or cuts meet, on the sheet.
+fn junctions(mesh: &Mesh, placed: &[Vec2]) -> Vec<Vec2> {
+    let mut degree = vec![0; placed.len()];
+    for e in mesh.edges() {
+        if LineKind::of(e.assignment) != LineKind::Flat {
+            degree[e.vertices[0]] += 1;
+            degree[e.vertices[1]] += 1;
+        }
+    }
+    (0..placed.len())
+        .filter(|&v| degree[v] >= 3)
+        .map(|v| placed[v])
+        .collect()
+}
+
+#[test]
+fn every_design_fabricates_isometric_clear_of_junctions_and_hpgl_faithful() {
+    let machine = Machine::load("generic-hpgl").unwrap();
+    let clearance = machine.clearance_mm;
+    for path in patterns() {
+        let mesh = crease::io::read(&path).unwrap();
+        let out =
+            fabricate(&mesh, &machine, &a3()).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        assert!(
+            out.isometry_error <= 1e-9,
+            "{}: isometry {}",
+            path.display(),
+            out.isometry_error
+        );
+        // Independently: sheet edge lengths against the 3D design, scale 1.
+        for e in mesh.edges() {
+            let [a, b] = e.vertices;
+            let l3 = (mesh.positions()[a] - mesh.positions()[b]).norm();
+            let l2 = (out.sheet.vertices[a] - out.sheet.vertices[b]).norm();
+            assert!(
+                (l2 - l3).abs() <= 1e-9 * l3,
+                "{}: edge {a}-{b}",
+                path.display()
+            );
+        }
+        let js = junctions(&mesh, &out.sheet.vertices);
+        let mut scored = 0;
+        for s in out
+            .toolpath
+            .strokes
+            .iter()
+            .filter(|s| matches!(s.kind, LineKind::Mountain | LineKind::Valley))
+        {
+            scored += 1;
+            for j in &js {
+                let d = distance_to_segment(*j, s);
+                assert!(
+                    d >= clearance - 1e-6,
+                    "{}: a dash passes {d:.3} mm from a junction",
+                    path.display()
+                );
+            }
+        }
+        if mesh.edges().iter().any(|e| e.assignment.is_folded()) {
+            assert!(scored > 0, "{} has folds to score", path.display());
+        }
+        // The HP-GL, interpreted, draws exactly the toolpath (to the plotter unit).
+        let text = String::from_utf8(
+            out.files
+                .iter()
+                .find(|f| f.0 == "sheet.hpgl")
+                .unwrap()
+                .1
+                .clone(),
+        )
+        .unwrap();
+        let drawn = hpgl::interpret(&text).unwrap();
+        let expected = hpgl::expected_segments(&out.toolpath, &machine.hpgl_settings());
+        assert_eq!(drawn.segments.len(), expected.len(), "{}", path.display());
+        for (d, e) in drawn.segments.iter().zip(&expected) {
+            assert_eq!(d.0, e.0);
+            for k in 0..2 {
+                assert!(
+                    (d.1[k] - e.1[k]).abs() <= 1 && (d.2[k] - e.2[k]).abs() <= 1,
+                    "{}",
+                    path.display()
+                );
+            }
+        }
+        assert!(
+            drawn.pen_up_at_end && drawn.end == [0, 0],
+            "pen up and parked"
+        );
+        // Everything lies within the media's margins.
+        for s in &out.toolpath.strokes {
+            for p in [s.from, s.to] {
+                assert!(
+                    p.x >= machine.margin_mm - 1e-6
+                        && p.x <= out.sheet.media.width - machine.margin_mm + 1e-6
+                );
+                assert!(
+                    p.y >= machine.margin_mm - 1e-6
+                        && p.y <= out.sheet.media.height - machine.margin_mm + 1e-6
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn the_crease_pattern_svg_reimports_to_the_same_graph() {
+    let machine = Machine::load("generic-hpgl").unwrap();
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura-bent.fold");
+    let mesh = crease::io::read(&path).unwrap();
+    let out = fabricate(&mesh, &machine, &a3()).unwrap();
+    let svg = &out
+        .files
+        .iter()
+        .find(|f| f.0 == "crease-pattern.svg")
+        .unwrap()
+        .1;
+    let dir = std::env::temp_dir().join(format!("crease-fab-cp-{}", std::process::id()));
+    crease::io::write_atomic(&dir.join("cp.svg"), svg).unwrap();
+    let back = crease::io::read(&dir.join("cp.svg")).unwrap();
+    assert_eq!(back.vertex_count(), mesh.vertex_count());
+    assert_eq!(back.edges().len(), mesh.edges().len());
+    let count = |m: &Mesh, a| m.edges().iter().filter(|e| e.assignment == a).count();
+    for a in [
+        crease::mesh::Assignment::Mountain,
+        crease::mesh::Assignment::Valley,
+        crease::mesh::Assignment::Boundary,
+    ] {
+        assert_eq!(count(&back, a), count(&mesh, a));
+    }
+}
+
+#[test]
+fn the_pdf_page_is_the_media_and_its_scale_bar_is_100_mm() {
+    let machine = Machine::load("generic-hpgl").unwrap();
+    let mesh = crease::io::read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura.fold"))
+        .unwrap();
+    for media in ["a4", "letter"] {
+        let options = FabOptions {
+            media: Some(crease::fab::Media::parse(media).unwrap()),
+            ..Default::default()
+        };
+        let out = fabricate(&mesh, &machine, &options).unwrap();
+        let pdf = &out.files.iter().find(|f| f.0 == "sheet.pdf").unwrap().1;
+        let doc = printpdf::PdfDocument::parse(pdf, &Default::default(), &mut Vec::new()).unwrap();
+        assert_eq!(doc.pages.len(), 1);
+        let page = &doc.pages[0];
+        let mm = |pt: f32| pt as f64 * 25.4 / 72.0;
+        let (w, h) = (mm(page.media_box.width.0), mm(page.media_box.height.0));
+        assert!(
+            (w - out.sheet.media.width).abs() < 0.05 && (h - out.sheet.media.height).abs() < 0.05,
+            "{media}: {w} × {h}"
+        );
+        // Among the drawn lines, a horizontal one of 100 mm in page units: the scale bar.
+        let bars = page
+            .ops
+            .iter()
+            .filter_map(|op| match op {
+                printpdf::Op::DrawLine { line } if line.points.len() == 2 => {
+                    let (a, b) = (line.points[0].p, line.points[1].p);
+                    Some((mm(b.x.0 - a.x.0), mm(b.y.0 - a.y.0)))
+                }
+                _ => None,
+            })
+            .filter(|(dx, dy)| dy.abs() < 1e-3 && (dx.abs() - 100.0).abs() < 0.01)
+            .count();
+        assert_eq!(bars, 1, "{media}: one 100 mm scale bar");
+    }
+}
+
+fn crease_bin(args: &[&str]) -> (i32, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_crease"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn bad_fabrication_input_is_refused_and_leaves_nothing() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let out = std::env::temp_dir().join(format!("crease-fab-bad-{}", std::process::id()));
+    let miura = format!("{root}/patterns/miura.fold");
+    let (code, err) = crease_bin(&[
+        "fab",
+        &miura,
+        "--machine",
+        "laser-9000",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("unknown machine") && err.contains("generic-hpgl"),
+        "{err}"
+    );
+    let (code, err) = crease_bin(&[
+        "fab",
+        &miura,
+        "--media",
+        "100x100mm",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("needs") && err.contains("mm"), "{err}");
+    // A Miura-ori with one vertex pushed off: not developable.
+    let mut m = crease::io::read(Path::new(&miura)).unwrap();
+    let mut x = m.positions().to_vec();
+    let v = (0..m.vertex_count())
+        .filter(|&v| m.is_interior(v))
+        .nth(20)
+        .unwrap();
+    x[v].z += 0.5;
+    m.set_positions(x);
+    let broken = out.with_extension("fold");
+    crease::io::write(&m, &broken).unwrap();
+    let (code, err) = crease_bin(&[
+        "fab",
+        broken.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("fails verification") && err.contains(&format!("vertex {v}")),
+        "{err}"
+    );
+    assert!(!out.exists(), "nothing written for refused designs");
+    // With --force it is cut anyway, and every file lands.
+    let (code, err) = crease_bin(&[
+        "fab",
+        broken.to_str().unwrap(),
+        "--force",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    for f in [
+        "sheet.svg",
+        "sheet.pdf",
+        "sheet.hpgl",
+        "crease-pattern.svg",
+        "report.json",
+    ] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    assert_eq!(report["verification"]["pass"], false);
+    assert!(report["sheet"]["pen_up_travel_mm"].as_f64().unwrap() > 0.0);
+    assert!(std::fs::read_dir(&out).unwrap().all(|e| !e
+        .unwrap()
+        .file_name()
+        .to_string_lossy()
+        .ends_with(".tmp")));
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn machine_profiles_load_and_unknown_keys_are_errors() {
+    for name in ["generic-hpgl", "hp7475a", "roland-cutter"] {
+        let m = Machine::load(name).unwrap();
+        assert!(m.tools.contains_key("cut"));
+    }
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/generic-hpgl.toml"),
+    )
+    .unwrap();
+    let typo = text.replace("clearance_mm", "clearence_mm");
+    assert!(Machine::parse(&typo).unwrap_err().contains("clearence_mm"));
+}
+
+#[test]
+fn mountains_from_the_back_are_mirrored_into_a_second_job() {
+    let machine = Machine::load("generic-hpgl").unwrap();
+    let mesh = crease::io::read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura.fold"))
+        .unwrap();
+    let plain = fabricate(&mesh, &machine, &FabOptions::default()).unwrap();
+    let split = fabricate(
+        &mesh,
+        &machine,
+        &FabOptions {
+            mountains_from_back: true,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let back = split.back.as_ref().unwrap();
+    assert!(split
+        .toolpath
+        .strokes
+        .iter()
+        .all(|s| s.kind != LineKind::Mountain));
+    assert!(back.strokes.iter().all(|s| s.kind == LineKind::Mountain));
+    let w = plain.sheet.media.width;
+    let front_mountains: Vec<&Stroke> = plain
+        .toolpath
+        .strokes
+        .iter()
+        .filter(|s| s.kind == LineKind::Mountain)
+        .collect();
+    assert_eq!(front_mountains.len(), back.strokes.len());
+    // Each back stroke is a front mountain mirrored left to right.
+    for s in &back.strokes {
+        let m = (
+            Vec2::new(w - s.from.x, s.from.y),
+            Vec2::new(w - s.to.x, s.to.y),
+        );
+        assert!(front_mountains.iter().any(|f| {
+            ((f.from - m.0).norm() < 1e-9 && (f.to - m.1).norm() < 1e-9)
+                || ((f.from - m.1).norm() < 1e-9 && (f.to - m.0).norm() < 1e-9)
+        }));
+    }
+    assert!(matches!(
+        fabricate(
+            &mesh,
+            &machine,
+            &FabOptions {
+                width: Some(-3.0),
+                ..Default::default()
+            }
+        ),
+        Err(FabError::Input(_))
+    ));
+}
