@@ -11,6 +11,7 @@ pub mod verify;
 pub use layout::{layout, LayoutError, Media, Sheet};
 pub use lines::{crease_lines, CreaseLine, LineKind};
 pub use route::route;
+
 pub use score::{score, DashCode, ScoreSettings, Stroke, Toolpath};
 pub use unfold::{check_overlap, unfold, UnfoldError};
 pub use verify::{verify, FamilyReport, Report, Tolerances};
