@@ -117,7 +117,8 @@ enum Command {
         /// Score mountains from the back: a second, mirrored job (sheet-back.hpgl).
         #[arg(long)]
         mountains_from_back: bool,
-        /// Split an oversized sheet over pages (not available yet).
+        /// Split a sheet too large for the media over several PDF pages, with overlap and
+        /// registration marks, instead of refusing (no cutter job is written then).
         #[arg(long)]
         tile: bool,
     },
@@ -439,12 +440,6 @@ fn run(cli: Cli) -> Result<u8, String> {
             mountains_from_back,
             tile,
         } => {
-            if tile {
-                return Err(
-                    "--tile is not available yet: choose a larger --media or a smaller --width"
-                        .into(),
-                );
-            }
             let machine = crease::plotter::Machine::load(&machine).map_err(|e| e.to_string())?;
             let media = media
                 .as_deref()
@@ -456,6 +451,7 @@ fn run(cli: Cli) -> Result<u8, String> {
                 width,
                 force,
                 mountains_from_back,
+                tile,
             };
             let result = match crease::pipeline::fabricate(&mesh, &machine, &options) {
                 Ok(r) => r,
@@ -471,6 +467,15 @@ fn run(cli: Cli) -> Result<u8, String> {
             });
             io::write_all_atomic(&dir, &result.files).map_err(|e| e.to_string())?;
             let s = &result.report["sheet"];
+            if s["tiled"] == true {
+                eprintln!(
+                    "{}: the sheet is larger than {}; sheet.pdf is tiled over pages with {} mm overlap and registration marks (no cutter job written)",
+                    dir.display(),
+                    machine.media,
+                    crease::pipeline::TILE_OVERLAP_MM
+                );
+                return Ok(0);
+            }
             eprintln!(
                 "{}: {} strokes, pen-up travel {:.0} mm, {} bytes of HP-GL, about {:.0} s to plot",
                 dir.display(),

@@ -321,7 +321,13 @@ pub struct FabOptions {
     pub force: bool,
     /// Score mountains from the back: a second, mirrored job.
     pub mountains_from_back: bool,
+    /// When the pattern does not fit the media, split the PDF over pages instead of
+    /// refusing (no cutter job is written then).
+    pub tile: bool,
 }
+
+/// Overlap between tiled PDF pages (mm).
+pub const TILE_OVERLAP_MM: f64 = 10.0;
 
 /// Everything a fabrication run produced, ready to write.
 pub struct FabOutput {
@@ -385,11 +391,27 @@ pub fn fabricate(
         None => Media::parse(&machine.media).map_err(FabError::Input)?,
     };
     let lines = crease_lines(mesh, &flat);
-    let sheet =
-        layout(&flat, &lines, &media, machine.margin_mm, options.width).map_err(|e| match e {
-            LayoutError::TooLarge { .. } => FabError::Rejected(Rejected(e.to_string())),
-            LayoutError::Bad(m) => FabError::Input(m),
-        })?;
+    let mut tiled = false;
+    let sheet = match layout(&flat, &lines, &media, machine.margin_mm, options.width) {
+        Ok(s) => s,
+        Err(LayoutError::TooLarge { need_w, need_h, .. }) if options.tile => {
+            // Lay it out on a virtual sheet just large enough; the PDF is tiled below.
+            tiled = true;
+            let big = Media {
+                name: format!("{need_w:.0}x{need_h:.0}mm (tiled over {})", media.name),
+                width: need_w + 1e-6,
+                height: need_h + 1e-6,
+            };
+            layout(&flat, &lines, &big, machine.margin_mm, options.width)
+                .map_err(|e| FabError::Input(e.to_string()))?
+        }
+        Err(e @ LayoutError::TooLarge { .. }) => {
+            return Err(FabError::Rejected(Rejected(e.to_string())))
+        }
+        Err(LayoutError::Bad(m)) => return Err(FabError::Input(m)),
+    };
+    let page = media.clone();
+    let media = sheet.media.clone();
     let strokes = score(&sheet, &machine.score_settings());
     let (front, back): (Vec<_>, Vec<_>) = strokes
         .into_iter()
@@ -474,6 +496,7 @@ pub fn fabricate(
         "transfer_time_s": transfer,
         "isometry_max_relative_error": isometry_error,
         "mountains_from_back": options.mountains_from_back,
+        "tiled": tiled,
     });
     let report = serde_json::json!({"verification": verification.to_json(), "sheet": sheet_json});
     let title = if mesh.title.is_empty() {
@@ -502,7 +525,22 @@ pub fn fabricate(
                 estimate
             ),
         ];
-    let pdf = crate::output::pdf::to_bytes(&sheet, &title, &summary);
+    let pdf = if tiled {
+        crate::output::pdf::to_bytes_tiled(
+            &sheet,
+            &page,
+            machine.margin_mm,
+            TILE_OVERLAP_MM,
+            &title,
+            &summary,
+        )
+    } else {
+        crate::output::pdf::to_bytes(&sheet, &title, &summary)
+    };
+    if tiled {
+        // A cutter cannot take a sheet larger than its media: only the printable files.
+        files.retain(|(name, _)| !name.ends_with(".hpgl"));
+    }
     files.push(("sheet.pdf".to_string(), pdf));
     files.push((
         "report.json".to_string(),

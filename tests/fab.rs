@@ -363,3 +363,48 @@ fn mountains_from_the_back_are_mirrored_into_a_second_job() {
         Err(FabError::Input(_))
     ));
 }
+
+#[test]
+fn an_oversized_sheet_is_tiled_over_media_pages_when_asked() {
+    let machine = Machine::load("generic-hpgl").unwrap();
+    let mesh = crease::io::read(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/plane-crumpled.fold"),
+    )
+    .unwrap();
+    let a4 = crease::fab::Media::parse("a4").unwrap();
+    let refused = fabricate(
+        &mesh,
+        &machine,
+        &FabOptions {
+            media: Some(a4.clone()),
+            ..Default::default()
+        },
+    );
+    assert!(matches!(refused, Err(FabError::Rejected(_))));
+    let out = fabricate(
+        &mesh,
+        &machine,
+        &FabOptions {
+            media: Some(a4.clone()),
+            tile: true,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert!(
+        out.files.iter().all(|f| !f.0.ends_with(".hpgl")),
+        "no cutter job for a sheet larger than the media"
+    );
+    let pdf = &out.files.iter().find(|f| f.0 == "sheet.pdf").unwrap().1;
+    let doc = printpdf::PdfDocument::parse(pdf, &Default::default(), &mut Vec::new()).unwrap();
+    // The sheet (with margins) is wider or taller than A4's printable area, so at least two
+    // pages, each exactly A4.
+    let need = out.sheet.media.width.max(out.sheet.media.height);
+    assert!(need > 297.0 - 20.0);
+    assert!(doc.pages.len() >= 2);
+    for page in &doc.pages {
+        let w = page.media_box.width.0 as f64 * 25.4 / 72.0;
+        let h = page.media_box.height.0 as f64 * 25.4 / 72.0;
+        assert!((w - 210.0).abs() < 0.05 && (h - 297.0).abs() < 0.05);
+    }
+}

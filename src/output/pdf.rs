@@ -2,7 +2,7 @@
 //! for folding by hand (mountain dash-dot, valley dashed, cut solid), a 100 mm scale bar
 //! to check the printer did not scale, a legend, the title and the report's summary.
 
-use crate::fab::{LineKind, Sheet};
+use crate::fab::{LineKind, Media, Sheet};
 use printpdf::{
     BuiltinFont, Color, Line, LineDashPattern, LinePoint, Mm, Op, PdfDocument, PdfFontHandle,
     PdfPage, PdfSaveOptions, Point, Pt, Rgb, TextItem,
@@ -65,11 +65,19 @@ fn text(ops: &mut Vec<Op>, x: f64, y: f64, size: f32, s: &str) {
     ]);
 }
 
-/// The template as PDF bytes. `summary` lines go under the title.
-pub fn to_bytes(sheet: &Sheet, title: &str, summary: &[String]) -> Vec<u8> {
-    let (w, h) = (sheet.media.width, sheet.media.height);
+/// Drawing ops of one page of `page_w × page_h` mm showing the sheet shifted by `shift`.
+fn page_ops(
+    sheet: &Sheet,
+    shift: (f64, f64),
+    page_w: f64,
+    page_h: f64,
+    title: &str,
+    summary: &[String],
+) -> Vec<Op> {
     let mut ops = Vec::new();
     ops.push(Op::SetOutlineThickness { pt: Pt(0.5) });
+    let visible =
+        |x: f64, y: f64| (-1.0..=page_w + 1.0).contains(&x) && (-1.0..=page_h + 1.0).contains(&y);
     for kind in [
         LineKind::Flat,
         LineKind::Valley,
@@ -80,7 +88,18 @@ pub fn to_bytes(sheet: &Sheet, title: &str, summary: &[String]) -> Vec<u8> {
         ops.push(Op::SetOutlineColor { col });
         ops.push(Op::SetLineDashPattern { dash });
         for l in sheet.lines.iter().filter(|l| l.kind == kind) {
-            ops.push(line((l.a.x, l.a.y), (l.b.x, l.b.y)));
+            let (a, b) = (
+                (l.a.x + shift.0, l.a.y + shift.1),
+                (l.b.x + shift.0, l.b.y + shift.1),
+            );
+            // Lines wholly off the page are left out (the page boundary clips the rest).
+            let off = (a.0 < 0.0 && b.0 < 0.0)
+                || (a.1 < 0.0 && b.1 < 0.0)
+                || (a.0 > page_w && b.0 > page_w)
+                || (a.1 > page_h && b.1 > page_h);
+            if !off || visible(a.0, a.1) {
+                ops.push(line(a, b));
+            }
         }
     }
     // Scale bar with end ticks, in the bottom margin.
@@ -103,7 +122,7 @@ pub fn to_bytes(sheet: &Sheet, title: &str, summary: &[String]) -> Vec<u8> {
         "100 mm at 100%",
     );
     // Legend, bottom right.
-    let mut lx = w - 62.0;
+    let mut lx = page_w - 62.0;
     for kind in [LineKind::Mountain, LineKind::Valley, LineKind::Cut] {
         let (col, dash) = style(kind);
         ops.push(Op::SetOutlineColor { col });
@@ -113,12 +132,80 @@ pub fn to_bytes(sheet: &Sheet, title: &str, summary: &[String]) -> Vec<u8> {
         lx += 21.0;
     }
     // Title and summary, top margin.
-    text(&mut ops, 5.0, h - 6.0, 9.0, title);
+    text(&mut ops, 5.0, page_h - 6.0, 9.0, title);
     for (i, s) in summary.iter().enumerate() {
-        text(&mut ops, 5.0, h - 10.0 - 3.5 * i as f64, 6.5, s);
+        text(&mut ops, 5.0, page_h - 10.0 - 3.5 * i as f64, 6.5, s);
     }
-    let page = PdfPage::new(Mm(w as f32), Mm(h as f32), ops);
+    ops
+}
+
+fn save(title: &str, pages: Vec<PdfPage>) -> Vec<u8> {
     PdfDocument::new(title)
-        .with_pages(vec![page])
+        .with_pages(pages)
         .save(&PdfSaveOptions::default(), &mut Vec::new())
+}
+
+/// The template as PDF bytes, one page the size of the sheet's media. `summary` lines go
+/// under the title.
+pub fn to_bytes(sheet: &Sheet, title: &str, summary: &[String]) -> Vec<u8> {
+    let (w, h) = (sheet.media.width, sheet.media.height);
+    let ops = page_ops(sheet, (0.0, 0.0), w, h, title, summary);
+    save(title, vec![PdfPage::new(Mm(w as f32), Mm(h as f32), ops)])
+}
+
+/// A sheet too large for the printer, split over `page` sized pages. Each page shows a
+/// window of the sheet inside `margin`; neighbouring windows overlap by `overlap` mm, and
+/// registration crosses mark the window corners so the pages can be aligned and taped.
+pub fn to_bytes_tiled(
+    sheet: &Sheet,
+    page: &Media,
+    margin: f64,
+    overlap: f64,
+    title: &str,
+    summary: &[String],
+) -> Vec<u8> {
+    let (uw, uh) = (page.width - 2.0 * margin, page.height - 2.0 * margin);
+    let (sw, sh) = (sheet.media.width, sheet.media.height);
+    let step = (uw - overlap, uh - overlap);
+    let count = |total: f64, usable: f64, step: f64| {
+        (((total - usable) / step).ceil().max(0.0) as usize) + 1
+    };
+    let (cols, rows) = (count(sw, uw, step.0), count(sh, uh, step.1));
+    let mut pages = Vec::new();
+    for r in 0..rows {
+        for c in 0..cols {
+            // Window of the sheet shown on this page, bottom-left corner.
+            let (wx, wy) = (c as f64 * step.0, r as f64 * step.1);
+            let shift = (margin - wx, margin - wy);
+            let label = format!("{title}: page {} of {} (row {} of {rows}, column {} of {cols}); overlap {overlap} mm", r * cols + c + 1, rows * cols, r + 1, c + 1);
+            let mut ops = page_ops(sheet, shift, page.width, page.height, &label, summary);
+            ops.push(Op::SetOutlineColor {
+                col: rgb(0.0, 0.0, 0.0),
+            });
+            ops.push(Op::SetLineDashPattern {
+                dash: LineDashPattern::solid(),
+            });
+            // Registration crosses at the window's corners and at its overlap edges.
+            let xs = [margin, margin + overlap, margin + uw - overlap, margin + uw];
+            let ys = [margin, margin + overlap, margin + uh - overlap, margin + uh];
+            for &x in &[xs[0], xs[3]] {
+                for &y in &[ys[0], ys[1], ys[2], ys[3]] {
+                    ops.push(line((x - 3.0, y), (x + 3.0, y)));
+                    ops.push(line((x, y - 3.0), (x, y + 3.0)));
+                }
+            }
+            for &x in &[xs[1], xs[2]] {
+                for &y in &[ys[0], ys[3]] {
+                    ops.push(line((x - 3.0, y), (x + 3.0, y)));
+                    ops.push(line((x, y - 3.0), (x, y + 3.0)));
+                }
+            }
+            pages.push(PdfPage::new(
+                Mm(page.width as f32),
+                Mm(page.height as f32),
+                ops,
+            ));
+        }
+    }
+    save(title, pages)
 }
