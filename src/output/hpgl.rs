@@ -101,20 +101,41 @@ pub struct PenPath {
     pub pen_up_at_end: bool,
 }
 
-/// Interprets the subset of HP-GL/1 that plots: IN, SP, PU, PD, PA, PR (VS, FS and others
-/// are accepted and ignored). Errors name the command.
-pub fn interpret(job: &str) -> Result<PenPath, String> {
-    let mut path = PenPath {
-        pen_up_at_end: true,
-        ..Default::default()
-    };
-    let (mut at, mut pen, mut down, mut relative) = ([0i64; 2], 0u32, false, false);
-    for raw in job.split(';') {
-        let cmd = raw.trim();
-        if cmd.is_empty() {
-            continue;
+/// The state of a plotter executing HP-GL/1 one command at a time: IN, SP, PU, PD, PA, PR
+/// move the pen; OA, OI, OS answer; VS, FS and others are accepted and ignored.
+#[derive(Clone, Debug, Default)]
+pub struct Interpreter {
+    /// Everything drawn so far.
+    pub path: PenPath,
+    pen: u32,
+    down: bool,
+    relative: bool,
+}
+
+impl Interpreter {
+    /// A plotter just switched on.
+    pub fn new() -> Interpreter {
+        Interpreter {
+            path: PenPath {
+                pen_up_at_end: true,
+                ..Default::default()
+            },
+            ..Default::default()
         }
-        if cmd.len() < 2 {
+    }
+
+    /// Current pen position (plotter units), pen number and whether it is down.
+    pub fn state(&self) -> ([i64; 2], u32, bool) {
+        (self.path.end, self.pen, self.down)
+    }
+
+    /// Executes one command (without its `;`). Returns the reply of an output command.
+    pub fn execute(&mut self, cmd: &str) -> Result<Option<String>, String> {
+        let cmd = cmd.trim();
+        if cmd.is_empty() {
+            return Ok(None);
+        }
+        if cmd.len() < 2 || !cmd.is_char_boundary(2) {
             return Err(format!("bad command \"{cmd}\""));
         }
         let (name, args) = cmd.split_at(2);
@@ -125,39 +146,67 @@ pub fn interpret(job: &str) -> Result<PenPath, String> {
             .map(|s| s.parse::<f64>().map(|v| v.round() as i64))
             .collect::<Result<_, _>>()
             .map_err(|_| format!("bad numbers in \"{cmd}\""))?;
+        let at = &mut self.path.end;
         match name.to_ascii_uppercase().as_str() {
             "IN" => {
-                at = [0, 0];
-                down = false;
-                relative = false;
-                pen = 0;
+                *at = [0, 0];
+                self.down = false;
+                self.relative = false;
+                self.pen = 0;
             }
-            "SP" => pen = numbers.first().copied().unwrap_or(0) as u32,
-            "PA" => relative = false,
-            "PR" => relative = true,
+            "SP" => self.pen = numbers.first().copied().unwrap_or(0) as u32,
+            "PA" | "PR" => {
+                self.relative = name.eq_ignore_ascii_case("PR");
+                return self.moves(&numbers, cmd).map(|_| None);
+            }
             "PU" | "PD" => {
-                down = name.eq_ignore_ascii_case("PD");
-                if !numbers.len().is_multiple_of(2) {
-                    return Err(format!("odd number of coordinates in \"{cmd}\""));
-                }
-                for xy in numbers.chunks(2) {
-                    let next = if relative {
-                        [at[0] + xy[0], at[1] + xy[1]]
-                    } else {
-                        [xy[0], xy[1]]
-                    };
-                    if down && next != at {
-                        path.segments.push((pen, at, next));
-                    }
-                    at = next;
-                }
+                self.down = name.eq_ignore_ascii_case("PD");
+                return self.moves(&numbers, cmd).map(|_| None);
             }
+            "OA" => {
+                return Ok(Some(format!(
+                    "{},{},{}\r",
+                    at[0],
+                    at[1],
+                    u8::from(self.down)
+                )))
+            }
+            "OI" => return Ok(Some("7475A\r".into())),
+            "OS" => return Ok(Some(format!("{}\r", if self.down { 1 } else { 0 } + 8))),
             _ => {}
         }
+        self.path.pen_up_at_end = !self.down;
+        Ok(None)
     }
-    path.end = at;
-    path.pen_up_at_end = !down;
-    Ok(path)
+
+    fn moves(&mut self, numbers: &[i64], cmd: &str) -> Result<(), String> {
+        if !numbers.len().is_multiple_of(2) {
+            return Err(format!("odd number of coordinates in \"{cmd}\""));
+        }
+        for xy in numbers.chunks(2) {
+            let at = self.path.end;
+            let next = if self.relative {
+                [at[0] + xy[0], at[1] + xy[1]]
+            } else {
+                [xy[0], xy[1]]
+            };
+            if self.down && next != at {
+                self.path.segments.push((self.pen, at, next));
+            }
+            self.path.end = next;
+        }
+        self.path.pen_up_at_end = !self.down;
+        Ok(())
+    }
+}
+
+/// Interprets a whole job. Errors name the command.
+pub fn interpret(job: &str) -> Result<PenPath, String> {
+    let mut plotter = Interpreter::new();
+    for cmd in job.split(';') {
+        plotter.execute(cmd)?;
+    }
+    Ok(plotter.path)
 }
 
 /// The pen-down segments a toolpath should produce, in plotter units, for comparison.

@@ -1,5 +1,10 @@
-//! Plotters and cutters: machine profiles (`machines/*.toml`); later, serial streaming.
+//! Plotters and cutters: machine profiles (`machines/*.toml`), streaming a job over a serial
+//! port with flow control, progress and resume, and an emulated plotter on a pty.
 
+pub mod emulator;
 pub mod machine;
+pub mod stream;
 
+pub use emulator::{Emulator, EmulatorConfig, EmulatorState, Flow};
 pub use machine::{Machine, MachineError};
+pub use stream::{stream, FlowMode, Journal, Progress, StreamError, StreamOptions, StreamReport};
