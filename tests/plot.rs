@@ -183,15 +183,15 @@ fn a_sender_that_ignores_flow_control_loses_bytes() {
     assert_ne!(state.path.segments, expected);
 }
 
+/// Pen-down segments: (pen, from, to) in plotter units.
+type Segments = Vec<(u32, [i64; 2], [i64; 2])>;
+
 /// Streams until the emulator pulls the cable, waits for the port to come back, resumes.
 fn pull_and_resume(
     seed: usize,
     flow: FlowMode,
     power_cycle: bool,
-) -> (
-    crease::plotter::EmulatorState,
-    Vec<(u32, [i64; 2], [i64; 2])>,
-) {
+) -> (crease::plotter::EmulatorState, Segments) {
     let text = job("miura.fold");
     let expected = hpgl::interpret(&text).unwrap().segments;
     let dir = scratch(&format!("pull-{seed}-{flow:?}-{power_cycle}"));
