@@ -122,6 +122,57 @@ enum Command {
         #[arg(long)]
         tile: bool,
     },
+    /// Send an HP-GL job to a plotter over a serial port, with flow control, progress
+    /// confirmed by the plotter, and a journal for --resume.
+    Plot {
+        /// An .hpgl file, or a `crease fab` output folder (its sheet.hpgl).
+        job: PathBuf,
+        /// Serial port, e.g. /dev/ttyUSB0.
+        #[arg(long)]
+        port: PathBuf,
+        /// Machine profile for baud, flow control and buffer size.
+        #[arg(long, default_value = "generic-hpgl")]
+        machine: String,
+        /// Line speed (default: the machine's).
+        #[arg(long)]
+        baud: Option<u32>,
+        /// xonxoff, rtscts, query or none (default: the machine's).
+        #[arg(long)]
+        flow: Option<String>,
+        /// Continue an interrupted job from its journal.
+        #[arg(long)]
+        resume: bool,
+        /// Check the job and print what would be sent, without opening the port.
+        #[arg(long)]
+        dry_run: bool,
+    },
+    /// Run an emulated HP-GL plotter on a pseudo-terminal until Ctrl-C.
+    Emulate {
+        /// Path of a symlink to the plotter's port (what `plot --port` opens).
+        #[arg(long)]
+        link: PathBuf,
+        /// Input buffer size in bytes.
+        #[arg(long, default_value_t = 1024)]
+        buffer: usize,
+        /// Drawing rate in bytes of HP-GL per second.
+        #[arg(long, default_value_t = 600.0)]
+        rate: f64,
+        /// Line speed.
+        #[arg(long, default_value_t = 9600)]
+        baud: u32,
+        /// Flow control the plotter uses: xonxoff, rtscts, query, none.
+        #[arg(long, default_value = "xonxoff")]
+        flow: String,
+        /// Pull the cable after this many bytes.
+        #[arg(long)]
+        fail_after: Option<usize>,
+        /// Plug it back in after this many milliseconds.
+        #[arg(long)]
+        reconnect_after: Option<u64>,
+        /// With --fail-after: switch the plotter off too (it forgets everything).
+        #[arg(long)]
+        power_cycle: bool,
+    },
     /// Convert between pattern formats, chosen by extension (.fold, .cp, .svg, .obj).
     Convert {
         /// Input file.
@@ -242,6 +293,97 @@ fn progress_bar() -> impl FnMut(&str, usize, usize) {
             if done >= total {
                 b.finish_and_clear();
             }
+        }
+    }
+}
+
+fn plot(
+    job: PathBuf,
+    port: PathBuf,
+    machine: String,
+    baud: Option<u32>,
+    flow: Option<String>,
+    resume: bool,
+    dry_run: bool,
+) -> Result<u8, String> {
+    use crease::plotter::{stream, FlowMode, StreamOptions};
+    let job_path = if job.is_dir() {
+        job.join("sheet.hpgl")
+    } else {
+        job
+    };
+    let bytes = std::fs::read(&job_path).map_err(|e| format!("{}: {e}", job_path.display()))?;
+    let text = String::from_utf8(bytes)
+        .map_err(|_| format!("{}: not an HP-GL text file", job_path.display()))?;
+    let path = crease::output::hpgl::interpret(&text)
+        .map_err(|e| format!("{}: {e}", job_path.display()))?;
+    let machine = crease::plotter::Machine::load(&machine).map_err(|e| e.to_string())?;
+    let baud = baud.unwrap_or(machine.baud);
+    let flow = FlowMode::parse(flow.as_deref().unwrap_or(&machine.flow_control))?;
+    let seconds = text.len() as f64 * 10.0 / baud as f64;
+    if dry_run {
+        out(&format!(
+            "{}: {} bytes, {} pen-down segments; {:.0} s on the line at {baud} baud; would send to {} with {:?} flow control\n",
+            job_path.display(),
+            text.len(),
+            path.segments.len(),
+            seconds,
+            port.display(),
+            flow
+        ));
+        return Ok(0);
+    }
+    let interrupted = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let flag = interrupted.clone();
+    ctrlc::set_handler(move || flag.store(true, std::sync::atomic::Ordering::SeqCst))
+        .map_err(|e| e.to_string())?;
+    let options = StreamOptions {
+        port,
+        baud,
+        flow,
+        buffer: machine.buffer_bytes,
+        resume,
+        answer_timeout: std::time::Duration::from_secs(10),
+    };
+    let bar = ProgressBar::new(text.len() as u64);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{msg} [{bar:40}] {bytes}/{total_bytes} confirmed, {elapsed} (eta {eta})",
+        )
+        .expect("valid template")
+        .progress_chars("=> "),
+    );
+    let result = stream(
+        text.as_bytes(),
+        &job_path,
+        &options,
+        &mut |p| {
+            bar.set_position(p.confirmed as u64);
+            bar.set_message(format!("{} commands", p.commands));
+        },
+        &interrupted,
+    );
+    bar.finish_and_clear();
+    match result {
+        Ok(report) => {
+            if let Some(note) = &report.resume_note {
+                eprintln!("resume: {note}");
+            }
+            eprintln!(
+                "plotted {} bytes in {:.1} s; the plotter confirmed every one",
+                report.sent,
+                report.elapsed.as_secs_f64()
+            );
+            Ok(0)
+        }
+        Err(e) if e.is_input_error() => Err(e.to_string()),
+        Err(e) => {
+            eprintln!("error: {e}");
+            eprintln!(
+                "journal: {}",
+                crease::plotter::stream::journal_path(&job_path).display()
+            );
+            Ok(1)
         }
     }
 }
@@ -488,6 +630,65 @@ fn run(cli: Cli) -> Result<u8, String> {
                 eprintln!("warning: the design fails verification; cut anyway because of --force");
             }
             Ok(0)
+        }
+        Command::Plot {
+            job,
+            port,
+            machine,
+            baud,
+            flow,
+            resume,
+            dry_run,
+        } => plot(job, port, machine, baud, flow, resume, dry_run),
+        Command::Emulate {
+            link,
+            buffer,
+            rate,
+            baud,
+            flow,
+            fail_after,
+            reconnect_after,
+            power_cycle,
+        } => {
+            use crease::plotter::{emulator, EmulatorConfig, Flow};
+            if buffer == 0 || !(rate > 0.0) {
+                return Err("--buffer and --rate must be positive".into());
+            }
+            let config = EmulatorConfig {
+                buffer,
+                rate,
+                baud,
+                flow: Flow::parse(&flow)?,
+                fail_after,
+                reconnect_after: reconnect_after.map(std::time::Duration::from_millis),
+                power_cycle,
+            };
+            let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+            let flag = stop.clone();
+            ctrlc::set_handler(move || flag.store(true, std::sync::atomic::Ordering::SeqCst))
+                .map_err(|e| e.to_string())?;
+            eprintln!(
+                "emulated plotter at {} ({} baud, {} flow, {buffer}-byte buffer, draws {rate} B/s); Ctrl-C to stop",
+                link.display(),
+                baud,
+                flow
+            );
+            let state = emulator::run_foreground(&link, config, stop)
+                .map_err(|e| format!("{}: {e}", link.display()))?;
+            let idle = if state.busy_span.as_secs_f64() > 0.0 {
+                100.0 * state.idle.as_secs_f64() / state.busy_span.as_secs_f64()
+            } else {
+                0.0
+            };
+            eprintln!(
+                "received {} bytes, lost {}, drew {} segments, idle {:.1}% of the job, {} error(s)",
+                state.received,
+                state.lost,
+                state.path.segments.len(),
+                idle,
+                state.errors.len()
+            );
+            Ok(if state.lost > 0 { 1 } else { 0 })
         }
         Command::Convert { input, output } => {
             let imported = io::read_with_notes(&input).map_err(|e| e.to_string())?;

@@ -278,3 +278,45 @@ fn a_power_cut_is_resumed_with_nothing_missing() {
         );
     }
 }
+
+#[test]
+fn bad_ports_and_speeds_exit_2_with_a_clear_message() {
+    let bin = env!("CARGO_BIN_EXE_crease");
+    let dir = scratch("badport");
+    let job_path = dir.join("job.hpgl");
+    std::fs::write(&job_path, job("miura.fold")).unwrap();
+    let run = |args: &[&str]| {
+        let o = std::process::Command::new(bin)
+            .arg("plot")
+            .arg(&job_path)
+            .args(args)
+            .output()
+            .unwrap();
+        (
+            o.status.code(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    };
+    let (code, err) = run(&["--port", "/dev/no-such-plotter"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("/dev/no-such-plotter") && err.contains("no such port"),
+        "{err}"
+    );
+    let (code, err) = run(&["--port", "/dev/null", "--baud", "1234"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("1234") && err.contains("serial speed"),
+        "{err}"
+    );
+    // A port someone else holds.
+    let link = dir.join("plotter");
+    let emulator = Emulator::start(&link, EmulatorConfig::default()).unwrap();
+    let _holder = serialport::new(link.to_string_lossy(), 9600)
+        .open_native()
+        .unwrap();
+    let (code, err) = run(&["--port", link.to_str().unwrap()]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("busy"), "{err}");
+    drop(emulator);
+}

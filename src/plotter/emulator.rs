@@ -322,6 +322,7 @@ fn run(
     let mut unplugged_at: Option<Instant> = None;
     let mut started: Option<Instant> = None;
     let mut last_work = Instant::now();
+    let mut pending_idle = Duration::ZERO;
     let mut buf = [0u8; 4096];
     while !stop.load(Ordering::SeqCst) {
         std::thread::sleep(Duration::from_millis(1));
@@ -345,13 +346,15 @@ fn run(
         draw_credit = (draw_credit + dt * config.rate).min(config.rate);
         let budget = draw_credit.floor() as usize;
         let had = plotter.buffer.len();
+        // Idle time counts only when more work follows it: the wait after the job's last
+        // command is not the sender's fault.
         if had == 0 {
-            if let Some(s) = started {
-                if now.duration_since(s) > Duration::ZERO && unplugged_at.is_none() {
-                    st.idle += Duration::from_secs_f64(dt);
-                }
+            if started.is_some() && unplugged_at.is_none() {
+                pending_idle += Duration::from_secs_f64(dt);
             }
         } else {
+            st.idle += pending_idle;
+            pending_idle = Duration::ZERO;
             last_work = now;
         }
         let replies = plotter.draw(budget, &mut st);

@@ -305,20 +305,23 @@ fn open(options: &StreamOptions) -> Result<Link, StreamError> {
         .open_native()
         .map_err(|e| StreamError::Open {
             port: name.clone(),
-            cause: match e.kind() {
-                serialport::ErrorKind::NoDevice => {
-                    "no such port (is the plotter plugged in?)".to_string()
-                }
-                serialport::ErrorKind::Io(ErrorKind::NotFound) => {
-                    "no such port (is the plotter plugged in?)".to_string()
-                }
-                _ if e.to_string().contains("busy")
-                    || e.to_string().contains("locked")
-                    || e.to_string().contains("Resource") =>
+            cause: {
+                let text = e.to_string();
+                let lower = text.to_lowercase();
+                // serialport reports an exclusively held port as "no device" with the
+                // system's words; tell the two apart by what the system said.
+                if lower.contains("busy")
+                    || lower.contains("lock")
+                    || lower.contains("resource temporarily")
                 {
-                    format!("the port is busy: another program has it open ({e})")
+                    format!("the port is busy: another program has it open ({text})")
+                } else if !Path::new(&name).exists()
+                    || matches!(e.kind(), serialport::ErrorKind::Io(ErrorKind::NotFound))
+                {
+                    "no such port (is the plotter plugged in?)".to_string()
+                } else {
+                    text
                 }
-                _ => e.to_string(),
             },
         })?;
     Ok(Link { port, name })

@@ -1,0 +1,74 @@
+//! `cargo bench --bench plot`: streaming a real job to the emulated plotter at 9600 baud
+//! with a 1024-byte buffer; reports the share of time the plotter sat idle while the job
+//! was unfinished (aim: at most 2% in query mode), per flow mode.
+
+use crease::plotter::{stream, Emulator, EmulatorConfig, Flow, FlowMode, StreamOptions};
+use std::path::Path;
+use std::sync::atomic::AtomicBool;
+use std::time::Duration;
+
+fn main() {
+    let machine = crease::plotter::Machine::load("generic-hpgl").unwrap();
+    let mesh =
+        crease::io::read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura-bent.fold"))
+            .unwrap();
+    let out = crease::pipeline::fabricate(&mesh, &machine, &Default::default()).unwrap();
+    let job = out
+        .files
+        .iter()
+        .find(|f| f.0 == "sheet.hpgl")
+        .unwrap()
+        .1
+        .clone();
+    let dir = std::env::temp_dir().join(format!("crease-bench-plot-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let job_path = dir.join("job.hpgl");
+    std::fs::write(&job_path, &job).unwrap();
+    println!(
+        "{} bytes of HP-GL; plotter draws 600 B/s; line 960 B/s",
+        job.len()
+    );
+    for (flow, emu) in [
+        (FlowMode::Query, Flow::None),
+        (FlowMode::XonXoff, Flow::XonXoff),
+        (FlowMode::RtsCts, Flow::RtsCts),
+        (FlowMode::None, Flow::None),
+    ] {
+        let link = dir.join(format!("plotter-{flow:?}"));
+        let emulator = Emulator::start(
+            &link,
+            EmulatorConfig {
+                flow: emu,
+                rate: 600.0,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let options = StreamOptions {
+            port: link.clone(),
+            baud: 9600,
+            flow,
+            buffer: 1024,
+            resume: false,
+            answer_timeout: Duration::from_secs(10),
+        };
+        let report = stream(
+            &job,
+            &job_path,
+            &options,
+            &mut |_| {},
+            &AtomicBool::new(false),
+        )
+        .unwrap();
+        emulator.wait_idle(Duration::from_millis(300), Duration::from_secs(60));
+        let s = emulator.stop();
+        println!(
+            "{flow:>8?}: {:.1} s, idle {:.2}% of the job ({:.2} s of {:.1} s), {} bytes lost",
+            report.elapsed.as_secs_f64(),
+            100.0 * s.idle.as_secs_f64() / s.busy_span.as_secs_f64().max(1e-9),
+            s.idle.as_secs_f64(),
+            s.busy_span.as_secs_f64(),
+            s.lost
+        );
+    }
+}
