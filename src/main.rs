@@ -651,7 +651,7 @@ fn run(cli: Cli) -> Result<u8, String> {
             power_cycle,
         } => {
             use crease::plotter::{emulator, EmulatorConfig, Flow};
-            if buffer == 0 || !(rate > 0.0) {
+            if buffer == 0 || rate.is_nan() || rate <= 0.0 {
                 return Err("--buffer and --rate must be positive".into());
             }
             let config = EmulatorConfig {
