@@ -1,11 +1,13 @@
 //! The `crease` command line: parse, call the library, print, exit.
 //! Exit status: 0 success, 1 the design fails a check, 2 bad input or arguments.
 
+mod cli;
+
 use clap::{Parser, Subcommand};
-use crease::pipeline::{run_design, DesignJob, PipelineError};
+use cli::{design_failure, out, parse_drag, progress_bar, GenerateArgs};
+use crease::pipeline::{run_design, DesignJob};
 use crease::solver::{Mode, Move, Script, Stage};
 use crease::{constraints::ConstraintSet, fab, generate, io};
-use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -180,222 +182,6 @@ enum Command {
         /// Output file.
         output: PathBuf,
     },
-}
-
-#[derive(clap::Args)]
-struct GenerateArgs {
-    /// Pattern: miura, waterbomb, yoshimura, resch, plane, curved.
-    pattern: String,
-    /// Cells across.
-    #[arg(long, default_value_t = 8)]
-    nx: usize,
-    /// Cells along.
-    #[arg(long, default_value_t = 8)]
-    ny: usize,
-    /// Cell edge length in mm.
-    #[arg(long, default_value_t = 20.0)]
-    size: f64,
-    /// Miura parallelogram angle in degrees.
-    #[arg(long, default_value_t = 60.0)]
-    angle: f64,
-    /// Fold amount in [0, 1] for the closed-form 3D state (Miura, Yoshimura, plane,
-    /// curved); default 0.5 for those, flat-only for waterbomb and Resch.
-    #[arg(long)]
-    fold: Option<f64>,
-    /// Write only the flat crease pattern.
-    #[arg(long, conflicts_with = "fold")]
-    flat: bool,
-    /// Twist allowance α of triangulation creases (paper §2.4).
-    #[arg(long, default_value_t = 0.0)]
-    alpha: f64,
-    /// Output file (.fold, .svg, .cp, .obj).
-    #[arg(short, long)]
-    output: PathBuf,
-}
-
-impl GenerateArgs {
-    fn params(&self) -> Result<generate::Params, String> {
-        let kind = generate::PatternKind::from_name(&self.pattern).ok_or_else(|| {
-            let names: Vec<&str> = generate::PatternKind::ALL
-                .iter()
-                .map(|k| k.name())
-                .collect();
-            format!(
-                "unknown pattern \"{}\" (choose one of: {})",
-                self.pattern,
-                names.join(", ")
-            )
-        })?;
-        let defaults = generate::Params::defaults(kind);
-        Ok(generate::Params {
-            kind,
-            nx: self.nx,
-            ny: self.ny,
-            size: self.size,
-            angle_deg: self.angle,
-            fold: if self.flat {
-                None
-            } else {
-                self.fold.or(defaults.fold)
-            },
-            alpha: self.alpha,
-        })
-    }
-}
-
-/// Prints to standard output; a closed pipe (`crease info x | head`) is not an error.
-fn out(text: &str) {
-    use std::io::Write;
-    let _ = std::io::stdout().lock().write_all(text.as_bytes());
-}
-
-fn parse_drag(text: &str) -> Result<Move, String> {
-    let bad = || format!("expected V=X,Y,Z, got \"{text}\"");
-    let (v, xyz) = text.split_once('=').ok_or_else(bad)?;
-    let vertex = v.trim().parse().map_err(|_| bad())?;
-    let c: Vec<f64> = xyz
-        .split(',')
-        .map(|s| s.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| bad())?;
-    if c.len() != 3 {
-        return Err(bad());
-    }
-    Ok(Move {
-        vertex,
-        to: [c[0], c[1], c[2]],
-    })
-}
-
-/// A progress bar on standard error, shown only on a terminal and for long runs.
-fn progress_bar() -> impl FnMut(&str, usize, usize) {
-    let mut bar: Option<ProgressBar> = None;
-    let mut phase = String::new();
-    move |name: &str, done: usize, total: usize| {
-        if phase != name {
-            if let Some(b) = bar.take() {
-                b.finish_and_clear();
-            }
-            phase = name.to_string();
-            let b = ProgressBar::new(total as u64);
-            b.set_style(
-                ProgressStyle::with_template(
-                    "{msg:>6} [{bar:40}] {pos}/{len} steps, {elapsed} (eta {eta})",
-                )
-                .expect("valid template")
-                .progress_chars("=> "),
-            );
-            b.set_message(name.to_string());
-            bar = Some(b);
-        }
-        if let Some(b) = &bar {
-            b.set_position(done as u64);
-            if done >= total {
-                b.finish_and_clear();
-            }
-        }
-    }
-}
-
-fn plot(
-    job: PathBuf,
-    port: PathBuf,
-    machine: String,
-    baud: Option<u32>,
-    flow: Option<String>,
-    resume: bool,
-    dry_run: bool,
-) -> Result<u8, String> {
-    use crease::plotter::{stream, FlowMode, StreamOptions};
-    let job_path = if job.is_dir() {
-        job.join("sheet.hpgl")
-    } else {
-        job
-    };
-    let bytes = std::fs::read(&job_path).map_err(|e| format!("{}: {e}", job_path.display()))?;
-    let text = String::from_utf8(bytes)
-        .map_err(|_| format!("{}: not an HP-GL text file", job_path.display()))?;
-    let path = crease::output::hpgl::interpret(&text)
-        .map_err(|e| format!("{}: {e}", job_path.display()))?;
-    let machine = crease::plotter::Machine::load(&machine).map_err(|e| e.to_string())?;
-    let baud = baud.unwrap_or(machine.baud);
-    let flow = FlowMode::parse(flow.as_deref().unwrap_or(&machine.flow_control))?;
-    let seconds = text.len() as f64 * 10.0 / baud as f64;
-    if dry_run {
-        out(&format!(
-            "{}: {} bytes, {} pen-down segments; {:.0} s on the line at {baud} baud; would send to {} with {:?} flow control\n",
-            job_path.display(),
-            text.len(),
-            path.segments.len(),
-            seconds,
-            port.display(),
-            flow
-        ));
-        return Ok(0);
-    }
-    let interrupted = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
-    let flag = interrupted.clone();
-    ctrlc::set_handler(move || flag.store(true, std::sync::atomic::Ordering::SeqCst))
-        .map_err(|e| e.to_string())?;
-    let options = StreamOptions {
-        port,
-        baud,
-        flow,
-        buffer: machine.buffer_bytes,
-        resume,
-        answer_timeout: std::time::Duration::from_secs(10),
-    };
-    let bar = ProgressBar::new(text.len() as u64);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{msg} [{bar:40}] {bytes}/{total_bytes} confirmed, {elapsed} (eta {eta})",
-        )
-        .expect("valid template")
-        .progress_chars("=> "),
-    );
-    let result = stream(
-        text.as_bytes(),
-        &job_path,
-        &options,
-        &mut |p| {
-            bar.set_position(p.confirmed as u64);
-            bar.set_message(format!("{} commands", p.commands));
-        },
-        &interrupted,
-    );
-    bar.finish_and_clear();
-    match result {
-        Ok(report) => {
-            if let Some(note) = &report.resume_note {
-                eprintln!("resume: {note}");
-            }
-            eprintln!(
-                "plotted {} bytes in {:.1} s; the plotter confirmed every one",
-                report.sent,
-                report.elapsed.as_secs_f64()
-            );
-            Ok(0)
-        }
-        Err(e) if e.is_input_error() => Err(e.to_string()),
-        Err(e) => {
-            eprintln!("error: {e}");
-            eprintln!(
-                "journal: {}",
-                crease::plotter::stream::journal_path(&job_path).display()
-            );
-            Ok(1)
-        }
-    }
-}
-
-/// Exit status for a failed design job: 2 for bad input, 1 for a solve that failed.
-fn design_failure(e: PipelineError) -> Result<u8, String> {
-    if e.is_input_error() {
-        Err(e.to_string())
-    } else {
-        eprintln!("error: {e}; nothing was written");
-        Ok(1)
-    }
 }
 
 fn main() -> ExitCode {
@@ -639,7 +425,7 @@ fn run(cli: Cli) -> Result<u8, String> {
             flow,
             resume,
             dry_run,
-        } => plot(job, port, machine, baud, flow, resume, dry_run),
+        } => cli::plot::plot(job, port, machine, baud, flow, resume, dry_run),
         Command::Emulate {
             link,
             buffer,
@@ -649,47 +435,16 @@ fn run(cli: Cli) -> Result<u8, String> {
             fail_after,
             reconnect_after,
             power_cycle,
-        } => {
-            use crease::plotter::{emulator, EmulatorConfig, Flow};
-            if buffer == 0 || rate.is_nan() || rate <= 0.0 {
-                return Err("--buffer and --rate must be positive".into());
-            }
-            let config = EmulatorConfig {
-                buffer,
-                rate,
-                baud,
-                flow: Flow::parse(&flow)?,
-                fail_after,
-                reconnect_after: reconnect_after.map(std::time::Duration::from_millis),
-                power_cycle,
-            };
-            let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
-            let flag = stop.clone();
-            ctrlc::set_handler(move || flag.store(true, std::sync::atomic::Ordering::SeqCst))
-                .map_err(|e| e.to_string())?;
-            eprintln!(
-                "emulated plotter at {} ({} baud, {} flow, {buffer}-byte buffer, draws {rate} B/s); Ctrl-C to stop",
-                link.display(),
-                baud,
-                flow
-            );
-            let state = emulator::run_foreground(&link, config, stop)
-                .map_err(|e| format!("{}: {e}", link.display()))?;
-            let idle = if state.busy_span.as_secs_f64() > 0.0 {
-                100.0 * state.idle.as_secs_f64() / state.busy_span.as_secs_f64()
-            } else {
-                0.0
-            };
-            eprintln!(
-                "received {} bytes, lost {}, drew {} segments, idle {:.1}% of the job, {} error(s)",
-                state.received,
-                state.lost,
-                state.path.segments.len(),
-                idle,
-                state.errors.len()
-            );
-            Ok(if state.lost > 0 { 1 } else { 0 })
-        }
+        } => cli::plot::emulate(
+            link,
+            buffer,
+            rate,
+            baud,
+            flow,
+            fail_after,
+            reconnect_after,
+            power_cycle,
+        ),
         Command::Convert { input, output } => {
             let imported = io::read_with_notes(&input).map_err(|e| e.to_string())?;
             for note in &imported.notes {

@@ -2,6 +2,7 @@
 //! port with flow control, progress and resume, and an emulated plotter on a pty.
 
 pub mod emulator;
+mod journal;
 pub mod machine;
 pub mod stream;
 

@@ -1,0 +1,135 @@
+//! Helpers of the `crease` binary: argument types, output, progress bars. (Part of the
+//! binary, not of the library.)
+
+pub mod plot;
+
+use crease::generate;
+use crease::pipeline::PipelineError;
+use crease::solver::Move;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+pub struct GenerateArgs {
+    /// Pattern: miura, waterbomb, yoshimura, resch, plane, curved.
+    pattern: String,
+    /// Cells across.
+    #[arg(long, default_value_t = 8)]
+    nx: usize,
+    /// Cells along.
+    #[arg(long, default_value_t = 8)]
+    ny: usize,
+    /// Cell edge length in mm.
+    #[arg(long, default_value_t = 20.0)]
+    size: f64,
+    /// Miura parallelogram angle in degrees.
+    #[arg(long, default_value_t = 60.0)]
+    angle: f64,
+    /// Fold amount in [0, 1] for the closed-form 3D state (Miura, Yoshimura, plane,
+    /// curved); default 0.5 for those, flat-only for waterbomb and Resch.
+    #[arg(long)]
+    fold: Option<f64>,
+    /// Write only the flat crease pattern.
+    #[arg(long, conflicts_with = "fold")]
+    flat: bool,
+    /// Twist allowance α of triangulation creases (paper §2.4).
+    #[arg(long, default_value_t = 0.0)]
+    alpha: f64,
+    /// Output file (.fold, .svg, .cp, .obj).
+    #[arg(short, long)]
+    pub output: PathBuf,
+}
+
+impl GenerateArgs {
+    pub fn params(&self) -> Result<generate::Params, String> {
+        let kind = generate::PatternKind::from_name(&self.pattern).ok_or_else(|| {
+            let names: Vec<&str> = generate::PatternKind::ALL
+                .iter()
+                .map(|k| k.name())
+                .collect();
+            format!(
+                "unknown pattern \"{}\" (choose one of: {})",
+                self.pattern,
+                names.join(", ")
+            )
+        })?;
+        let defaults = generate::Params::defaults(kind);
+        Ok(generate::Params {
+            kind,
+            nx: self.nx,
+            ny: self.ny,
+            size: self.size,
+            angle_deg: self.angle,
+            fold: if self.flat {
+                None
+            } else {
+                self.fold.or(defaults.fold)
+            },
+            alpha: self.alpha,
+        })
+    }
+}
+
+/// Prints to standard output; a closed pipe (`crease info x | head`) is not an error.
+pub fn out(text: &str) {
+    use std::io::Write;
+    let _ = std::io::stdout().lock().write_all(text.as_bytes());
+}
+
+pub fn parse_drag(text: &str) -> Result<Move, String> {
+    let bad = || format!("expected V=X,Y,Z, got \"{text}\"");
+    let (v, xyz) = text.split_once('=').ok_or_else(bad)?;
+    let vertex = v.trim().parse().map_err(|_| bad())?;
+    let c: Vec<f64> = xyz
+        .split(',')
+        .map(|s| s.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| bad())?;
+    if c.len() != 3 {
+        return Err(bad());
+    }
+    Ok(Move {
+        vertex,
+        to: [c[0], c[1], c[2]],
+    })
+}
+
+/// A progress bar on standard error, shown only on a terminal and for long runs.
+pub fn progress_bar() -> impl FnMut(&str, usize, usize) {
+    let mut bar: Option<ProgressBar> = None;
+    let mut phase = String::new();
+    move |name: &str, done: usize, total: usize| {
+        if phase != name {
+            if let Some(b) = bar.take() {
+                b.finish_and_clear();
+            }
+            phase = name.to_string();
+            let b = ProgressBar::new(total as u64);
+            b.set_style(
+                ProgressStyle::with_template(
+                    "{msg:>6} [{bar:40}] {pos}/{len} steps, {elapsed} (eta {eta})",
+                )
+                .expect("valid template")
+                .progress_chars("=> "),
+            );
+            b.set_message(name.to_string());
+            bar = Some(b);
+        }
+        if let Some(b) = &bar {
+            b.set_position(done as u64);
+            if done >= total {
+                b.finish_and_clear();
+            }
+        }
+    }
+}
+
+/// Exit status for a failed design job: 2 for bad input, 1 for a solve that failed.
+pub fn design_failure(e: PipelineError) -> Result<u8, String> {
+    if e.is_input_error() {
+        Err(e.to_string())
+    } else {
+        eprintln!("error: {e}; nothing was written");
+        Ok(1)
+    }
+}

@@ -1,0 +1,264 @@
+//! Fabrication: verify → unfold → lay out → score → route → SVG, PDF, HP-GL, report.
+
+use crate::fab::unfold;
+use crate::mesh::Mesh;
+use std::collections::BTreeMap;
+
+/// Options of a fabrication run.
+#[derive(Clone, Debug, Default)]
+pub struct FabOptions {
+    /// Media; default the machine's.
+    pub media: Option<crate::fab::Media>,
+    /// Scale the pattern to this width (mm).
+    pub width: Option<f64>,
+    /// Fabricate even if verification fails.
+    pub force: bool,
+    /// Score mountains from the back: a second, mirrored job.
+    pub mountains_from_back: bool,
+    /// When the pattern does not fit the media, split the PDF over pages instead of
+    /// refusing (no cutter job is written then).
+    pub tile: bool,
+}
+
+/// Overlap between tiled PDF pages (mm).
+pub const TILE_OVERLAP_MM: f64 = 10.0;
+
+/// Everything a fabrication run produced, ready to write.
+pub struct FabOutput {
+    /// File name and bytes, in writing order.
+    pub files: Vec<(String, Vec<u8>)>,
+    /// The report written as report.json.
+    pub report: serde_json::Value,
+    /// The verification report.
+    pub verification: crate::fab::Report,
+    /// The placed sheet.
+    pub sheet: crate::fab::Sheet,
+    /// The front job's toolpath.
+    pub toolpath: crate::fab::Toolpath,
+    /// The mirrored back job, if asked for.
+    pub back: Option<crate::fab::Toolpath>,
+    /// Largest relative edge-length difference between the sheet and the 3D design.
+    pub isometry_error: f64,
+}
+
+/// Why fabrication stopped: the design fails verification, does not fit, overlaps itself.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct Rejected(pub String);
+
+/// Verify → unfold → lay out → score → route → SVG, PDF, HP-GL and a report (§ the
+/// fabrication half of the brief). Nothing is written here; see [`crate::io::write_all_atomic`].
+pub fn fabricate(
+    mesh: &Mesh,
+    machine: &crate::plotter::Machine,
+    options: &FabOptions,
+) -> Result<FabOutput, FabError> {
+    use crate::fab::{
+        check_overlap, crease_lines, layout, route, score, verify, LayoutError, LineKind, Media,
+        Tolerances, Toolpath,
+    };
+    let verification = verify(mesh, None, Tolerances::default());
+    if !verification.pass() && !options.force {
+        return Err(FabError::Rejected(Rejected(format!(
+            "the design fails verification (use --force to cut it anyway):\n{verification}"
+        ))));
+    }
+    let flat = if mesh.has_3d() {
+        unfold(mesh).map_err(|e| FabError::Rejected(Rejected(e.to_string())))?
+    } else {
+        mesh.flat()
+            .map(<[_]>::to_vec)
+            .unwrap_or_else(|| mesh.positions().iter().map(|p| p.xy()).collect())
+    };
+    let isometry_error = mesh
+        .edges()
+        .iter()
+        .map(|e| {
+            let [a, b] = e.vertices;
+            let l3 = (mesh.positions()[a] - mesh.positions()[b]).norm();
+            ((flat[a] - flat[b]).norm() - l3).abs() / l3
+        })
+        .fold(0.0, f64::max);
+    check_overlap(mesh.faces(), &flat).map_err(|e| FabError::Rejected(Rejected(e.to_string())))?;
+    let media = match &options.media {
+        Some(m) => m.clone(),
+        None => Media::parse(&machine.media).map_err(FabError::Input)?,
+    };
+    let lines = crease_lines(mesh, &flat);
+    let mut tiled = false;
+    let sheet = match layout(&flat, &lines, &media, machine.margin_mm, options.width) {
+        Ok(s) => s,
+        Err(LayoutError::TooLarge { need_w, need_h, .. }) if options.tile => {
+            // Lay it out on a virtual sheet just large enough; the PDF is tiled below.
+            tiled = true;
+            let big = Media {
+                name: format!("{need_w:.0}x{need_h:.0}mm (tiled over {})", media.name),
+                width: need_w + 1e-6,
+                height: need_h + 1e-6,
+            };
+            layout(&flat, &lines, &big, machine.margin_mm, options.width)
+                .map_err(|e| FabError::Input(e.to_string()))?
+        }
+        Err(e @ LayoutError::TooLarge { .. }) => {
+            return Err(FabError::Rejected(Rejected(e.to_string())))
+        }
+        Err(LayoutError::Bad(m)) => return Err(FabError::Input(m)),
+    };
+    let page = media.clone();
+    let media = sheet.media.clone();
+    let strokes = score(&sheet, &machine.score_settings());
+    let (front, back): (Vec<_>, Vec<_>) = strokes
+        .into_iter()
+        .partition(|s| !(options.mountains_from_back && s.kind == LineKind::Mountain));
+    let toolpath = Toolpath {
+        media: media.clone(),
+        strokes: route(&front),
+    };
+    let back = options.mountains_from_back.then(|| {
+        // Seen from the back the sheet is mirrored left to right.
+        let mirrored: Vec<_> = back
+            .iter()
+            .map(|s| crate::fab::Stroke {
+                from: crate::mesh::Vec2::new(media.width - s.from.x, s.from.y),
+                to: crate::mesh::Vec2::new(media.width - s.to.x, s.to.y),
+                ..*s
+            })
+            .collect();
+        Toolpath {
+            media: media.clone(),
+            strokes: route(&mirrored),
+        }
+    });
+    let hpgl_settings = machine.hpgl_settings();
+    let hpgl =
+        crate::output::hpgl::to_string(&toolpath, &hpgl_settings).map_err(FabError::Input)?;
+    let mut files = vec![
+        (
+            "sheet.svg".to_string(),
+            crate::output::svg::sheet_to_string(&toolpath).into_bytes(),
+        ),
+        ("sheet.hpgl".to_string(), hpgl.clone().into_bytes()),
+    ];
+    let mut back_bytes = 0;
+    if let Some(b) = &back {
+        let text = crate::output::hpgl::to_string(b, &hpgl_settings).map_err(FabError::Input)?;
+        back_bytes = text.len();
+        files.push(("sheet-back.hpgl".to_string(), text.into_bytes()));
+        files.push((
+            "sheet-back.svg".to_string(),
+            crate::output::svg::sheet_to_string(b).into_bytes(),
+        ));
+    }
+    let mut placed = mesh.clone();
+    placed.set_flat(sheet.vertices.clone());
+    let cp = crate::io::to_string(&placed, crate::io::Format::Svg).map_err(FabError::Input)?;
+    files.push(("crease-pattern.svg".to_string(), cp.into_bytes()));
+
+    // Figures for the report.
+    let mut line_length: BTreeMap<&str, f64> = BTreeMap::new();
+    for l in &sheet.lines {
+        *line_length.entry(l.kind.name()).or_default() += l.length();
+    }
+    let jobs: Vec<&Toolpath> = std::iter::once(&toolpath).chain(back.as_ref()).collect();
+    let mut cut_length: BTreeMap<&str, f64> = BTreeMap::new();
+    let mut motion = 0.0;
+    let mut travel = 0.0;
+    for job in &jobs {
+        for (k, len) in job.cut_length() {
+            *cut_length.entry(k.name()).or_default() += len;
+            motion += len / machine.speed(k);
+        }
+        travel += job.travel();
+    }
+    motion += travel / machine.pen_up_speed_mm_s;
+    let bytes = hpgl.len() + back_bytes;
+    let transfer = bytes as f64 * 10.0 / machine.baud as f64;
+    let estimate = motion.max(transfer);
+    let sheet_json = serde_json::json!({
+        "machine": machine.name,
+        "media": {"name": media.name, "width_mm": media.width, "height_mm": media.height},
+        "size_mm": sheet.size,
+        "scale": sheet.scale,
+        "rotation_deg": sheet.rotation.to_degrees(),
+        "line_length_mm": line_length,
+        "cut_length_mm": cut_length,
+        "strokes": jobs.iter().map(|j| j.strokes.len()).sum::<usize>(),
+        "pen_up_travel_mm": travel,
+        "hpgl_bytes": bytes,
+        "estimated_plot_time_s": estimate,
+        "motion_time_s": motion,
+        "transfer_time_s": transfer,
+        "isometry_max_relative_error": isometry_error,
+        "mountains_from_back": options.mountains_from_back,
+        "tiled": tiled,
+    });
+    let report = serde_json::json!({"verification": verification.to_json(), "sheet": sheet_json});
+    let title = if mesh.title.is_empty() {
+        "crease pattern".to_string()
+    } else {
+        mesh.title.clone()
+    };
+    let summary =
+        vec![
+            format!(
+            "{} on {} ({:.0} x {:.0} mm), pattern {:.1} x {:.1} mm at scale {:.3}; verification {}",
+            machine.name,
+            media.name,
+            media.width,
+            media.height,
+            sheet.size[0],
+            sheet.size[1],
+            sheet.scale,
+            if verification.pass() { "passed" } else { "FAILED (forced)" }
+        ),
+            format!(
+                "cut {:.0} mm, pen-up travel {:.0} mm, {} bytes of HP-GL, about {:.0} s to plot",
+                cut_length.values().sum::<f64>(),
+                travel,
+                bytes,
+                estimate
+            ),
+        ];
+    let pdf = if tiled {
+        crate::output::pdf::to_bytes_tiled(
+            &sheet,
+            &page,
+            machine.margin_mm,
+            TILE_OVERLAP_MM,
+            &title,
+            &summary,
+        )
+    } else {
+        crate::output::pdf::to_bytes(&sheet, &title, &summary)
+    };
+    if tiled {
+        // A cutter cannot take a sheet larger than its media: only the printable files.
+        files.retain(|(name, _)| !name.ends_with(".hpgl"));
+    }
+    files.push(("sheet.pdf".to_string(), pdf));
+    files.push((
+        "report.json".to_string(),
+        (serde_json::to_string_pretty(&report).expect("json") + "\n").into_bytes(),
+    ));
+    Ok(FabOutput {
+        files,
+        report,
+        verification,
+        sheet,
+        toolpath,
+        back,
+        isometry_error,
+    })
+}
+
+/// Why fabrication failed: bad input (exit 2) or a design that cannot be made as asked
+/// (exit 1).
+#[derive(Debug, thiserror::Error)]
+pub enum FabError {
+    /// Bad option or profile.
+    #[error("{0}")]
+    Input(String),
+    /// The design was refused.
+    #[error(transparent)]
+    Rejected(#[from] Rejected),
+}
