@@ -91,6 +91,10 @@ enum Command {
         /// Drag falloff radius in mm (default: a quarter of the design's diagonal).
         #[arg(long)]
         radius: Option<f64>,
+        /// Collapse degenerating edges (paper §4): edges shorter than this fraction of the
+        /// mean edge (0.25 when given without a value).
+        #[arg(long, num_args = 0..=1, default_missing_value = "0.25")]
+        remesh: Option<f64>,
         /// Output FOLD file.
         #[arg(short, long)]
         output: PathBuf,
@@ -293,6 +297,7 @@ fn run(cli: Cli) -> Result<u8, String> {
             conditions,
             alpha,
             radius,
+            remesh,
             output,
         } => {
             let mesh = file
@@ -336,6 +341,8 @@ fn run(cli: Cli) -> Result<u8, String> {
             }
             job.alpha = alpha.or(job.alpha);
             job.radius = radius.or(job.radius);
+            job.remesh = remesh.or(job.remesh);
+            let job_remesh = job.remesh.is_some();
             let outcome = match run_design(job, &mut progress_bar()) {
                 Ok(o) => o,
                 Err(e) => return design_failure(e),
@@ -350,6 +357,13 @@ fn run(cli: Cli) -> Result<u8, String> {
                 s.worst_residual,
                 output.display()
             );
+            let (collapses, flips) = outcome
+                .drags
+                .iter()
+                .fold((0, 0), |(c, f), d| (c + d.collapses, f + d.flips));
+            if collapses + flips > 0 || job_remesh {
+                eprintln!("remeshing: {collapses} edge collapse(s), {flips} flip(s)");
+            }
             for d in outcome.drags.iter().flat_map(|d| &d.distances) {
                 eprintln!(
                     "vertex {}: {:.2} mm from its target (was {:.2} mm)",

@@ -60,6 +60,8 @@ pub struct DesignJob {
     pub radius: Option<f64>,
     /// Fold toward this fraction of the targets first.
     pub fold: Option<f64>,
+    /// Remesh (§4): collapse edges shorter than this fraction of the mean edge.
+    pub remesh: Option<f64>,
     /// The drags.
     pub stages: Vec<Stage>,
     /// Solver settings.
@@ -90,6 +92,7 @@ impl DesignJob {
             fixed: None,
             radius: None,
             fold: None,
+            remesh: None,
             stages: Vec::new(),
             options: Options::default(),
         }
@@ -132,6 +135,7 @@ impl DesignJob {
         job.fixed = script.fix.clone();
         job.radius = script.radius;
         job.fold = script.fold;
+        job.remesh = script.remesh;
         job.stages = script.stage.clone();
         Ok(job)
     }
@@ -151,6 +155,7 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
         fixed,
         radius,
         fold,
+        remesh,
         stages,
         options,
     } = job;
@@ -209,7 +214,7 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
         let total: usize = stages.iter().map(|s| s.steps).sum();
         let mut done = 0;
         for stage in &stages {
-            drags.push(run_stage(&mut solver, stage, radius, &mut || {
+            drags.push(run_stage(&mut solver, stage, radius, remesh, &mut || {
                 done += 1;
                 progress("drag", done, total)
             })?);

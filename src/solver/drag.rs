@@ -46,6 +46,9 @@ pub struct Script {
     pub radius: Option<f64>,
     /// Fold the base toward this fraction of its targets first (simulation mode).
     pub fold: Option<f64>,
+    /// Collapse edges shorter than this fraction of the mean edge (paper §4); absent: no
+    /// remeshing.
+    pub remesh: Option<f64>,
     /// The drags, in order.
     #[serde(default)]
     pub stage: Vec<Stage>,
@@ -63,6 +66,10 @@ impl Script {
 pub struct DragReport {
     /// For each move of each stage: distance to target before and after (mm).
     pub distances: Vec<(usize, f64, f64)>,
+    /// Edges collapsed during the stage.
+    pub collapses: usize,
+    /// Flat creases flipped during the stage.
+    pub flips: usize,
 }
 
 /// Runs one stage. `progress` is called after every accepted step.
@@ -70,8 +77,11 @@ pub fn run_stage(
     solver: &mut Solver,
     stage: &Stage,
     radius: f64,
+    remesh: Option<f64>,
     progress: &mut dyn FnMut(),
 ) -> Result<DragReport, SolverError> {
+    let mut stage = stage.clone();
+    let (mut collapses, mut flips) = (0, 0);
     let n = solver.positions().len();
     for m in &stage.moves {
         if m.vertex >= n {
@@ -88,6 +98,7 @@ pub fn run_stage(
         .map(|m| (target(m) - solver.positions()[m.vertex]).norm())
         .collect();
     for k in 0..stage.steps {
+        let n = solver.positions().len();
         let x = solver.positions().to_vec();
         let mut dx0 = vec![Vec3::zeros(); n];
         for m in &stage.moves {
@@ -99,6 +110,17 @@ pub fn run_stage(
             }
         }
         solver.step(&dx0)?;
+        if let Some(threshold) = remesh {
+            let dragged: Vec<usize> = stage.moves.iter().map(|m| m.vertex).collect();
+            let outcome = solver.remesh(&dragged, threshold);
+            collapses += outcome.collapses;
+            flips += outcome.flips;
+            if let Some(map) = outcome.renumbered {
+                for m in &mut stage.moves {
+                    m.vertex = map[m.vertex];
+                }
+            }
+        }
         progress();
     }
     let distances = stage
@@ -113,5 +135,9 @@ pub fn run_stage(
             )
         })
         .collect();
-    Ok(DragReport { distances })
+    Ok(DragReport {
+        distances,
+        collapses,
+        flips,
+    })
 }

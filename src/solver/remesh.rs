@@ -69,7 +69,11 @@ pub struct Change {
 }
 
 fn target_sum(mesh: &Mesh, v: usize) -> f64 {
-    mesh.topology().fans[v].spokes.iter().map(|&e| mesh.edges()[e].target).sum()
+    mesh.topology().fans[v]
+        .spokes
+        .iter()
+        .map(|&e| mesh.edges()[e].target)
+        .sum()
 }
 
 fn is_pm(x: f64, value: f64) -> bool {
@@ -77,7 +81,11 @@ fn is_pm(x: f64, value: f64) -> bool {
 }
 
 fn neighbours(mesh: &Mesh, v: usize) -> BTreeSet<usize> {
-    mesh.topology().fans[v].spokes.iter().map(|&e| mesh.edges()[e].other(v)).collect()
+    mesh.topology().fans[v]
+        .spokes
+        .iter()
+        .map(|&e| mesh.edges()[e].other(v))
+        .collect()
 }
 
 fn assignment_for(target: f64, old: Assignment) -> Assignment {
@@ -95,14 +103,22 @@ fn assignment_for(target: f64, old: Assignment) -> Assignment {
 /// Plans the collapse of edge `e` of `mesh` at positions `x` into its midpoint. Vertices
 /// in `protected` may not disappear (they stay as the merged vertex only if both ends are
 /// unprotected).
-pub fn collapse_edge(mesh: &Mesh, x: &[Vec3], e: usize, protected: &[usize]) -> Result<Change, Refusal> {
+pub fn collapse_edge(
+    mesh: &Mesh,
+    x: &[Vec3],
+    e: usize,
+    protected: &[usize],
+) -> Result<Change, Refusal> {
     if mesh.lock_topology {
         return Err(Refusal::Locked);
     }
     let edge = &mesh.edges()[e];
     let [u, v] = edge.vertices;
     let topo = mesh.topology();
-    if !mesh.is_interior(u) || !mesh.is_interior(v) || topo.edge_faces[e].iter().any(Option::is_none) {
+    if !mesh.is_interior(u)
+        || !mesh.is_interior(v)
+        || topo.edge_faces[e].iter().any(Option::is_none)
+    {
         return Err(Refusal::Boundary(e));
     }
     if let Some(&p) = [u, v].iter().find(|w| protected.contains(w)) {
@@ -126,7 +142,12 @@ pub fn collapse_edge(mesh: &Mesh, x: &[Vec3], e: usize, protected: &[usize]) -> 
     let opposite: BTreeSet<usize> = topo.edge_faces[e]
         .iter()
         .flatten()
-        .map(|&f| *mesh.faces()[f].iter().find(|&&w| w != u && w != v).expect("triangle"))
+        .map(|&f| {
+            *mesh.faces()[f]
+                .iter()
+                .find(|&&w| w != u && w != v)
+                .expect("triangle")
+        })
         .collect();
     let (nu, nv) = (neighbours(mesh, u), neighbours(mesh, v));
     let shared: BTreeSet<usize> = nu.intersection(&nv).copied().collect();
@@ -224,14 +245,22 @@ pub fn flip_edge(mesh: &Mesh, x: &[Vec3], e: usize) -> Result<Change, Refusal> {
         return Err(Refusal::Locked);
     }
     let edge = &mesh.edges()[e];
-    if edge.target != 0.0 || edge.alpha != 0.0 || !matches!(edge.assignment, Assignment::Flat | Assignment::Join) {
+    if edge.target != 0.0
+        || edge.alpha != 0.0
+        || !matches!(edge.assignment, Assignment::Flat | Assignment::Join)
+    {
         return Err(Refusal::NotFlippable(e));
     }
     let [Some(fl), Some(fr)] = mesh.topology().edge_faces[e] else {
         return Err(Refusal::Boundary(e));
     };
     let [u, v] = edge.vertices;
-    let third = |f: usize| *mesh.faces()[f].iter().find(|&&w| w != u && w != v).expect("triangle");
+    let third = |f: usize| {
+        *mesh.faces()[f]
+            .iter()
+            .find(|&&w| w != u && w != v)
+            .expect("triangle")
+    };
     let (a, b) = (third(fl), third(fr));
     if mesh.topology().edge_between(a, b).is_some() {
         return Err(Refusal::LinkCondition(e));
@@ -250,15 +279,26 @@ pub fn flip_edge(mesh: &Mesh, x: &[Vec3], e: usize) -> Result<Change, Refusal> {
         return Err(Refusal::NotFlippable(e));
     }
     // Orientation kept: the new normals agree with the old ones.
-    let n_old = crate::geometry::face_normal(x, [u, v, a]) + crate::geometry::face_normal(x, [v, u, b]);
-    if crate::geometry::face_normal(x, t1).dot(&n_old) <= 0.0 || crate::geometry::face_normal(x, t2).dot(&n_old) <= 0.0 {
+    let n_old =
+        crate::geometry::face_normal(x, [u, v, a]) + crate::geometry::face_normal(x, [v, u, b]);
+    if crate::geometry::face_normal(x, t1).dot(&n_old) <= 0.0
+        || crate::geometry::face_normal(x, t2).dot(&n_old) <= 0.0
+    {
         return Err(Refusal::NotFlippable(e));
     }
     let faces: Vec<[usize; 3]> = mesh
         .faces()
         .iter()
         .enumerate()
-        .map(|(i, f)| if i == fl { t1 } else if i == fr { t2 } else { *f })
+        .map(|(i, f)| {
+            if i == fl {
+                t1
+            } else if i == fr {
+                t2
+            } else {
+                *f
+            }
+        })
         .collect();
     let mut edges = mesh.edges().to_vec();
     edges[e].vertices = [a, b];
