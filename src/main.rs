@@ -130,55 +130,9 @@ enum Command {
     },
     /// Send an HP-GL job to a plotter over a serial port, with flow control, progress
     /// confirmed by the plotter, and a journal for --resume.
-    Plot {
-        /// An .hpgl file, or a `crease fab` output folder (its sheet.hpgl).
-        job: PathBuf,
-        /// Serial port, e.g. /dev/ttyUSB0.
-        #[arg(long)]
-        port: PathBuf,
-        /// Machine profile for baud, flow control and buffer size.
-        #[arg(long, default_value = "generic-hpgl")]
-        machine: String,
-        /// Line speed (default: the machine's).
-        #[arg(long)]
-        baud: Option<u32>,
-        /// xonxoff, rtscts, query or none (default: the machine's).
-        #[arg(long)]
-        flow: Option<String>,
-        /// Continue an interrupted job from its journal.
-        #[arg(long)]
-        resume: bool,
-        /// Check the job and print what would be sent, without opening the port.
-        #[arg(long)]
-        dry_run: bool,
-    },
+    Plot(cli::plot::PlotArgs),
     /// Run an emulated HP-GL plotter on a pseudo-terminal until Ctrl-C.
-    Emulate {
-        /// Path of a symlink to the plotter's port (what `plot --port` opens).
-        #[arg(long)]
-        link: PathBuf,
-        /// Input buffer size in bytes.
-        #[arg(long, default_value_t = 1024)]
-        buffer: usize,
-        /// Drawing rate in bytes of HP-GL per second.
-        #[arg(long, default_value_t = 600.0)]
-        rate: f64,
-        /// Line speed.
-        #[arg(long, default_value_t = 9600)]
-        baud: u32,
-        /// Flow control the plotter uses: xonxoff, rtscts, query, none.
-        #[arg(long, default_value = "xonxoff")]
-        flow: String,
-        /// Pull the cable after this many bytes.
-        #[arg(long)]
-        fail_after: Option<usize>,
-        /// Plug it back in after this many milliseconds.
-        #[arg(long)]
-        reconnect_after: Option<u64>,
-        /// With --fail-after: switch the plotter off too (it forgets everything).
-        #[arg(long)]
-        power_cycle: bool,
-    },
+    Emulate(cli::plot::EmulateArgs),
     /// Convert between pattern formats, chosen by extension (.fold, .cp, .svg, .obj).
     Convert {
         /// Input file.
@@ -431,34 +385,8 @@ fn run(cli: Cli) -> Result<u8, String> {
             }
             Ok(0)
         }
-        Command::Plot {
-            job,
-            port,
-            machine,
-            baud,
-            flow,
-            resume,
-            dry_run,
-        } => cli::plot::plot(job, port, machine, baud, flow, resume, dry_run),
-        Command::Emulate {
-            link,
-            buffer,
-            rate,
-            baud,
-            flow,
-            fail_after,
-            reconnect_after,
-            power_cycle,
-        } => cli::plot::emulate(
-            link,
-            buffer,
-            rate,
-            baud,
-            flow,
-            fail_after,
-            reconnect_after,
-            power_cycle,
-        ),
+        Command::Plot(args) => cli::plot::plot(args),
+        Command::Emulate(args) => cli::plot::emulate(args),
         Command::Convert { input, output } => {
             let imported = io::read_with_notes(&input).map_err(|e| e.to_string())?;
             for note in &imported.notes {

@@ -4,17 +4,71 @@ use super::out;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 
+/// Arguments of `crease plot`.
+#[derive(clap::Args)]
+pub struct PlotArgs {
+    /// An .hpgl file, or a `crease fab` output folder (its sheet.hpgl).
+    pub job: PathBuf,
+    /// Serial port, e.g. /dev/ttyUSB0.
+    #[arg(long)]
+    pub port: PathBuf,
+    /// Machine profile for baud, flow control and buffer size.
+    #[arg(long, default_value = "generic-hpgl")]
+    pub machine: String,
+    /// Line speed (default: the machine's).
+    #[arg(long)]
+    pub baud: Option<u32>,
+    /// xonxoff, rtscts, query or none (default: the machine's).
+    #[arg(long)]
+    pub flow: Option<String>,
+    /// Continue an interrupted job from its journal.
+    #[arg(long)]
+    pub resume: bool,
+    /// Check the job and print what would be sent, without opening the port.
+    #[arg(long)]
+    pub dry_run: bool,
+}
+
+/// Arguments of `crease emulate`.
+#[derive(clap::Args)]
+pub struct EmulateArgs {
+    /// Path of a symlink to the plotter's port (what `plot --port` opens).
+    #[arg(long)]
+    pub link: PathBuf,
+    /// Input buffer size in bytes.
+    #[arg(long, default_value_t = 1024)]
+    pub buffer: usize,
+    /// Drawing rate in bytes of HP-GL per second.
+    #[arg(long, default_value_t = 600.0)]
+    pub rate: f64,
+    /// Line speed.
+    #[arg(long, default_value_t = 9600)]
+    pub baud: u32,
+    /// Flow control the plotter uses: xonxoff, rtscts, query, none.
+    #[arg(long, default_value = "xonxoff")]
+    pub flow: String,
+    /// Pull the cable after this many bytes.
+    #[arg(long)]
+    pub fail_after: Option<usize>,
+    /// Plug it back in after this many milliseconds.
+    #[arg(long)]
+    pub reconnect_after: Option<u64>,
+    /// With --fail-after: switch the plotter off too (it forgets everything).
+    #[arg(long)]
+    pub power_cycle: bool,
+}
+
 /// `crease plot`: stream an HP-GL job to a port.
-#[allow(clippy::too_many_arguments)]
-pub fn plot(
-    job: PathBuf,
-    port: PathBuf,
-    machine: String,
-    baud: Option<u32>,
-    flow: Option<String>,
-    resume: bool,
-    dry_run: bool,
-) -> Result<u8, String> {
+pub fn plot(args: PlotArgs) -> Result<u8, String> {
+    let PlotArgs {
+        job,
+        port,
+        machine,
+        baud,
+        flow,
+        resume,
+        dry_run,
+    } = args;
     use crease::plotter::{stream, FlowMode, StreamOptions};
     let job_path = if job.is_dir() {
         job.join("sheet.hpgl")
@@ -98,17 +152,17 @@ pub fn plot(
 }
 
 /// `crease emulate`: an emulated plotter on a pty until Ctrl-C.
-#[allow(clippy::too_many_arguments)]
-pub fn emulate(
-    link: PathBuf,
-    buffer: usize,
-    rate: f64,
-    baud: u32,
-    flow: String,
-    fail_after: Option<usize>,
-    reconnect_after: Option<u64>,
-    power_cycle: bool,
-) -> Result<u8, String> {
+pub fn emulate(args: EmulateArgs) -> Result<u8, String> {
+    let EmulateArgs {
+        link,
+        buffer,
+        rate,
+        baud,
+        flow,
+        fail_after,
+        reconnect_after,
+        power_cycle,
+    } = args;
     use crease::plotter::{emulator, EmulatorConfig, Flow};
     if buffer == 0 || rate.is_nan() || rate <= 0.0 {
         return Err("--buffer and --rate must be positive".into());

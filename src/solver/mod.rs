@@ -121,6 +121,20 @@ pub struct Stats {
     pub worst_residual: f64,
 }
 
+/// The unknowns: column `3·v + k` of the Jacobian maps to a free variable unless vertex
+/// `v` is fixed. Returns the map and the number of free variables.
+fn free_columns(fixed: &[bool]) -> (Vec<Option<usize>>, usize) {
+    let mut columns = vec![None; 3 * fixed.len()];
+    let mut free = 0;
+    for v in (0..fixed.len()).filter(|&v| !fixed[v]) {
+        for k in 0..3 {
+            columns[3 * v + k] = Some(free);
+            free += 1;
+        }
+    }
+    (columns, free)
+}
+
 /// A mesh being deformed under a set of conditions.
 pub struct Solver {
     mesh: Mesh,
@@ -168,14 +182,7 @@ impl Solver {
                 count: n,
             })? = true;
         }
-        let mut columns = vec![None; 3 * n];
-        let mut free = 0;
-        for v in (0..n).filter(|&v| !is_fixed[v]) {
-            for k in 0..3 {
-                columns[3 * v + k] = Some(free);
-                free += 1;
-            }
-        }
+        let (columns, free) = free_columns(&is_fixed);
         let reference = Reference::new(&mesh);
         Ok(Solver {
             x: mesh.positions().to_vec(),
@@ -474,14 +481,7 @@ impl Solver {
                 fixed[new] = true;
             }
         }
-        let mut columns = vec![None; 3 * n];
-        let mut free = 0;
-        for v in (0..n).filter(|&v| !fixed[v]) {
-            for k in 0..3 {
-                columns[3 * v + k] = Some(free);
-                free += 1;
-            }
-        }
+        let (columns, free) = free_columns(&fixed);
         self.reference = Reference::new(&change.mesh);
         self.mesh = change.mesh;
         self.x = change.positions;
