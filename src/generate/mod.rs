@@ -230,25 +230,22 @@ fn miura(p: &Params) -> Result<Mesh, GenerateError> {
         }
         out
     };
-    finish(p, flat, faces, |t| Ok(folded_at(t)), Assignment::Unassigned)
+    finish(p, flat, faces, |t| Ok(folded_at(t)))
 }
 
-/// Flat and, when asked, folded parts; interior edges not yet decided get their mountain or
-/// valley from the fold at t = 0.5.
+/// Flat and, when asked, folded parts; interior edges get mountain, valley or flat from
+/// the sign of their fold angle at t = 0.5.
 fn finish(
     p: &Params,
     flat: Vec<Vec2>,
     faces: Vec<[usize; 3]>,
     folded_at: impl Fn(f64) -> Result<Vec<Vec3>, GenerateError>,
-    undecided: Assignment,
 ) -> Result<Mesh, GenerateError> {
-    let mut parts = build(flat, faces, |_, _| undecided, p.alpha);
-    if undecided == Assignment::Unassigned {
-        assign_by_fold(&mut parts, folded_at(0.5)?)?;
-        for e in &mut parts.edges {
-            if e.assignment == Assignment::Flat {
-                e.alpha = p.alpha;
-            }
+    let mut parts = build(flat, faces, |_, _| Assignment::Unassigned, p.alpha);
+    assign_by_fold(&mut parts, folded_at(0.5)?)?;
+    for e in &mut parts.edges {
+        if e.assignment == Assignment::Flat {
+            e.alpha = p.alpha;
         }
     }
     if let Some(t) = p.fold {
@@ -322,7 +319,7 @@ fn yoshimura(p: &Params) -> Result<Mesh, GenerateError> {
             })
             .collect())
     };
-    finish(p, flat, faces, folded_at, Assignment::Unassigned)
+    finish(p, flat, faces, folded_at)
 }
 
 fn resch(p: &Params) -> Result<Mesh, GenerateError> {
@@ -380,7 +377,7 @@ fn plane(p: &Params) -> Result<Mesh, GenerateError> {
             })
             .collect())
     };
-    finish(p, flat, faces, folded_at, Assignment::Unassigned).map(|mut m| {
+    finish(p, flat, faces, folded_at).map(|mut m| {
         // No creases in a plane: every interior line may bend either way.
         for e in m.edges_mut() {
             if !e.assignment.is_boundary() {
@@ -429,5 +426,5 @@ fn curved(p: &Params) -> Result<Mesh, GenerateError> {
         }
         Ok(out)
     };
-    finish(p, flat, faces, folded_at, Assignment::Unassigned)
+    finish(p, flat, faces, folded_at)
 }
