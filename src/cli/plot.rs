@@ -111,7 +111,7 @@ pub fn plot(args: PlotArgs) -> Result<u8, String> {
     let bar = ProgressBar::new(text.len() as u64);
     bar.set_style(
         ProgressStyle::with_template(
-            "{msg} [{bar:40}] {bytes}/{total_bytes} confirmed, {elapsed} (eta {eta})",
+            "[{bar:40}] {bytes}/{total_bytes} confirmed, {elapsed}; {msg}",
         )
         .expect("valid template")
         .progress_chars("=> "),
@@ -122,7 +122,12 @@ pub fn plot(args: PlotArgs) -> Result<u8, String> {
         &options,
         &mut |p| {
             bar.set_position(p.confirmed as u64);
-            bar.set_message(format!("{} commands", p.commands));
+            // The line is the hard limit: what remains cannot cross it faster than baud/10.
+            let left = (p.total - p.confirmed) as f64 * 10.0 / baud as f64;
+            bar.set_message(format!(
+                "{} commands, ≥{left:.0} s left at the line rate",
+                p.commands
+            ));
         },
         &interrupted,
     );
