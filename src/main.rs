@@ -282,13 +282,8 @@ fn run(cli: Cli) -> Result<u8, String> {
             if !fix.is_empty() {
                 job.fixed = Some(fix);
             }
-            match mode.as_deref() {
-                None => {}
-                Some("design") => job.mode = Mode::Design,
-                Some("simulation") => job.mode = Mode::Simulation,
-                Some(other) => {
-                    return Err(format!("unknown mode \"{other}\" (design or simulation)"))
-                }
+            if let Some(mode) = mode.as_deref() {
+                job.mode = Mode::parse(mode)?;
             }
             if let Some(c) = conditions {
                 job.conditions = Some(ConstraintSet::parse(&c)?);

@@ -3,7 +3,7 @@
 //! the margins.
 
 use super::lines::CreaseLine;
-use crate::mesh::Vec2;
+use crate::mesh::{bounds, Vec2};
 
 /// A sheet of media.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -104,13 +104,6 @@ pub enum LayoutError {
 fn rotate(p: Vec2, angle: f64) -> Vec2 {
     let (s, c) = angle.sin_cos();
     Vec2::new(c * p.x - s * p.y, s * p.x + c * p.y)
-}
-
-fn bounds(points: &[Vec2]) -> (Vec2, Vec2) {
-    points.iter().fold(
-        (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY)),
-        |(lo, hi), p| (lo.inf(p), hi.sup(p)),
-    )
 }
 
 /// Convex hull (Andrew's monotone chain), counter-clockwise.

@@ -24,10 +24,7 @@ pub enum UnfoldError {
 /// more than `1e-9` of the layout's size), and none is mirrored.
 pub fn check_overlap(faces: &[[usize; 3]], flat: &[Vec2]) -> Result<(), UnfoldError> {
     let tri = |f: [usize; 3]| [flat[f[0]], flat[f[1]], flat[f[2]]];
-    let (lo, hi) = flat.iter().fold(
-        (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY)),
-        |(lo, hi), p| (lo.inf(p), hi.sup(p)),
-    );
+    let (lo, hi) = crate::mesh::bounds(flat);
     let eps = 1e-9 * (hi - lo).norm().max(1e-300);
     for (i, &f) in faces.iter().enumerate() {
         let [a, b, c] = tri(f);

@@ -111,10 +111,7 @@ fn coords(frame: &Frame) -> Result<Vec<Vec3>, String> {
 /// The flat layout of a planar frame, keeping the given faces counter-clockwise when they
 /// all agree; `None` if the frame is not planar or its faces overlap (a flat-folded form).
 fn planar_layout(points: &[Vec3], faces: &[Vec<usize>]) -> Option<Vec<Vec2>> {
-    let (lo, hi) = points.iter().fold(
-        (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY)),
-        |(lo, hi), p| (lo.inf(p), hi.sup(p)),
-    );
+    let (lo, hi) = crate::mesh::bounds(points);
     let extent = hi - lo;
     let tol = 1e-9 * extent.norm().max(f64::MIN_POSITIVE);
     // Prefer an exact axis-aligned plane: coordinates are copied, not recomputed.

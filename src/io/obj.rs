@@ -11,10 +11,7 @@ pub fn to_string(mesh: &Mesh) -> String {
         let _ = writeln!(out, "v {} {} {}", p.x, p.y, p.z);
     }
     if let Some(flat) = mesh.flat() {
-        let (lo, hi) = flat.iter().fold(
-            (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY)),
-            |(lo, hi), p| (lo.inf(p), hi.sup(p)),
-        );
+        let (lo, hi) = crate::mesh::bounds(flat);
         let side = (hi - lo).max().max(f64::MIN_POSITIVE);
         for p in flat {
             let q = (p - lo) / side;

@@ -24,20 +24,10 @@ pub fn to_string(mesh: &Mesh) -> Result<String, String> {
     let flat = mesh
         .flat()
         .ok_or("an SVG crease pattern needs the flat layout, and this design has none yet")?;
-    let (mut lo_x, mut lo_y, mut hi_x, mut hi_y) = (
-        f64::INFINITY,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        f64::NEG_INFINITY,
-    );
-    for p in flat {
-        lo_x = lo_x.min(p.x);
-        hi_x = hi_x.max(p.x);
-        lo_y = lo_y.min(-p.y);
-        hi_y = hi_y.max(-p.y);
-    }
-    let (x0, y0) = (lo_x - MARGIN_MM, lo_y - MARGIN_MM);
-    let (w, h) = (hi_x - lo_x + 2.0 * MARGIN_MM, hi_y - lo_y + 2.0 * MARGIN_MM);
+    // SVG's y runs down: the top of the drawing is the pattern's largest y.
+    let (lo, hi) = crate::mesh::bounds(flat);
+    let (x0, y0) = (lo.x - MARGIN_MM, -hi.y - MARGIN_MM);
+    let (w, h) = (hi.x - lo.x + 2.0 * MARGIN_MM, hi.y - lo.y + 2.0 * MARGIN_MM);
     let mut doc = Document::new()
         .set("width", format!("{w}mm"))
         .set("height", format!("{h}mm"))

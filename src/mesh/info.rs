@@ -37,11 +37,7 @@ impl Mesh {
     pub fn info(&self) -> MeshInfo {
         let (lo, hi) = self.bounding_box();
         let size_flat = self.flat().map(|f| {
-            let (mut lo, mut hi) = (f[0], f[0]);
-            for p in f {
-                lo = lo.inf(p);
-                hi = hi.sup(p);
-            }
+            let (lo, hi) = super::bounds(f);
             [hi.x - lo.x, hi.y - lo.y]
         });
         let kinds = [

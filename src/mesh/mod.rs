@@ -14,7 +14,7 @@ pub use info::MeshInfo;
 pub use topology::{MeshError, Topology, TopologySummary, VertexFan};
 pub use triangulate::triangulate_polygon;
 
-use nalgebra::{Vector2, Vector3};
+use nalgebra::{SVector, Vector2, Vector3};
 use std::f64::consts::PI;
 
 /// A point or direction in 3D, millimetres.
@@ -276,12 +276,17 @@ impl Mesh {
 
     /// Axis-aligned bounding box of the 3D positions: (min, max).
     pub fn bounding_box(&self) -> (Vec3, Vec3) {
-        let mut lo = Vec3::repeat(f64::INFINITY);
-        let mut hi = Vec3::repeat(f64::NEG_INFINITY);
-        for p in &self.positions {
-            lo = lo.inf(p);
-            hi = hi.sup(p);
-        }
-        (lo, hi)
+        bounds(&self.positions)
     }
+}
+
+/// Axis-aligned bounds (min, max) of points in any dimension; (+∞, −∞) for none.
+pub fn bounds<const D: usize>(points: &[SVector<f64, D>]) -> (SVector<f64, D>, SVector<f64, D>) {
+    points.iter().fold(
+        (
+            SVector::repeat(f64::INFINITY),
+            SVector::repeat(f64::NEG_INFINITY),
+        ),
+        |(lo, hi), p| (lo.inf(p), hi.sup(p)),
+    )
 }

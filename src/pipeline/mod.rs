@@ -116,15 +116,9 @@ impl DesignJob {
             }
         };
         let mut job = DesignJob::new(mesh);
-        job.mode = match script.mode.as_deref() {
-            None | Some("design") => Mode::Design,
-            Some("simulation") => Mode::Simulation,
-            Some(other) => {
-                return Err(PipelineError::Input(format!(
-                    "unknown mode \"{other}\" (design or simulation)"
-                )))
-            }
-        };
+        if let Some(mode) = script.mode.as_deref() {
+            job.mode = Mode::parse(mode).map_err(PipelineError::Input)?;
+        }
         job.conditions = script
             .conditions
             .as_ref()
@@ -250,11 +244,7 @@ fn check_targets(
     let size = (hi - lo).norm();
     let paper = match mesh.flat() {
         Some(f) => {
-            let (mut a, mut b) = (f[0], f[0]);
-            for p in f {
-                a = a.inf(p);
-                b = b.sup(p);
-            }
+            let (a, b) = crate::mesh::bounds(f);
             (b - a).norm()
         }
         None => size,

@@ -28,6 +28,15 @@ pub enum Mode {
 }
 
 impl Mode {
+    /// Parses "design" or "simulation".
+    pub fn parse(name: &str) -> Result<Mode, String> {
+        match name {
+            "design" => Ok(Mode::Design),
+            "simulation" => Ok(Mode::Simulation),
+            other => Err(format!("unknown mode \"{other}\" (design or simulation)")),
+        }
+    }
+
     /// The conditions of simulation mode: rigid panels (edge lengths) within their
     /// fold-angle and twist ranges.
     pub fn simulation_set() -> ConstraintSet {
