@@ -163,36 +163,84 @@ fn flat_foldable_patterns_satisfy_kawasaki_and_maekawa() {
 }
 
 #[test]
-fn resch_has_one_tuck_star_per_upward_triangle_and_locks_its_topology() {
+fn resch_fully_folded_is_isometric_with_tiles_on_top_and_three_corners_per_vertex() {
     let mut p = Params::defaults(PatternKind::Resch);
-    p.nx = 3;
-    p.ny = 2;
+    p.fold = Some(1.0);
     let m = generate(&p).unwrap();
     assert!(m.lock_topology);
-    // A star centre: six creases, three mountains to corners and three valleys.
-    let mut by_vertex: HashMap<usize, (usize, usize)> = HashMap::new();
+    let (x, flat) = (m.positions(), m.flat().unwrap());
+    let l = p.size;
     for e in m.edges() {
-        for v in e.vertices {
-            let c = by_vertex.entry(v).or_default();
-            match e.assignment {
-                Assignment::Mountain => c.0 += 1,
-                Assignment::Valley => c.1 += 1,
-                _ => {}
-            }
+        let [a, b] = e.vertices;
+        let (l3, l2) = ((x[a] - x[b]).norm(), (flat[a] - flat[b]).norm());
+        assert!((l3 - l2).abs() < 1e-12 * l, "edge {a}-{b}: {l3} vs {l2}");
+    }
+    // Tiles: the faces lying on the top plane; everything else hangs behind it.
+    let top = |v: usize| x[v].z.abs() < 1e-12 * l;
+    let tiles: Vec<&[usize; 3]> = m
+        .faces()
+        .iter()
+        .filter(|f| f.iter().all(|&v| top(v)))
+        .collect();
+    assert!(!tiles.is_empty());
+    for f in m.faces() {
+        if !f.iter().all(|&v| top(v)) {
+            assert!(
+                f.iter().all(|&v| x[v].z < 1e-12 * l),
+                "face {f:?} pokes through the tiles"
+            );
         }
     }
-    let stars = by_vertex
-        .values()
-        .filter(|&&(mo, va)| mo == 3 && va == 3)
-        .count();
-    // Two rows of a 3-wide lattice: 3 upward triangles in the first row, 3 in the second.
-    assert_eq!(stars, 6);
-    let mountains = m
-        .edges()
-        .iter()
-        .filter(|e| e.assignment == Assignment::Mountain)
-        .count();
-    assert_eq!(mountains, 3 * stars);
+    for f in &tiles {
+        for k in 0..3 {
+            let side = (x[f[k]] - x[f[(k + 1) % 3]]).norm();
+            assert!((side - l).abs() < 1e-12 * l, "tile side {side}");
+        }
+    }
+    // Every folded vertex on top gathers at most three paper corners, one tuck's; inner
+    // ones exactly three (§6.4).
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    for v in (0..x.len()).filter(|&v| top(v)) {
+        match groups
+            .iter_mut()
+            .find(|g| (x[g[0]] - x[v]).norm() < 1e-9 * l)
+        {
+            Some(g) => g.push(v),
+            None => groups.push(vec![v]),
+        }
+    }
+    for g in &groups {
+        assert!(g.len() <= 3, "{g:?}");
+        for (i, &a) in g.iter().enumerate() {
+            for &b in &g[i + 1..] {
+                assert!(((flat[a] - flat[b]).norm() - l).abs() < 1e-9 * l, "{g:?}");
+            }
+        }
+        if g.iter().all(|&v| m.is_interior(v)) {
+            assert_eq!(g.len(), 3, "{g:?}");
+        }
+    }
+    // Targets: tile edges turn the surface down by π/2 (mountain), spokes π/3, and the fins'
+    // and tucks' halves close flat onto each other (valley π).
+    let mut kinds: HashMap<(Assignment, i64), usize> = HashMap::new();
+    for e in m.edges().iter().filter(|e| e.assignment.is_folded()) {
+        *kinds
+            .entry((e.assignment, (e.target.to_degrees()).round() as i64))
+            .or_default() += 1;
+    }
+    let keys: Vec<_> = kinds.keys().copied().collect();
+    for k in keys {
+        assert!(
+            [
+                (Assignment::Mountain, 90),
+                (Assignment::Mountain, 60),
+                (Assignment::Valley, -180)
+            ]
+            .contains(&k),
+            "unexpected crease kind {k:?}"
+        );
+    }
+    assert_eq!(kinds.len(), 3);
 }
 
 #[test]

@@ -1,5 +1,5 @@
 //! Building blocks shared by the generators: strips of triangles between rows of points,
-//! edge lists from faces, and the Resch subdivision.
+//! edge lists from faces.
 
 use crate::mesh::{Assignment, Edge, MeshParts, Vec2};
 use std::collections::HashMap;
@@ -78,69 +78,4 @@ pub fn build(
         faces,
         edges,
     }
-}
-
-/// Resch's triangular pattern from an equilateral lattice: every upward triangle becomes a
-/// tuck star (mountains centre→corner, valleys centre→side midpoint), every downward one a
-/// tile cut into four by flat creases; lattice sides are valleys between tile and tuck.
-pub fn subdivide_resch(lattice: &[Vec2], faces: &[[usize; 3]]) -> MeshParts {
-    let mut points = lattice.to_vec();
-    let mut kinds: HashMap<(usize, usize), Assignment> = HashMap::new();
-    let mut midpoint: HashMap<(usize, usize), usize> = HashMap::new();
-    let mut mid = |a: usize, b: usize, points: &mut Vec<Vec2>| -> usize {
-        *midpoint.entry((a.min(b), a.max(b))).or_insert_with(|| {
-            points.push((points[a] + points[b]) * 0.5);
-            points.len() - 1
-        })
-    };
-    let key = |a: usize, b: usize| (a.min(b), a.max(b));
-    let mut out = Vec::new();
-    for &[a, b, c] in faces {
-        let (mab, mbc, mca) = (
-            mid(a, b, &mut points),
-            mid(b, c, &mut points),
-            mid(c, a, &mut points),
-        );
-        for (corner, m) in [(a, mab), (b, mab), (b, mbc), (c, mbc), (c, mca), (a, mca)] {
-            kinds.insert(key(corner, m), Assignment::Valley);
-        }
-        let ys = [points[a].y, points[b].y, points[c].y];
-        let low = ys.iter().cloned().fold(f64::INFINITY, f64::min);
-        let upward = ys
-            .iter()
-            .filter(|&&y| (y - low).abs() < 1e-9 * (1.0 + low.abs()))
-            .count()
-            == 2;
-        if upward {
-            points.push((points[a] + points[b] + points[c]) / 3.0);
-            let g = points.len() - 1;
-            for corner in [a, b, c] {
-                kinds.insert(key(g, corner), Assignment::Mountain);
-            }
-            for m in [mab, mbc, mca] {
-                kinds.insert(key(g, m), Assignment::Valley);
-            }
-            out.extend([
-                [a, mab, g],
-                [mab, b, g],
-                [b, mbc, g],
-                [mbc, c, g],
-                [c, mca, g],
-                [mca, a, g],
-            ]);
-        } else {
-            for (x, y) in [(mab, mbc), (mbc, mca), (mca, mab)] {
-                kinds.insert(key(x, y), Assignment::Flat);
-            }
-            out.extend([[a, mab, mca], [mab, b, mbc], [mca, mbc, c], [mab, mbc, mca]]);
-        }
-    }
-    let mut parts = build(points, out, |_, _| Assignment::Flat, 0.0);
-    for e in &mut parts.edges {
-        if e.assignment != Assignment::Boundary {
-            let a = kinds[&key(e.vertices[0], e.vertices[1])];
-            *e = Edge::new(e.vertices[0], e.vertices[1], a);
-        }
-    }
-    parts
 }

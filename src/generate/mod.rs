@@ -3,9 +3,10 @@
 //! partially folded 3D state (closed form) for a fold amount in [0, 1].
 
 mod lattice;
+mod resch;
 
 use crate::mesh::{Assignment, Mesh, MeshError, MeshParts, Vec2, Vec3};
-use lattice::{build, rows_zipper, subdivide_resch};
+use lattice::{build, rows_zipper};
 use std::f64::consts::PI;
 
 /// The paper's starting patterns.
@@ -128,7 +129,8 @@ pub fn generate(p: &Params) -> Result<Mesh, GenerateError> {
         if !(0.0..=1.0).contains(&t) {
             return bad(format!("--fold must be in [0, 1] (got {t})"));
         }
-        if !p.kind.has_closed_form_3d() {
+        // Resch's closed form is its fully folded state; its generator checks the amount.
+        if !p.kind.has_closed_form_3d() && p.kind != PatternKind::Resch {
             return bad(format!(
                 "{} has no closed-form folded state; generate it flat and fold it with the solver",
                 p.kind.name()
@@ -142,7 +144,7 @@ pub fn generate(p: &Params) -> Result<Mesh, GenerateError> {
         PatternKind::Miura => miura(p)?,
         PatternKind::Waterbomb => waterbomb(p)?,
         PatternKind::Yoshimura => yoshimura(p)?,
-        PatternKind::Resch => resch(p)?,
+        PatternKind::Resch => resch::resch(p)?,
         PatternKind::Plane => plane(p)?,
         PatternKind::Curved => curved(p)?,
     };
@@ -320,22 +322,6 @@ fn yoshimura(p: &Params) -> Result<Mesh, GenerateError> {
             .collect())
     };
     finish(p, flat, faces, folded_at)
-}
-
-fn resch(p: &Params) -> Result<Mesh, GenerateError> {
-    // Equilateral lattice; each upward triangle is a tuck (a star: mountains from its
-    // centre to the corners, valleys to the side midpoints), each downward one a tile.
-    let l = p.size;
-    let h = l * 3f64.sqrt() / 2.0;
-    let rows: Vec<Vec<f64>> = (0..=p.ny)
-        .map(|j| {
-            let shift = if j % 2 == 1 { 0.5 } else { 0.0 };
-            (0..=p.nx).map(|i| (i as f64 + shift) * l).collect()
-        })
-        .collect();
-    let (flat, faces) = rows_zipper(&rows, h);
-    let parts = subdivide_resch(&flat, &faces);
-    Ok(Mesh::new(parts)?)
 }
 
 fn plane(p: &Params) -> Result<Mesh, GenerateError> {

@@ -10,7 +10,7 @@
 //! mode, and ends with the exact Newton projection onto the constraints.
 
 use super::{NormalSolver, Solver, SolverError};
-use crate::constraints::{flips, tracked_fold_angle, Element, Family};
+use crate::constraints::{tracked_fold_angle, Element, Family};
 use crate::geometry::fold_angle_gradient;
 use sprs::TriMat;
 
@@ -42,7 +42,7 @@ pub fn fold_toward(
 ) -> Result<FoldReport, SolverError> {
     let mesh = solver.mesh().clone();
     let creases: Vec<usize> = (0..mesh.edges().len())
-        .filter(|&e| flips(mesh.edges()[e].target))
+        .filter(|&e| mesh.edges()[e].target != 0.0)
         .collect();
     let steps = STEPS.min(max_steps.max(1));
     let start: Vec<f64> = creases
@@ -71,9 +71,16 @@ pub fn fold_toward(
                 for (v, g) in [a, b, c, d].into_iter().zip(grad) {
                     rows.add_gradient(row, v, g, GOAL_WEIGHT);
                 }
-                // A crease turning the wrong way is as stiff as a stretched panel (§2.4).
-                if rho * t.signum() < 0.0 {
-                    let row = rows.push(Family::FoldAngleRange, Element::Edge(e), rho * t.signum());
+                // A crease turning the wrong way, or past its target (a loose flap swinging
+                // through its neighbour), is as stiff as a stretched panel (§2.4).
+                let signed = rho * t.signum();
+                let excess = if signed < 0.0 {
+                    signed
+                } else {
+                    (signed - t.abs()).max(0.0)
+                };
+                if excess != 0.0 {
+                    let row = rows.push(Family::FoldAngleRange, Element::Edge(e), excess);
                     for (v, g) in [a, b, c, d].into_iter().zip(grad) {
                         rows.add_gradient(row, v, g, t.signum());
                     }
@@ -103,10 +110,21 @@ pub fn fold_toward(
     }
     // The soft solution is close; make the rigid conditions exact. Redundant rows (a
     // closed tuck's panels) slow Newton to linear convergence, so it gets more room here.
+    // Away from the flat state the mountain/valley ranges no longer chatter, so the end
+    // state honours them too (a crease may not overshoot its target or turn over).
     let newton = solver.options.max_newton;
     solver.options.max_newton = newton.max(60);
+    let folding = std::mem::replace(
+        &mut solver.set,
+        if std::env::var("NORANGE").is_ok() {
+            super::Mode::folding_set()
+        } else {
+            super::Mode::simulation_set()
+        },
+    );
     let corrected = solver.correct();
     solver.options.max_newton = newton;
+    solver.set = folding;
     corrected?;
     let mut worst: f64 = 0.0;
     let mut fraction = 0.0;

@@ -1,0 +1,214 @@
+//! Resch's triangular pattern (§6.4) and its fully folded state.
+//!
+//! On an equilateral lattice of side `l` every triangle has one of three roles:
+//! - **tucks**: one upward triangle in three, chosen so every lattice point is a corner of
+//!   exactly one tuck. A tuck collapses so that its three corners meet in one point of the
+//!   folded surface ("a group of three vertices forms a vertex", §6.4): creases run from its
+//!   centre to the corners and to the side midpoints.
+//! - **fins**: every downward triangle. One side is a tuck side; the median from the
+//!   opposite corner folds the fin in half into a vertical right triangle hanging under one
+//!   edge of the folded surface.
+//! - **tiles**: the other upward triangles. They stay rigid and, fully folded, tile the plane
+//!   edge to edge (half of them turned by +30°, half by −30°), hiding fins and tucks behind.
+//!
+//! Fully folded, the tuck centres become the folded surface's vertices: the tuck-centre
+//! lattice (spacing `√3 l`) shrunk by `√3`. That closed form is exact and gives every
+//! crease its target angle, so the assignment cannot disagree with the geometry.
+
+use super::lattice::{build, rows_zipper};
+use super::{GenerateError, Params};
+use crate::mesh::{Assignment, Mesh, MeshParts, Vec2, Vec3};
+use std::collections::HashMap;
+use std::f64::consts::PI;
+
+const SQRT3: f64 = 1.732_050_807_568_877_2;
+
+/// A lattice point in axial coordinates: position `(i + j/2, j·√3/2)·l`.
+type Axial = (i64, i64);
+
+fn axial_of(p: Vec2, l: f64) -> Axial {
+    let j = (p.y / (l * SQRT3 / 2.0)).round();
+    let i = (p.x / l - j / 2.0).round();
+    (i as i64, j as i64)
+}
+
+fn point((i, j): Axial, l: f64) -> Vec2 {
+    Vec2::new((i as f64 + j as f64 / 2.0) * l, j as f64 * l * SQRT3 / 2.0)
+}
+
+/// Upward triangle `(i, j)` has corners `(i, j)`, `(i+1, j)`, `(i, j+1)`; one in three is
+/// a tuck, chosen so that the tucks' corners cover every lattice point exactly once.
+fn is_tuck((i, j): Axial) -> bool {
+    (i - j).rem_euclid(3) == 0
+}
+
+/// The tuck having lattice point `p` as a corner.
+fn tuck_of((i, j): Axial) -> Axial {
+    [(i, j), (i - 1, j), (i, j - 1)]
+        .into_iter()
+        .find(|&t| is_tuck(t))
+        .expect("one of the three upward triangles at a point is a tuck")
+}
+
+/// Where the tuck's three corners meet when fully folded (on the plane z = 0).
+fn folded_vertex(t: Axial, l: f64) -> Vec3 {
+    let c = point(t, l) + Vec2::new(l / 2.0, l * SQRT3 / 6.0);
+    Vec3::new(c.x, c.y, 0.0) / SQRT3
+}
+
+/// What a crease is, which decides its assignment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Role {
+    /// Between a tile and a fin: the surface turns down into the fin.
+    TileEdge,
+    /// A fin's median: the fin's two halves fold onto each other (valley, −π).
+    FinMedian,
+    /// Tuck centre to side midpoint: the tuck's side folds in half (valley, −π).
+    TuckMidline,
+    /// Tuck centre to corner: between two of the tuck's three fins.
+    TuckSpoke,
+    /// Half of a tuck side, between tuck and fin: flat at both ends of the motion.
+    TuckSide,
+}
+
+/// Resch's triangular pattern on `p.nx × p.ny` lattice cells of side `p.size`, with its
+/// fully folded 3D state when `p.fold == Some(1.0)`.
+pub fn resch(p: &Params) -> Result<Mesh, GenerateError> {
+    if let Some(t) = p.fold {
+        if t != 1.0 {
+            return Err(GenerateError::BadParameter(format!(
+                "resch has a closed-form 3D state only fully folded (--fold 1), not {t}; \
+                 fold it part way with `crease fold`"
+            )));
+        }
+    }
+    let l = p.size;
+    let rows: Vec<Vec<f64>> = (0..=p.ny)
+        .map(|j| {
+            let shift = if j % 2 == 1 { 0.5 } else { 0.0 };
+            (0..=p.nx).map(|i| (i as f64 + shift) * l).collect()
+        })
+        .collect();
+    let (lattice, lattice_faces) = rows_zipper(&rows, l * SQRT3 / 2.0);
+    let ax: Vec<Axial> = lattice.iter().map(|&q| axial_of(q, l)).collect();
+
+    let mut flat = lattice.clone();
+    let mut folded: Vec<Vec3> = ax.iter().map(|&a| folded_vertex(tuck_of(a), l)).collect();
+    let key = |a: usize, b: usize| (a.min(b), a.max(b));
+    let mut roles: HashMap<(usize, usize), Role> = HashMap::new();
+    // Midpoint of a tuck side: the fin's fold line ends there; fully folded it hangs
+    // √3/4·l under the folded edge, a quarter of the way along it (the fin is a right
+    // triangle with legs l/2 and √3/2·l).
+    let mut midpoints: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut midpoint =
+        |a: usize, b: usize, apex: Axial, flat: &mut Vec<Vec2>, folded: &mut Vec<Vec3>| {
+            *midpoints.entry(key(a, b)).or_insert_with(|| {
+                let v = folded_vertex(tuck_of(ax[a]), l);
+                let w = folded_vertex(tuck_of(apex), l);
+                flat.push((lattice[a] + lattice[b]) / 2.0);
+                folded.push(v + (w - v) / 4.0 - Vec3::new(0.0, 0.0, l * SQRT3 / 4.0));
+                flat.len() - 1
+            })
+        };
+    let mut faces = Vec::new();
+    for &[a, b, c] in &lattice_faces {
+        let corners = [a, b, c];
+        let low = corners
+            .iter()
+            .map(|&v| ax[v].1)
+            .min()
+            .expect("three corners");
+        let upward = corners.iter().filter(|&&v| ax[v].1 == low).count() == 2;
+        if upward {
+            let base = corners
+                .iter()
+                .map(|&v| ax[v])
+                .filter(|q| q.1 == low)
+                .min()
+                .expect("two low corners");
+            if !is_tuck(base) {
+                faces.push(corners);
+                continue;
+            }
+            let g = flat.len();
+            flat.push((lattice[a] + lattice[b] + lattice[c]) / 3.0);
+            folded.push(folded_vertex(base, l) - Vec3::new(0.0, 0.0, l / SQRT3));
+            for k in 0..3 {
+                let (u, v, opposite) = (corners[k], corners[(k + 1) % 3], corners[(k + 2) % 3]);
+                let apex = (
+                    ax[u].0 + ax[v].0 - ax[opposite].0,
+                    ax[u].1 + ax[v].1 - ax[opposite].1,
+                );
+                let m = midpoint(u, v, apex, &mut flat, &mut folded);
+                faces.extend([[u, m, g], [m, v, g]]);
+                roles.insert(key(g, u), Role::TuckSpoke);
+                roles.insert(key(g, m), Role::TuckMidline);
+                roles.insert(key(u, m), Role::TuckSide);
+                roles.insert(key(m, v), Role::TuckSide);
+            }
+        } else {
+            // A fin: the side whose far neighbour is a tuck is its base.
+            let k = (0..3)
+                .find(|&k| {
+                    let (u, v, apex) = (corners[k], corners[(k + 1) % 3], corners[(k + 2) % 3]);
+                    let far = (
+                        ax[u].0 + ax[v].0 - ax[apex].0,
+                        ax[u].1 + ax[v].1 - ax[apex].1,
+                    );
+                    let (q, r) = (ax[u], ax[v]);
+                    let lowest = [q, r, far]
+                        .into_iter()
+                        .min_by_key(|x| (x.1, x.0))
+                        .expect("3");
+                    is_tuck(lowest)
+                })
+                .expect("one side of every downward triangle faces a tuck");
+            let (u, v, apex) = (corners[k], corners[(k + 1) % 3], corners[(k + 2) % 3]);
+            let m = midpoint(u, v, ax[apex], &mut flat, &mut folded);
+            faces.extend([[u, m, apex], [m, v, apex]]);
+            roles.insert(key(apex, m), Role::FinMedian);
+            roles.entry(key(apex, u)).or_insert(Role::TileEdge);
+            roles.entry(key(apex, v)).or_insert(Role::TileEdge);
+            roles.insert(key(u, m), Role::TuckSide);
+            roles.insert(key(m, v), Role::TuckSide);
+        }
+    }
+
+    let mut parts = build(flat, faces, |_, _| Assignment::Unassigned, 0.0);
+    let probe = Mesh::new(MeshParts {
+        positions: Some(folded.clone()),
+        ..parts.clone()
+    })?;
+    let full = crate::geometry::fold_angles(&probe);
+    for (e, edge) in parts.edges.iter_mut().enumerate() {
+        if edge.assignment == Assignment::Boundary {
+            continue;
+        }
+        let role = roles
+            .get(&key(edge.vertices[0], edge.vertices[1]))
+            .copied()
+            .unwrap_or(Role::TileEdge);
+        let (assignment, target) = match role {
+            // Fully folded these are ±π where the sign is not in the geometry; the fin's
+            // halves close with their front faces inside (tile edges turn the surface down).
+            Role::FinMedian | Role::TuckMidline => (Assignment::Valley, -PI),
+            Role::TuckSide => (Assignment::Unassigned, 0.0),
+            Role::TileEdge | Role::TuckSpoke => {
+                let rho = full[e];
+                let a = if rho > 0.0 {
+                    Assignment::Mountain
+                } else {
+                    Assignment::Valley
+                };
+                (a, rho)
+            }
+        };
+        edge.assignment = assignment;
+        edge.target = target;
+        edge.fold_angle = target;
+    }
+    if p.fold.is_some() {
+        parts.positions = Some(folded);
+    }
+    Ok(Mesh::new(parts)?)
+}
