@@ -62,6 +62,22 @@ fn index_out_of_range() {
 }
 
 #[test]
+fn bad_coincidence_groups() {
+    let fold = |groups: &str| {
+        format!(
+            r#"{{"vertices_coords": [[0,0],[1,0],[0,1]], "faces_vertices": [[0,1,2]],
+                 "crease:coincidentVertices": {groups}}}"#
+        )
+    };
+    assert_bad_input(&scratch("group-range.fold", &fold("[[0, 9]]")), "vertex 9");
+    assert_bad_input(&scratch("group-one.fold", &fold("[[1]]")), "two or more");
+    assert_bad_input(
+        &scratch("group-twice.fold", &fold("[[0, 1], [1, 2]]")),
+        "twice",
+    );
+}
+
+#[test]
 fn non_manifold_mesh() {
     // Three triangles on one edge (0–1).
     let fold = r#"{"vertices_coords": [[0,0,0],[1,0,0],[0,1,0],[0,-1,0],[0,0,1]],

@@ -30,3 +30,24 @@ fn bundled_starting_patterns_match_the_generators_byte_for_byte() {
         assert_eq!(back.faces(), mesh.faces());
     }
 }
+
+#[test]
+fn closed_resch_matches_the_generator_and_keeps_its_coincidence_groups() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/resch-closed.fold");
+    let mut p = Params::defaults(PatternKind::Resch);
+    p.fold = Some(1.0);
+    let mesh = generate(&p).unwrap();
+    assert!(!mesh.coincident.is_empty());
+    assert_eq!(
+        std::fs::read_to_string(&path).unwrap(),
+        crease::io::fold::to_string(&mesh),
+        "run `crease generate resch --fold 1 -o patterns/resch-closed.fold`"
+    );
+    let back = crease::io::read(&path).unwrap();
+    assert_eq!(back.coincident, mesh.coincident);
+    for g in &back.coincident {
+        for &v in g {
+            assert!((back.positions()[v] - back.positions()[g[0]]).norm() < 1e-9);
+        }
+    }
+}

@@ -191,9 +191,10 @@ pub fn tracked_fold_angle(
     ))
 }
 
-/// §2.4 (1–2): target π → 0 ≤ ρ ≤ π; target −π → −π ≤ ρ ≤ 0 (merged creases of §4
-/// with targets ±2π may turn up to their target). Unassigned creases and the boundary are
-/// free; target-0 creases are [`twist_range`]'s.
+/// §2.4 (1–2): a mountain keeps 0 ≤ ρ ≤ π, a valley −π ≤ ρ ≤ 0, whatever its target
+/// (Resch's tile edges aim at π/2 but a curved design turns some further); merged creases
+/// of §4 with targets ±2π may turn up to their target. Unassigned creases and the boundary
+/// are free; target-0 creases are [`twist_range`]'s.
 pub fn fold_angle_range(mesh: &Mesh, reference: &Reference, x: &[Vec3], rows: &mut Rows) {
     for (e, edge) in mesh.edges().iter().enumerate() {
         if edge.assignment == crate::mesh::Assignment::Unassigned || edge.target == 0.0 {
@@ -203,7 +204,7 @@ pub fn fold_angle_range(mesh: &Mesh, reference: &Reference, x: &[Vec3], rows: &m
             continue;
         };
         let t = edge.target;
-        let limit = t.abs();
+        let limit = t.abs().max(PI);
         // Signed so that g ≤ 0 inside the range; `dir` is ∂g/∂ρ.
         let (g, dir) = if t > 0.0 {
             if rho < 0.0 {

@@ -8,7 +8,8 @@ use std::f64::consts::PI;
 
 /// Whether a target angle folds the paper over (an odd multiple of π), flipping σ.
 pub fn flips(target: f64) -> bool {
-    ((target / PI).round() as i64).rem_euclid(2) == 1
+    let k = (target / PI).round();
+    (target - k * PI).abs() < 1e-9 && (k as i64).rem_euclid(2) == 1
 }
 
 /// Reference data for one mesh, computed once.
@@ -27,6 +28,11 @@ pub struct Reference {
     pub previous_fold: Vec<f64>,
     /// An interior vertex with an odd number of folded creases, if any.
     pub odd_vertex: Option<usize>,
+    /// Mean crease-pattern edge length: the scale of relative position residuals.
+    pub mean_length: f64,
+    /// The mesh has coincidence groups (§6.4) and they are closed at its positions, so
+    /// the default conditions keep them closed.
+    pub closed_groups: bool,
 }
 
 impl Reference {
@@ -96,7 +102,16 @@ impl Reference {
             })
             .collect();
         let boundary_lines = straight_pieces(mesh, &angle_sum);
+        let mean_length = length.iter().sum::<f64>() / length.len().max(1) as f64;
+        let x = mesh.positions();
+        let closed_groups = !mesh.coincident.is_empty()
+            && mesh.coincident.iter().all(|g| {
+                g.iter()
+                    .all(|&v| (x[v] - x[g[0]]).norm() <= 1e-9 * mean_length)
+            });
         Reference {
+            mean_length,
+            closed_groups,
             angle_sum,
             length,
             boundary_lines,

@@ -41,3 +41,22 @@ pub fn edge_length(mesh: &Mesh, reference: &Reference, x: &[Vec3], rows: &mut Ro
         rows.add_gradient(row, a, u, -1.0 / l0);
     }
 }
+
+/// §6.4: each vertex of a coincidence group stays on the group's first vertex,
+/// (x_v − x_first) / ℓ̄ per axis, ℓ̄ the mean crease length of the reference.
+pub fn coincidence(mesh: &Mesh, reference: &Reference, x: &[Vec3], rows: &mut Rows) {
+    let scale = reference.mean_length;
+    for group in &mesh.coincident {
+        let first = group[0];
+        for &v in &group[1..] {
+            let d = (x[v] - x[first]) / scale;
+            for axis in 0..3 {
+                let row = rows.push(Family::Coincidence, Element::Vertex(v), d[axis]);
+                let mut unit = Vec3::zeros();
+                unit[axis] = 1.0 / scale;
+                rows.add_gradient(row, v, unit, 1.0);
+                rows.add_gradient(row, first, unit, -1.0);
+            }
+        }
+    }
+}

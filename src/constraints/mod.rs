@@ -35,11 +35,14 @@ pub enum Family {
     TwistRange,
     /// §5 simulation mode: every edge keeps its length (relative residual).
     EdgeLength,
+    /// §6.4: vertices that meet in the folded form stay together (Resch's tucks closed
+    /// behind the tiles); relative to the mean crease length.
+    Coincidence,
 }
 
 impl Family {
     /// Every family, in report order.
-    pub const ALL: [Family; 9] = [
+    pub const ALL: [Family; 10] = [
         Family::Developability,
         Family::BoundaryAngle,
         Family::BoundaryLength,
@@ -49,6 +52,7 @@ impl Family {
         Family::FoldAngleRange,
         Family::TwistRange,
         Family::EdgeLength,
+        Family::Coincidence,
     ];
 
     /// The name used on the command line and in reports.
@@ -63,6 +67,7 @@ impl Family {
             Family::FoldAngleRange => "fold-angle-range",
             Family::TwistRange => "twist-range",
             Family::EdgeLength => "edge-length",
+            Family::Coincidence => "coincidence",
         }
     }
 
@@ -85,7 +90,10 @@ impl Family {
 
     /// Whether the residual is a relative length (else an angle in radians).
     pub fn is_length(self) -> bool {
-        matches!(self, Family::BoundaryLength | Family::EdgeLength)
+        matches!(
+            self,
+            Family::BoundaryLength | Family::EdgeLength | Family::Coincidence
+        )
     }
 }
 
@@ -246,6 +254,9 @@ impl ConstraintSet {
             families.extend([Family::FlatFoldability, Family::AngularInequality]);
         }
         families.extend([Family::FoldAngleRange, Family::TwistRange]);
+        if reference.closed_groups {
+            families.push(Family::Coincidence);
+        }
         ConstraintSet { families }
     }
 
@@ -273,6 +284,7 @@ impl ConstraintSet {
                     lengths::boundary_length(mesh, reference, positions, &mut rows)
                 }
                 Family::EdgeLength => lengths::edge_length(mesh, reference, positions, &mut rows),
+                Family::Coincidence => lengths::coincidence(mesh, reference, positions, &mut rows),
             }
         }
         rows

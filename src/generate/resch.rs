@@ -13,7 +13,9 @@
 //!
 //! Fully folded, the tuck centres become the folded surface's vertices: the tuck-centre
 //! lattice (spacing `√3 l`) shrunk by `√3`. That closed form is exact and gives every
-//! crease its target angle, so the assignment cannot disagree with the geometry.
+//! crease its target angle, so the assignment cannot disagree with the geometry. The
+//! corners of each tuck are recorded as a coincidence group: with the `coincidence`
+//! conditions a design keeps its tucks closed behind a polyhedral surface of tiles.
 
 use super::lattice::{build, rows_zipper};
 use super::{GenerateError, Params};
@@ -210,5 +212,14 @@ pub fn resch(p: &Params) -> Result<Mesh, GenerateError> {
     if p.fold.is_some() {
         parts.positions = Some(folded);
     }
-    Ok(Mesh::new(parts)?)
+    let mut mesh = Mesh::new(parts)?;
+    // The lattice points come first, in order; those of one tuck meet when folded.
+    let mut groups: HashMap<Axial, Vec<usize>> = HashMap::new();
+    for (v, &a) in ax.iter().enumerate() {
+        groups.entry(tuck_of(a)).or_default().push(v);
+    }
+    let mut coincident: Vec<Vec<usize>> = groups.into_values().filter(|g| g.len() > 1).collect();
+    coincident.sort();
+    mesh.coincident = coincident;
+    Ok(mesh)
 }

@@ -43,6 +43,8 @@ struct Frame {
     alpha: Option<Vec<f64>>,
     #[serde(rename = "crease:lockTopology")]
     lock_topology: Option<bool>,
+    #[serde(rename = "crease:coincidentVertices")]
+    coincident: Option<Vec<Vec<usize>>>,
 }
 
 impl Frame {
@@ -243,7 +245,39 @@ pub fn parse(text: &str) -> Result<Mesh, String> {
         super::decimal_quantum(text) * unit_scale(top.frame_unit.as_deref())?;
     mesh.title = title;
     mesh.lock_topology = top.lock_topology.unwrap_or(false);
+    let groups = top.coincident.clone().unwrap_or_default();
+    if !groups.is_empty() && face_lists.is_empty() {
+        // Faces are rebuilt from the segments then, renumbering the vertices.
+        return Err("crease:coincidentVertices needs faces_vertices".into());
+    }
+    mesh.coincident = read_groups(groups, n)?;
     Ok(mesh)
+}
+
+/// `crease:coincidentVertices`: disjoint groups of at least two existing vertices.
+fn read_groups(groups: Vec<Vec<usize>>, n: usize) -> Result<Vec<Vec<usize>>, String> {
+    let mut seen = vec![false; n];
+    for (i, g) in groups.iter().enumerate() {
+        if g.len() < 2 {
+            return Err(format!(
+                "crease:coincidentVertices group {i} has {} vertex; a group needs two or more",
+                g.len()
+            ));
+        }
+        for &v in g {
+            if v >= n {
+                return Err(format!(
+                    "crease:coincidentVertices group {i} refers to vertex {v}, but there are only {n} vertices"
+                ));
+            }
+            if std::mem::replace(&mut seen[v], true) {
+                return Err(format!(
+                    "crease:coincidentVertices lists vertex {v} twice (group {i})"
+                ));
+            }
+        }
+    }
+    Ok(groups)
 }
 
 fn read_edges(frame: &Frame, n: usize) -> Result<Vec<Edge>, String> {
@@ -447,6 +481,20 @@ pub fn to_string(mesh: &Mesh) -> String {
     );
     if mesh.lock_topology {
         field("crease:lockTopology", "true".into());
+    }
+    if !mesh.coincident.is_empty() {
+        field(
+            "crease:coincidentVertices",
+            list(
+                mesh.coincident
+                    .iter()
+                    .map(|g| {
+                        let ids: Vec<String> = g.iter().map(|v| v.to_string()).collect();
+                        format!("[{}]", ids.join(", "))
+                    })
+                    .collect(),
+            ),
+        );
     }
     field(
         "faces_vertices",

@@ -147,6 +147,9 @@ pub struct Mesh {
     pub title: String,
     /// Patterns whose topology must stay (Resch, §6.4) set this; remeshing then refuses.
     pub lock_topology: bool,
+    /// Groups of vertices that meet in one point of the folded form: the three corners of
+    /// each of Resch's tucks (§6.4). Kept coincident by the `coincidence` conditions.
+    pub coincident: Vec<Vec<usize>>,
     /// Rounding step of the source file's coordinates in mm (half its last decimal place),
     /// 0 when exact. Verification does not count rounding as a design error.
     pub coordinate_precision: f64,
@@ -201,6 +204,7 @@ impl Mesh {
             topology,
             title: String::new(),
             lock_topology: false,
+            coincident: Vec::new(),
             coordinate_precision: 0.0,
         })
     }

@@ -215,6 +215,13 @@ impl Solver {
         let (lo, hi) = mesh.bounding_box();
         let centre = (lo + hi) / 2.0;
         let x = mesh.positions();
+        // Holding a vertex holds its coincidence group (§6.4) too.
+        let mut avoid = avoid.to_vec();
+        for g in &mesh.coincident {
+            if g.iter().any(|v| avoid.contains(v)) {
+                avoid.extend(g);
+            }
+        }
         mesh.faces()
             .iter()
             .filter(|f| f.iter().all(|v| !avoid.contains(v)))

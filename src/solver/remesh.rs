@@ -109,7 +109,8 @@ pub fn collapse_edge(
     e: usize,
     protected: &[usize],
 ) -> Result<Change, Refusal> {
-    if mesh.lock_topology {
+    // Coincidence groups (§6.4) name vertices by index, which a collapse renumbers.
+    if mesh.lock_topology || !mesh.coincident.is_empty() {
         return Err(Refusal::Locked);
     }
     let edge = &mesh.edges()[e];
