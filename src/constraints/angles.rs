@@ -9,105 +9,127 @@ use crate::geometry::{
 use crate::mesh::{Mesh, Vec3};
 use std::f64::consts::PI;
 
-/// The sector angle of fan face `i` at vertex `v`, with the face and `v`'s corner index.
-fn corner(mesh: &Mesh, v: usize, face: usize) -> ([usize; 3], usize) {
-    let f = mesh.faces()[face];
-    (
-        f,
-        f.iter()
-            .position(|&x| x == v)
-            .expect("fan face holds its vertex"),
-    )
+/// Every sector angle of the mesh at one set of positions, computed once per evaluation:
+/// developability, flat-foldability and the angular inequalities all sum the same
+/// corners, and `atan2` dominated evaluation when each recomputed them.
+/// (Caching their gradients as well measured slower: the table outgrows the cache.)
+pub struct Corners<'a> {
+    x: &'a [Vec3],
+    angle: Vec<[f64; 3]>,
 }
 
-/// Adds Σ wᵢ θᵢ over the given fan faces of `v` to `row`'s gradient; returns Σ wᵢ θᵢ.
-fn weighted_angles(
+impl<'a> Corners<'a> {
+    /// The sector angles of every face at `x`.
+    pub fn new(mesh: &Mesh, x: &'a [Vec3]) -> Corners<'a> {
+        let angle = mesh
+            .faces()
+            .iter()
+            .map(|&f| [0, 1, 2].map(|k| sector_angle(x, f, k)))
+            .collect();
+        Corners { x, angle }
+    }
+}
+
+/// Vertex `v`'s corner index in `face`.
+fn corner(mesh: &Mesh, v: usize, face: usize) -> usize {
+    mesh.faces()[face]
+        .iter()
+        .position(|&x| x == v)
+        .expect("fan face holds its vertex")
+}
+
+/// Σ wᵢ θᵢ over the given fan faces of `v`.
+fn weighted_sum(
     mesh: &Mesh,
-    x: &[Vec3],
+    c: &Corners,
     v: usize,
-    faces: &[(usize, f64)],
-    row: Option<usize>,
-    rows: &mut Rows,
+    faces: impl IntoIterator<Item = (usize, f64)>,
 ) -> f64 {
-    let mut total = 0.0;
-    for &(face, w) in faces {
-        let (f, k) = corner(mesh, v, face);
-        total += w * sector_angle(x, f, k);
-        if let Some(r) = row {
-            let g = sector_angle_gradient(x, f, k);
-            for (j, gj) in g.iter().enumerate() {
-                rows.add_gradient(r, f[j], *gj, w);
-            }
+    faces
+        .into_iter()
+        .map(|(face, w)| w * c.angle[face][corner(mesh, v, face)])
+        .sum()
+}
+
+/// Adds the gradient of Σ wᵢ θᵢ over the given fan faces of `v` to `row`.
+fn add_weighted_gradient(
+    mesh: &Mesh,
+    c: &Corners,
+    v: usize,
+    faces: impl IntoIterator<Item = (usize, f64)>,
+    row: usize,
+    rows: &mut Rows,
+) {
+    if rows.values_only {
+        return;
+    }
+    for (face, w) in faces {
+        let f = mesh.faces()[face];
+        let g = sector_angle_gradient(c.x, f, corner(mesh, v, face));
+        for (j, gj) in g.iter().enumerate() {
+            rows.add_gradient(row, f[j], *gj, w);
         }
     }
-    total
 }
 
-fn angle_sum(mesh: &Mesh, x: &[Vec3], v: usize) -> f64 {
-    let faces: Vec<(usize, f64)> = mesh.topology().fans[v]
-        .faces
-        .iter()
-        .map(|&f| (f, 1.0))
-        .collect();
-    weighted_angles(mesh, x, v, &faces, None, &mut Rows::default())
+/// The faces of `v`'s fan, each with weight `w`.
+fn fan(mesh: &Mesh, v: usize, w: f64) -> impl Iterator<Item = (usize, f64)> + '_ {
+    mesh.topology().fans[v].faces.iter().map(move |&f| (f, w))
 }
 
-fn ones(mesh: &Mesh, v: usize, w: f64) -> Vec<(usize, f64)> {
-    mesh.topology().fans[v]
-        .faces
-        .iter()
-        .map(|&f| (f, w))
-        .collect()
+fn angle_sum(mesh: &Mesh, c: &Corners, v: usize) -> f64 {
+    weighted_sum(mesh, c, v, fan(mesh, v, 1.0))
 }
 
 /// Eq. (1): G = 2π − Σθ at every interior vertex.
-pub fn developability(mesh: &Mesh, x: &[Vec3], rows: &mut Rows) {
+pub fn developability(mesh: &Mesh, c: &Corners, rows: &mut Rows) {
     for v in (0..mesh.vertex_count()).filter(|&v| mesh.is_interior(v)) {
-        let g = 2.0 * PI - angle_sum(mesh, x, v);
+        let g = 2.0 * PI - angle_sum(mesh, c, v);
         let row = rows.push(Family::Developability, Element::Vertex(v), g);
-        weighted_angles(mesh, x, v, &ones(mesh, v, -1.0), Some(row), rows);
+        add_weighted_gradient(mesh, c, v, fan(mesh, v, -1.0), row, rows);
     }
 }
 
 /// Eq. (2): Σθ − Σθ⁰ at every boundary vertex.
-pub fn boundary_angle(mesh: &Mesh, reference: &Reference, x: &[Vec3], rows: &mut Rows) {
+pub fn boundary_angle(mesh: &Mesh, reference: &Reference, c: &Corners, rows: &mut Rows) {
     for v in (0..mesh.vertex_count()).filter(|&v| !mesh.is_interior(v)) {
-        let r = angle_sum(mesh, x, v) - reference.angle_sum[v];
+        let r = angle_sum(mesh, c, v) - reference.angle_sum[v];
         let row = rows.push(Family::BoundaryAngle, Element::Vertex(v), r);
-        weighted_angles(mesh, x, v, &ones(mesh, v, 1.0), Some(row), rows);
+        add_weighted_gradient(mesh, c, v, fan(mesh, v, 1.0), row, rows);
     }
 }
 
 /// Eq. (4): max(Σθ − π, 0) at every boundary vertex.
-pub fn convexity(mesh: &Mesh, x: &[Vec3], rows: &mut Rows) {
+pub fn convexity(mesh: &Mesh, c: &Corners, rows: &mut Rows) {
     for v in (0..mesh.vertex_count()).filter(|&v| !mesh.is_interior(v)) {
-        let g = angle_sum(mesh, x, v) - PI;
+        let g = angle_sum(mesh, c, v) - PI;
         let row = rows.push(Family::Convexity, Element::Vertex(v), g.max(0.0));
         if g > 0.0 {
-            weighted_angles(mesh, x, v, &ones(mesh, v, 1.0), Some(row), rows);
+            add_weighted_gradient(mesh, c, v, fan(mesh, v, 1.0), row, rows);
         }
     }
 }
 
 /// Eq. (5): F = Σ σθ at every vertex where σ is defined.
-pub fn flat_foldability(mesh: &Mesh, reference: &Reference, x: &[Vec3], rows: &mut Rows) {
+pub fn flat_foldability(mesh: &Mesh, reference: &Reference, c: &Corners, rows: &mut Rows) {
     for (v, sigma) in reference.sigma.iter().enumerate() {
         let Some(sigma) = sigma else { continue };
-        let faces: Vec<(usize, f64)> = mesh.topology().fans[v]
-            .faces
-            .iter()
-            .copied()
-            .zip(sigma.iter().copied())
-            .collect();
-        let value = weighted_angles(mesh, x, v, &faces, None, rows);
+        let faces = || {
+            mesh.topology().fans[v]
+                .faces
+                .iter()
+                .copied()
+                .zip(sigma.iter().copied())
+        };
+        let value = weighted_sum(mesh, c, v, faces());
         let row = rows.push(Family::FlatFoldability, Element::Vertex(v), value);
-        weighted_angles(mesh, x, v, &faces, Some(row), rows);
+        add_weighted_gradient(mesh, c, v, faces(), row, rows);
     }
 }
 
 /// Eq. (6)–(8) at every vertex with σ: for consecutive folded creases of equal direction,
 /// the sector between them is not smaller than its neighbours as the equations say.
-pub fn angular_inequality(mesh: &Mesh, reference: &Reference, x: &[Vec3], rows: &mut Rows) {
+pub fn angular_inequality(mesh: &Mesh, reference: &Reference, c: &Corners, rows: &mut Rows) {
     for (v, sigma) in reference.sigma.iter().enumerate() {
         if sigma.is_none() {
             continue;
@@ -131,9 +153,8 @@ pub fn angular_inequality(mesh: &Mesh, reference: &Reference, x: &[Vec3], rows: 
         let direction = |i: usize| mesh.edges()[fan.spokes[creases[i % n]]].target.signum();
         let sector = |i: usize| -> (f64, Vec<usize>) {
             let faces = sector_faces(i % n);
-            let w: Vec<(usize, f64)> = faces.iter().map(|&f| (f, 1.0)).collect();
             (
-                weighted_angles(mesh, x, v, &w, None, &mut Rows::default()),
+                weighted_sum(mesh, c, v, faces.iter().map(|&f| (f, 1.0))),
                 faces,
             )
         };
@@ -158,9 +179,11 @@ pub fn angular_inequality(mesh: &Mesh, reference: &Reference, x: &[Vec3], rows: 
                 let g = bound - s;
                 let row = rows.push(Family::AngularInequality, element, g.max(0.0));
                 if g > 0.0 {
-                    let mut w: Vec<(usize, f64)> = bound_faces.iter().map(|&f| (f, 1.0)).collect();
-                    w.extend(sf.iter().map(|&f| (f, -1.0)));
-                    weighted_angles(mesh, x, v, &w, Some(row), rows);
+                    let w = bound_faces
+                        .iter()
+                        .map(|&f| (f, 1.0))
+                        .chain(sf.iter().map(|&f| (f, -1.0)));
+                    add_weighted_gradient(mesh, c, v, w, row, rows);
                 }
             }
         }
@@ -218,7 +241,7 @@ pub fn fold_angle_range(mesh: &Mesh, reference: &Reference, x: &[Vec3], rows: &m
             (-rho - limit, -1.0)
         };
         let row = rows.push(Family::FoldAngleRange, Element::Edge(e), g.max(0.0));
-        if g > 0.0 {
+        if g > 0.0 && !rows.values_only {
             let grad = fold_angle_gradient(x, a, b, k, l);
             for (v, gv) in [a, b, k, l].into_iter().zip(grad) {
                 rows.add_gradient(row, v, gv, dir);
@@ -239,6 +262,9 @@ pub fn twist_range(mesh: &Mesh, reference: &Reference, x: &[Vec3], rows: &mut Ro
             continue;
         };
         let grad = |rows: &mut Rows, row: usize, dir: f64| {
+            if rows.values_only {
+                return;
+            }
             let g = fold_angle_gradient(x, a, b, k, l);
             for (v, gv) in [a, b, k, l].into_iter().zip(g) {
                 rows.add_gradient(row, v, gv, dir);

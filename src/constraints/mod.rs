@@ -129,9 +129,16 @@ pub struct Rows {
     pub inequality: Vec<bool>,
     /// Jacobian triplets (row, column, value).
     pub triplets: Vec<(usize, usize, f64)>,
+    /// Leave out satisfied inequality rows (their pushes return [`Rows::SKIPPED`]).
+    pub active_only: bool,
+    /// Residuals and labels only, no Jacobian (a solver reusing its factor needs no more).
+    pub values_only: bool,
 }
 
 impl Rows {
+    /// The index a left-out row gets; gradients added to it are dropped.
+    pub const SKIPPED: usize = usize::MAX;
+
     /// Starts a row; returns its index.
     pub fn push(&mut self, family: Family, element: Element, residual: f64) -> usize {
         self.push_row(family, element, residual, family.is_inequality())
@@ -145,6 +152,9 @@ impl Rows {
         residual: f64,
         inequality: bool,
     ) -> usize {
+        if self.active_only && inequality && residual <= 0.0 {
+            return Self::SKIPPED;
+        }
         self.inequality.push(inequality);
         self.residuals.push(residual);
         self.labels.push((family, element));
@@ -153,6 +163,9 @@ impl Rows {
 
     /// Adds `scale · g` to the derivative of `row` with respect to vertex `v`.
     pub fn add_gradient(&mut self, row: usize, v: usize, g: Vec3, scale: f64) {
+        if row == Self::SKIPPED || self.values_only {
+            return;
+        }
         for k in 0..3 {
             let value = scale * g[k];
             if value != 0.0 {
@@ -262,19 +275,56 @@ impl ConstraintSet {
 
     /// Residuals and Jacobian rows of every family at `positions`.
     pub fn evaluate(&self, mesh: &Mesh, reference: &Reference, positions: &[Vec3]) -> Rows {
-        let mut rows = Rows::default();
+        self.evaluate_into(mesh, reference, positions, Rows::default())
+    }
+
+    /// Like [`ConstraintSet::evaluate`] but without the satisfied inequality rows: what a
+    /// solver factorises, built without copying the full set first.
+    /// With `values_only` the Jacobian is left out.
+    pub fn evaluate_active(
+        &self,
+        mesh: &Mesh,
+        reference: &Reference,
+        positions: &[Vec3],
+        values_only: bool,
+    ) -> Rows {
+        let rows = Rows {
+            active_only: true,
+            values_only,
+            ..Rows::default()
+        };
+        self.evaluate_into(mesh, reference, positions, rows)
+    }
+
+    fn evaluate_into(
+        &self,
+        mesh: &Mesh,
+        reference: &Reference,
+        positions: &[Vec3],
+        mut rows: Rows,
+    ) -> Rows {
+        let uses_sectors = self.families.iter().any(|f| {
+            matches!(
+                f,
+                Family::Developability
+                    | Family::BoundaryAngle
+                    | Family::Convexity
+                    | Family::FlatFoldability
+                    | Family::AngularInequality
+            )
+        });
+        let corners = uses_sectors.then(|| angles::Corners::new(mesh, positions));
+        let c = || corners.as_ref().expect("sector angles computed");
         for &f in &self.families {
             match f {
-                Family::Developability => angles::developability(mesh, positions, &mut rows),
-                Family::BoundaryAngle => {
-                    angles::boundary_angle(mesh, reference, positions, &mut rows)
-                }
-                Family::Convexity => angles::convexity(mesh, positions, &mut rows),
+                Family::Developability => angles::developability(mesh, c(), &mut rows),
+                Family::BoundaryAngle => angles::boundary_angle(mesh, reference, c(), &mut rows),
+                Family::Convexity => angles::convexity(mesh, c(), &mut rows),
                 Family::FlatFoldability => {
-                    angles::flat_foldability(mesh, reference, positions, &mut rows)
+                    angles::flat_foldability(mesh, reference, c(), &mut rows)
                 }
                 Family::AngularInequality => {
-                    angles::angular_inequality(mesh, reference, positions, &mut rows)
+                    angles::angular_inequality(mesh, reference, c(), &mut rows)
                 }
                 Family::TwistRange => angles::twist_range(mesh, reference, positions, &mut rows),
                 Family::FoldAngleRange => {

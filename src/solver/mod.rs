@@ -16,7 +16,7 @@ use crate::constraints::{ConstraintSet, Family, Reference, Rows};
 use crate::mesh::{Mesh, Vec3};
 
 /// Steps a factorisation of J Jᵀ may serve projections before it is recomputed.
-pub const MAX_FACTOR_AGE: usize = 8;
+pub const MAX_FACTOR_AGE: usize = 16;
 
 /// What the solver preserves (§5).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -128,6 +128,8 @@ pub struct Stats {
     pub halvings: usize,
     /// Largest residual left after a step.
     pub worst_residual: f64,
+    /// Numeric factorisations of J Jᵀ (the dominant cost of a step).
+    pub factorisations: usize,
 }
 
 /// The unknowns: column `3·v + k` of the Jacobian maps to a free variable unless vertex
@@ -266,33 +268,10 @@ impl Solver {
     }
 
     /// Rows at `x` that constrain motion: every equality row and the active inequalities.
-    fn active_rows(&self, x: &[Vec3]) -> Rows {
-        let all = self.set.evaluate(&self.mesh, &self.reference, x);
-        let keep: Vec<bool> = all
-            .residuals
-            .iter()
-            .zip(&all.inequality)
-            .map(|(&r, &ineq)| !ineq || r > 0.0)
-            .collect();
-        let mut index = vec![usize::MAX; keep.len()];
-        let mut rows = Rows::default();
-        for (i, &k) in keep.iter().enumerate() {
-            if k {
-                index[i] = rows.push_row(
-                    all.labels[i].0,
-                    all.labels[i].1,
-                    all.residuals[i],
-                    all.inequality[i],
-                );
-            }
-        }
-        rows.triplets = all
-            .triplets
-            .into_iter()
-            .filter(|&(r, _, _)| keep[r])
-            .map(|(r, c, v)| (index[r], c, v))
-            .collect();
-        rows
+    /// With `values_only` the Jacobian is left out (enough while the factor is reused).
+    fn active_rows(&self, x: &[Vec3], values_only: bool) -> Rows {
+        self.set
+            .evaluate_active(&self.mesh, &self.reference, x, values_only)
     }
 
     fn factorise(&mut self, rows: &Rows) -> Result<(), SolverError> {
@@ -301,6 +280,7 @@ impl Solver {
             .factorise(rows.jacobian_mapped(self.free, |c| columns[c]))?;
         self.factored.clone_from(&rows.labels);
         self.factor_age = 0;
+        self.stats.factorisations += 1;
         Ok(())
     }
 
@@ -342,10 +322,10 @@ impl Solver {
     }
 
     fn project(&mut self, dx0: &[Vec3], allow_stale: bool) -> Result<Vec<Vec3>, SolverError> {
-        let rows = self.active_rows(&self.x);
-        let stale_ok =
-            allow_stale && self.factor_age < MAX_FACTOR_AGE && rows.labels == self.factored;
-        if !stale_ok {
+        let fresh_needed = !allow_stale || self.factor_age >= MAX_FACTOR_AGE;
+        let rows = self.active_rows(&self.x, !fresh_needed);
+        if fresh_needed || rows.labels != self.factored {
+            let rows = self.active_rows(&self.x, false);
             self.factorise(&rows)?;
         }
         let dx = self.linear.project(&self.to_free(dx0));
@@ -364,7 +344,7 @@ impl Solver {
         let mut last = f64::INFINITY;
         let mut fresh = false;
         for it in 0..=self.options.max_newton {
-            let rows = self.active_rows(x);
+            let rows = self.active_rows(x, true);
             let r = rows.residuals.iter().fold(0.0, |a: f64, v| a.max(v.abs()));
             if r <= tol {
                 return Ok((it, r));
@@ -380,7 +360,7 @@ impl Solver {
             let reuse = reuse || (it == 0 && rows.labels == self.factored);
             last = r;
             if !reuse {
-                if self.factorise(&rows).is_err() {
+                if self.factorise(&self.active_rows(x, false)).is_err() {
                     return Err((r, it));
                 }
                 fresh = true;
