@@ -30,6 +30,7 @@ fn main() {
         "yoshimura-shell",
         "plane-crumpled",
         "resch",
+        "resch-dome",
     ] {
         let mesh = crease::io::read(
             &Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("patterns/{name}.fold")),

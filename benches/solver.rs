@@ -15,7 +15,7 @@ static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 fn main() {
     let mut sizes = vec![(15usize, 400usize), (99, 40)];
     if std::env::var("CREASE_BENCH_LARGE").is_ok() {
-        sizes.push((315, 3));
+        sizes.push((315, 20));
     }
     println!(
         "{:>9} {:>8} {:>8} {:>12} {:>10} {:>9} {:>9}",
