@@ -1,7 +1,8 @@
 //! Mesh modification (paper §4): when a large deformation makes an edge degenerate, collapse
 //! it (in the spirit of Hoppe et al.) under the rules that keep the flat-folded state
 //! valid, or flip a crease that stays unfolded. The crease pattern's topology changes and
-//! new origami patterns appear.
+//! new origami patterns appear. [`Solver::remesh`] keeps a change only when Newton's
+//! method restores the conditions afterwards.
 //!
 //! The rules of §4, as checked here:
 //! - only a ±π crease between two interior, flat-foldable vertices collapses;
@@ -13,6 +14,8 @@
 //! - the two rings meet only at the two opposite vertices (the link condition), so the
 //!   mesh stays a manifold.
 
+use super::{free_columns, NormalSolver, Solver};
+use crate::constraints::Reference;
 use crate::mesh::{Assignment, Edge, Mesh, MeshParts, Vec3};
 use std::collections::{BTreeSet, HashMap};
 use std::f64::consts::PI;
@@ -317,4 +320,130 @@ pub fn flip_edge(mesh: &Mesh, x: &[Vec3], e: usize) -> Result<Change, Refusal> {
         positions: x.to_vec(),
         old_to_new: (0..x.len()).collect(),
     })
+}
+
+/// What one remeshing pass changed.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RemeshOutcome {
+    /// Edges collapsed.
+    pub collapses: usize,
+    /// Flat creases flipped.
+    pub flips: usize,
+    /// Degenerate edges whose collapse the rules refused.
+    pub refused: usize,
+    /// Old vertex index → new, when vertices were renumbered.
+    pub renumbered: Option<Vec<usize>>,
+}
+
+impl Solver {
+    /// Mean edge length at the current positions.
+    fn mean_edge(&self) -> f64 {
+        let e = self.mesh.edges();
+        e.iter()
+            .map(|e| (self.x[e.vertices[1]] - self.x[e.vertices[0]]).norm())
+            .sum::<f64>()
+            / e.len().max(1) as f64
+    }
+
+    /// Takes over a changed mesh: adjacency, references, fixed vertices and the linear
+    /// algebra are rebuilt; fold-angle branches are read off the current positions.
+    fn adopt(&mut self, change: Change) {
+        let n = change.positions.len();
+        let mut fixed = vec![false; n];
+        for (old, &new) in change.old_to_new.iter().enumerate() {
+            if self.fixed[old] {
+                fixed[new] = true;
+            }
+        }
+        let (columns, free) = free_columns(&fixed);
+        self.reference = Reference::new(&change.mesh);
+        self.mesh = change.mesh;
+        self.x = change.positions;
+        self.fixed = fixed;
+        self.columns = columns;
+        self.free = free;
+        self.linear = NormalSolver::default();
+        self.factored.clear();
+        self.factor_age = 0;
+    }
+
+    /// Mesh modification (§4): collapses edges shorter than `threshold` × the mean edge
+    /// length where the rules allow, flips flat creases next to them for better triangles,
+    /// and keeps a change only if the conditions can be restored afterwards. Vertices in
+    /// `protected` (being dragged) and fixed ones never disappear.
+    pub fn remesh(&mut self, protected: &[usize], threshold: f64) -> RemeshOutcome {
+        let mut outcome = RemeshOutcome::default();
+        if self.mesh.lock_topology {
+            return outcome;
+        }
+        let mut map: Vec<usize> = (0..self.x.len()).collect();
+        let mut protect: Vec<usize> = protected.to_vec();
+        for _ in 0..16 {
+            protect.extend((0..self.x.len()).filter(|&v| self.fixed[v]));
+            let mean = self.mean_edge();
+            let mut short: Vec<(f64, usize)> = self
+                .mesh
+                .edges()
+                .iter()
+                .enumerate()
+                .map(|(i, e)| ((self.x[e.vertices[1]] - self.x[e.vertices[0]]).norm(), i))
+                .filter(|&(l, _)| l < threshold * mean)
+                .collect();
+            short.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let mut current = self.mesh.clone();
+            current.set_positions(self.x.clone());
+            let mut changed = false;
+            for &(_, e) in &short {
+                let planned = collapse_edge(&current, &self.x, e, &protect)
+                    .map(|c| (c, true))
+                    .or_else(|err| {
+                        // A short flat crease may be flipped away instead.
+                        flip_edge(&current, &self.x, e)
+                            .map(|c| (c, false))
+                            .map_err(|_| err)
+                    });
+                let Ok((change, is_collapse)) = planned else {
+                    outcome.refused += 1;
+                    continue;
+                };
+                let saved = (
+                    self.mesh.clone(),
+                    self.x.clone(),
+                    self.reference.clone(),
+                    self.fixed.clone(),
+                );
+                let step_map = change.old_to_new.clone();
+                self.adopt(change);
+                if self.correct().is_ok() {
+                    map = map.iter().map(|&m| step_map[m]).collect();
+                    protect = protect.iter().map(|&p| step_map[p]).collect();
+                    if is_collapse {
+                        outcome.collapses += 1;
+                    } else {
+                        outcome.flips += 1;
+                    }
+                    changed = true;
+                    break;
+                }
+                // The conditions could not be restored: undo.
+                let (mesh, x, reference, fixed) = saved;
+                let old_n = x.len();
+                self.fixed = fixed;
+                self.adopt(Change {
+                    mesh,
+                    positions: x,
+                    old_to_new: (0..old_n).collect(),
+                });
+                self.reference = reference;
+                outcome.refused += 1;
+            }
+            if !changed {
+                break;
+            }
+        }
+        if outcome.collapses > 0 {
+            outcome.renumbered = Some(map);
+        }
+        outcome
+    }
 }
