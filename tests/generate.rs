@@ -251,6 +251,10 @@ fn bad_parameters_are_refused_with_a_reason() {
     let mut p = Params::defaults(PatternKind::Waterbomb);
     p.fold = Some(0.5);
     assert!(generate(&p).unwrap_err().to_string().contains("solver"));
+    // Resch's closed form is the fully folded state only.
+    let mut p = Params::defaults(PatternKind::Resch);
+    p.fold = Some(0.5);
+    assert!(generate(&p).unwrap_err().to_string().contains("--fold 1"));
     let mut p = Params::defaults(PatternKind::Plane);
     p.fold = Some(1.5);
     assert!(generate(&p).is_err());

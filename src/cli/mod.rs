@@ -26,7 +26,8 @@ pub struct GenerateArgs {
     #[arg(long, default_value_t = 60.0)]
     angle: f64,
     /// Fold amount in [0, 1] for the closed-form 3D state (Miura, Yoshimura, plane,
-    /// curved); default 0.5 for those, flat-only for waterbomb and Resch.
+    /// curved); default 0.5 for those. Resch: only 1, fully folded (tucks closed);
+    /// waterbomb: flat only (fold it with `crease fold`).
     #[arg(long)]
     fold: Option<f64>,
     /// Write only the flat crease pattern.
