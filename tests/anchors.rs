@@ -2,7 +2,7 @@
 //! every one imports, counts match the files, and FOLD/SVG round trips keep the graph.
 
 use crease::io::{self, Format};
-use crease::mesh::{Assignment, Mesh};
+use crease::mesh::{edge_key, Assignment, Mesh};
 use std::path::PathBuf;
 
 fn anchors_dir() -> PathBuf {
@@ -119,19 +119,16 @@ fn same_graph(a: &Mesh, b: &Mesh) -> Result<(), String> {
         .edges()
         .iter()
         .map(|e| {
-            let (x, y) = (map[e.vertices[0]], map[e.vertices[1]]);
-            (x.min(y), x.max(y), e.assignment)
+            let (x, y) = edge_key(map[e.vertices[0]], map[e.vertices[1]]);
+            (x, y, e.assignment)
         })
         .collect();
     let mut eb: Vec<(usize, usize, Assignment)> = b
         .edges()
         .iter()
         .map(|e| {
-            (
-                e.vertices[0].min(e.vertices[1]),
-                e.vertices[0].max(e.vertices[1]),
-                e.assignment,
-            )
+            let (x, y) = e.key();
+            (x, y, e.assignment)
         })
         .collect();
     ea.sort();

@@ -3,7 +3,7 @@
 //! Maekawa in the crease pattern, and isometry between the 3D and flat frames.
 
 use crease::generate::{generate, Params, PatternKind};
-use crease::mesh::{Assignment, Mesh};
+use crease::mesh::{edge_key, Assignment, Mesh};
 use std::collections::HashMap;
 use std::f64::consts::PI;
 
@@ -28,7 +28,7 @@ fn interior_vertices(m: &Mesh) -> Vec<usize> {
     for f in m.faces() {
         for k in 0..3 {
             let (a, b) = (f[k], f[(k + 1) % 3]);
-            *count.entry((a.min(b), a.max(b))).or_default() += 1;
+            *count.entry(edge_key(a, b)).or_default() += 1;
         }
     }
     let mut on_boundary = vec![false; m.vertex_count()];

@@ -1,7 +1,7 @@
 //! Building blocks shared by the generators: strips of triangles between rows of points,
 //! edge lists from faces.
 
-use crate::mesh::{Assignment, Edge, MeshParts, Vec2};
+use crate::mesh::{edge_key, Assignment, Edge, MeshParts, Vec2};
 use std::collections::HashMap;
 
 /// Triangulates the strips between consecutive rows of points (row `j` at height
@@ -49,7 +49,7 @@ pub fn build(
     for f in &faces {
         for k in 0..3 {
             let (a, b) = (f[k], f[(k + 1) % 3]);
-            let key = (a.min(b), a.max(b));
+            let key = edge_key(a, b);
             let c = count.entry(key).or_insert(0);
             if *c == 0 {
                 order.push(key);

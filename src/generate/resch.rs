@@ -19,7 +19,7 @@
 
 use super::lattice::{build, rows_zipper};
 use super::{GenerateError, Params};
-use crate::mesh::{Assignment, Mesh, MeshParts, Vec2, Vec3};
+use crate::mesh::{edge_key as key, Assignment, Mesh, MeshParts, Vec2, Vec3};
 use std::collections::HashMap;
 use std::f64::consts::PI;
 
@@ -96,7 +96,6 @@ pub fn resch(p: &Params) -> Result<Mesh, GenerateError> {
 
     let mut flat = lattice.clone();
     let mut folded: Vec<Vec3> = ax.iter().map(|&a| folded_vertex(tuck_of(a), l)).collect();
-    let key = |a: usize, b: usize| (a.min(b), a.max(b));
     let mut roles: HashMap<(usize, usize), Role> = HashMap::new();
     // Midpoint of a tuck side: the fin's fold line ends there; fully folded it hangs
     // √3/4·l under the folded edge, a quarter of the way along it (the fin is a right
@@ -186,10 +185,7 @@ pub fn resch(p: &Params) -> Result<Mesh, GenerateError> {
         if edge.assignment == Assignment::Boundary {
             continue;
         }
-        let role = roles
-            .get(&key(edge.vertices[0], edge.vertices[1]))
-            .copied()
-            .unwrap_or(Role::TileEdge);
+        let role = roles.get(&edge.key()).copied().unwrap_or(Role::TileEdge);
         let (assignment, target) = match role {
             // Fully folded these are ±π where the sign is not in the geometry; the fin's
             // halves close with their front faces inside (tile edges turn the surface down).

@@ -2,7 +2,7 @@
 //! merge near-coincident points, split lines where they cross or touch, find the faces of
 //! the planar graph, drop holes, and triangulate every face with flat creases.
 
-use crate::mesh::{triangulate_polygon, Assignment, Edge, MeshParts, Vec2};
+use crate::mesh::{edge_key, triangulate_polygon, Assignment, Edge, MeshParts, Vec2};
 use std::collections::HashMap;
 
 /// Points closer than this fraction of the drawing's diagonal are merged.
@@ -282,27 +282,17 @@ fn trace_faces(
             .sum::<f64>()
     };
     let bounded: Vec<bool> = cycles.iter().map(|c| area(c) > 0.0).collect();
-    let edge_kind: HashMap<(usize, usize), Assignment> = edges
-        .iter()
-        .map(|e| {
-            (
-                (
-                    e.vertices[0].min(e.vertices[1]),
-                    e.vertices[0].max(e.vertices[1]),
-                ),
-                e.assignment,
-            )
-        })
-        .collect();
+    let edge_kind: HashMap<(usize, usize), Assignment> =
+        edges.iter().map(|e| (e.key(), e.assignment)).collect();
     let mut faces = Vec::new();
     for (id, c) in cycles.iter().enumerate() {
         if !bounded[id] {
             continue;
         }
         let sides = (0..c.len()).map(|i| (c[i], c[(i + 1) % c.len()]));
-        let is_hole = sides.clone().all(|(a, b)| {
-            edge_kind[&(a.min(b), a.max(b))].is_boundary() && bounded[visited[&(b, a)]]
-        });
+        let is_hole = sides
+            .clone()
+            .all(|(a, b)| edge_kind[&edge_key(a, b)].is_boundary() && bounded[visited[&(b, a)]]);
         if is_hole {
             report.holes += 1;
             continue;

@@ -1,11 +1,7 @@
 //! Kirigami: cutting the paper along cut lines so each side of a cut has its own vertices.
 
-use super::{Assignment, Edge, MeshParts};
+use super::{edge_key as key, Assignment, Edge, MeshParts};
 use std::collections::HashMap;
-
-fn key(a: usize, b: usize) -> (usize, usize) {
-    (a.min(b), a.max(b))
-}
 
 /// Separates the faces on the two sides of every cut (and of every boundary line drawn
 /// inside the paper): vertices along a cut are duplicated, one copy per side, and each
@@ -21,7 +17,7 @@ pub fn split_along_cuts(parts: &mut MeshParts) -> usize {
     let is_cut: std::collections::HashSet<(usize, usize)> = parts
         .edges
         .iter()
-        .map(|e| key(e.vertices[0], e.vertices[1]))
+        .map(|e| e.key())
         .zip(parts.edges.iter())
         .filter(|(k, e)| e.assignment.is_boundary() && face_count.get(k) == Some(&2))
         .map(|(k, _)| k)
@@ -96,11 +92,7 @@ pub fn split_along_cuts(parts: &mut MeshParts) -> usize {
             }
         }
     }
-    let by_key: HashMap<(usize, usize), &Edge> = parts
-        .edges
-        .iter()
-        .map(|e| (key(e.vertices[0], e.vertices[1]), e))
-        .collect();
+    let by_key: HashMap<(usize, usize), &Edge> = parts.edges.iter().map(|e| (e.key(), e)).collect();
     let mut seen = std::collections::HashSet::new();
     let mut edges = Vec::with_capacity(parts.edges.len());
     for f in &parts.faces {

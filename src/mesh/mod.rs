@@ -90,6 +90,11 @@ impl Assignment {
     }
 }
 
+/// The key of the undirected edge between `a` and `b`: its ends in increasing order.
+pub fn edge_key(a: usize, b: usize) -> (usize, usize) {
+    (a.min(b), a.max(b))
+}
+
 /// One crease (or boundary segment) of the mesh.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Edge {
@@ -121,6 +126,11 @@ impl Edge {
             alpha: 0.0,
             synthetic: false,
         }
+    }
+
+    /// The edge's [`edge_key`].
+    pub fn key(&self) -> (usize, usize) {
+        edge_key(self.vertices[0], self.vertices[1])
     }
 
     /// The other end of the edge seen from `v`.

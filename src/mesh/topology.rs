@@ -2,7 +2,7 @@
 //! indices in range, no degenerate triangle, every edge on one or two faces, every vertex a
 //! single fan (disk or half-disk), faces consistently oriented.
 
-use super::{Assignment, Edge, Vec2, Vec3};
+use super::{edge_key as key, Assignment, Edge, Vec2, Vec3};
 use std::collections::{HashMap, VecDeque};
 
 /// Why a set of faces and edges is not a usable mesh. Each names the element at fault.
@@ -148,7 +148,7 @@ pub struct TopologySummary {
 impl Topology {
     /// The edge joining `a` and `b`, if any.
     pub fn edge_between(&self, a: usize, b: usize) -> Option<usize> {
-        self.edge_lookup.get(&(a.min(b), a.max(b))).copied()
+        self.edge_lookup.get(&key(a, b)).copied()
     }
 
     /// Shape counts for reports and for stages that need a disk.
@@ -163,10 +163,6 @@ impl Topology {
             is_disk: self.components == 1 && loops == 1 && euler == 1,
         }
     }
-}
-
-fn key(a: usize, b: usize) -> (usize, usize) {
-    (a.min(b), a.max(b))
 }
 
 fn twice_area_2d(p: &[Vec2], f: [usize; 3]) -> f64 {

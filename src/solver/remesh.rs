@@ -16,7 +16,7 @@
 
 use super::{free_columns, NormalSolver, Solver};
 use crate::constraints::Reference;
-use crate::mesh::{Assignment, Edge, Mesh, MeshParts, Vec3};
+use crate::mesh::{edge_key, Assignment, Edge, Mesh, MeshParts, Vec3};
 use std::collections::{BTreeSet, HashMap};
 use std::f64::consts::PI;
 
@@ -202,7 +202,7 @@ pub fn collapse_edge(
             continue;
         }
         let [a, b] = ed.vertices.map(|w| old_to_new[w]);
-        let key = (a.min(b), a.max(b));
+        let key = edge_key(a, b);
         match index.get(&key) {
             Some(&j) => {
                 let m = &mut edges[j];
