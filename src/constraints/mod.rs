@@ -88,6 +88,19 @@ impl Family {
         )
     }
 
+    /// Whether the family sums sector angles (eq. 1, 2, 4–8), which an evaluation then
+    /// computes once for all of them.
+    pub fn uses_sector_angles(self) -> bool {
+        matches!(
+            self,
+            Family::Developability
+                | Family::BoundaryAngle
+                | Family::Convexity
+                | Family::FlatFoldability
+                | Family::AngularInequality
+        )
+    }
+
     /// Whether the residual is a relative length (else an angle in radians).
     pub fn is_length(self) -> bool {
         matches!(
@@ -303,16 +316,7 @@ impl ConstraintSet {
         positions: &[Vec3],
         mut rows: Rows,
     ) -> Rows {
-        let uses_sectors = self.families.iter().any(|f| {
-            matches!(
-                f,
-                Family::Developability
-                    | Family::BoundaryAngle
-                    | Family::Convexity
-                    | Family::FlatFoldability
-                    | Family::AngularInequality
-            )
-        });
+        let uses_sectors = self.families.iter().any(|f| f.uses_sector_angles());
         let corners = uses_sectors.then(|| angles::Corners::new(mesh, positions));
         let c = || corners.as_ref().expect("sector angles computed");
         for &f in &self.families {

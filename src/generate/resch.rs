@@ -44,6 +44,19 @@ fn is_tuck((i, j): Axial) -> bool {
     (i - j).rem_euclid(3) == 0
 }
 
+/// The upward triangle's name: its lower-left corner (lowest row, then leftmost).
+fn upward_base(corners: [Axial; 3]) -> Axial {
+    corners
+        .into_iter()
+        .min_by_key(|&(i, j)| (j, i))
+        .expect("three corners")
+}
+
+/// The third corner of the triangle on the other side of `u v` from `opposite`.
+fn across(u: Axial, v: Axial, opposite: Axial) -> Axial {
+    (u.0 + v.0 - opposite.0, u.1 + v.1 - opposite.1)
+}
+
 /// The tuck having lattice point `p` as a corner.
 fn tuck_of((i, j): Axial) -> Axial {
     [(i, j), (i - 1, j), (i, j - 1)]
@@ -121,12 +134,7 @@ pub fn resch(p: &Params) -> Result<Mesh, GenerateError> {
             .expect("three corners");
         let upward = corners.iter().filter(|&&v| ax[v].1 == low).count() == 2;
         if upward {
-            let base = corners
-                .iter()
-                .map(|&v| ax[v])
-                .filter(|q| q.1 == low)
-                .min()
-                .expect("two low corners");
+            let base = upward_base(corners.map(|v| ax[v]));
             if !is_tuck(base) {
                 faces.push(corners);
                 continue;
@@ -136,10 +144,7 @@ pub fn resch(p: &Params) -> Result<Mesh, GenerateError> {
             folded.push(folded_vertex(base, l) - Vec3::new(0.0, 0.0, l / SQRT3));
             for k in 0..3 {
                 let (u, v, opposite) = (corners[k], corners[(k + 1) % 3], corners[(k + 2) % 3]);
-                let apex = (
-                    ax[u].0 + ax[v].0 - ax[opposite].0,
-                    ax[u].1 + ax[v].1 - ax[opposite].1,
-                );
+                let apex = across(ax[u], ax[v], ax[opposite]);
                 let m = midpoint(u, v, apex, &mut flat, &mut folded);
                 faces.extend([[u, m, g], [m, v, g]]);
                 roles.insert(key(g, u), Role::TuckSpoke);
@@ -152,16 +157,8 @@ pub fn resch(p: &Params) -> Result<Mesh, GenerateError> {
             let k = (0..3)
                 .find(|&k| {
                     let (u, v, apex) = (corners[k], corners[(k + 1) % 3], corners[(k + 2) % 3]);
-                    let far = (
-                        ax[u].0 + ax[v].0 - ax[apex].0,
-                        ax[u].1 + ax[v].1 - ax[apex].1,
-                    );
-                    let (q, r) = (ax[u], ax[v]);
-                    let lowest = [q, r, far]
-                        .into_iter()
-                        .min_by_key(|x| (x.1, x.0))
-                        .expect("3");
-                    is_tuck(lowest)
+                    let far = across(ax[u], ax[v], ax[apex]);
+                    is_tuck(upward_base([ax[u], ax[v], far]))
                 })
                 .expect("one side of every downward triangle faces a tuck");
             let (u, v, apex) = (corners[k], corners[(k + 1) % 3], corners[(k + 2) % 3]);
