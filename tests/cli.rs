@@ -1,20 +1,10 @@
 //! Bad input through the real binary: exit status 2, one line naming the file and the
 //! cause, never a panic, and no output file left behind.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
 
-fn crease(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_crease"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::run_crease;
+use std::path::{Path, PathBuf};
 
 fn scratch(name: &str, content: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("crease-cli-{}", std::process::id()));
@@ -33,7 +23,7 @@ fn assert_bad_input(path: &Path, cause: &str) {
         vec!["info", path.to_str().unwrap()],
         vec!["convert", path.to_str().unwrap(), out.to_str().unwrap()],
     ] {
-        let (code, _, err) = crease(&args);
+        let (code, _, err) = run_crease(&args);
         assert_eq!(code, 2, "{args:?}: {err}");
         assert!(!err.contains("panicked"), "{err}");
         assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
@@ -107,7 +97,7 @@ fn malformed_cp_line() {
 
 #[test]
 fn missing_file_and_unknown_extension() {
-    let (code, _, err) = crease(&["info", "/nonexistent/design.fold"]);
+    let (code, _, err) = run_crease(&["info", "/nonexistent/design.fold"]);
     assert_eq!(code, 2);
     assert!(err.contains("/nonexistent/design.fold"));
     assert_bad_input(&scratch("design.stl", "solid x"), "unknown file type");
@@ -116,7 +106,7 @@ fn missing_file_and_unknown_extension() {
 #[test]
 fn info_prints_counts() {
     let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura.fold");
-    let (code, out, _) = crease(&["info", p.to_str().unwrap()]);
+    let (code, out, _) = run_crease(&["info", p.to_str().unwrap()]);
     assert_eq!(code, 0);
     assert!(out.contains("vertices:     81"), "{out}");
     assert!(

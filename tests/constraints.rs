@@ -1,10 +1,12 @@
 //! Constraint Jacobians against central finite differences, and `crease verify` on
 //! bundled patterns, anchor crease patterns and a broken Miura-ori.
 
+mod common;
+
+use common::run_crease;
 use crease::constraints::{ConstraintSet, Family, Reference};
 use crease::generate::{generate, Params, PatternKind};
 use crease::mesh::{Mesh, Vec3};
-use std::process::Command;
 
 /// A small deterministic generator (no dependency needed for a perturbation).
 struct Lcg(u64);
@@ -175,15 +177,10 @@ fn fold_angle_ranges_are_active_under_the_test_perturbation() {
     }
 }
 
-fn crease(args: &[&str]) -> (i32, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_crease"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr),
-    )
+/// The binary's exit status and everything it printed (stdout, then stderr).
+fn crease_all(args: &[&str]) -> (i32, String) {
+    let (code, out, err) = run_crease(args);
+    (code, out + &err)
 }
 
 #[test]
@@ -205,7 +202,7 @@ fn verify_passes_bundled_patterns_and_flat_foldable_anchors() {
         ));
     }
     for f in files {
-        let (code, out) = crease(&["verify", &f, "--json"]);
+        let (code, out) = crease_all(&["verify", &f, "--json"]);
         assert_eq!(code, 0, "{f}: {out}");
         let v: serde_json::Value = serde_json::from_str(out.lines().next().unwrap()).unwrap();
         assert_eq!(v["pass"], true);
@@ -232,7 +229,7 @@ fn a_miura_with_one_vertex_moved_fails_and_names_it() {
     let dir = std::env::temp_dir().join(format!("crease-verify-{}", std::process::id()));
     let path = dir.join("moved.fold");
     crease::io::write(&m, &path).unwrap();
-    let (code, out) = crease(&["verify", path.to_str().unwrap()]);
+    let (code, out) = crease_all(&["verify", path.to_str().unwrap()]);
     assert_eq!(code, 1, "{out}");
     assert!(
         out.contains(&format!("vertex {v}")),
@@ -243,10 +240,10 @@ fn a_miura_with_one_vertex_moved_fails_and_names_it() {
 
 #[test]
 fn verify_rejects_bad_input_with_status_2() {
-    let (code, out) = crease(&["verify", "/nonexistent.fold"]);
+    let (code, out) = crease_all(&["verify", "/nonexistent.fold"]);
     assert_eq!(code, 2, "{out}");
     let root = env!("CARGO_MANIFEST_DIR");
-    let (code, out) = crease(&[
+    let (code, out) = crease_all(&[
         "verify",
         &format!("{root}/patterns/miura.fold"),
         "--conditions",

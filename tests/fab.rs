@@ -2,13 +2,15 @@
 //! layout is isometric to the design, whose dashes keep clear of crease junctions, whose
 //! HP-GL draws exactly the toolpath, and whose PDF is 1:1 with a true 100 mm scale bar.
 
+mod common;
+
+use common::run_crease;
 use crease::fab::{LineKind, Stroke};
 use crease::mesh::{Mesh, Vec2};
 use crease::output::hpgl;
 use crease::pipeline::{fabricate, FabError, FabOptions};
 use crease::plotter::Machine;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 fn patterns() -> Vec<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns");
@@ -204,23 +206,12 @@ fn the_pdf_page_is_the_media_and_its_scale_bar_is_100_mm() {
     }
 }
 
-fn crease_bin(args: &[&str]) -> (i32, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_crease"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    )
-}
-
 #[test]
 fn bad_fabrication_input_is_refused_and_leaves_nothing() {
     let root = env!("CARGO_MANIFEST_DIR");
     let out = std::env::temp_dir().join(format!("crease-fab-bad-{}", std::process::id()));
     let miura = format!("{root}/patterns/miura.fold");
-    let (code, err) = crease_bin(&[
+    let (code, _, err) = run_crease(&[
         "fab",
         &miura,
         "--machine",
@@ -233,7 +224,7 @@ fn bad_fabrication_input_is_refused_and_leaves_nothing() {
         err.contains("unknown machine") && err.contains("generic-hpgl"),
         "{err}"
     );
-    let (code, err) = crease_bin(&[
+    let (code, _, err) = run_crease(&[
         "fab",
         &miura,
         "--media",
@@ -254,7 +245,7 @@ fn bad_fabrication_input_is_refused_and_leaves_nothing() {
     m.set_positions(x);
     let broken = out.with_extension("fold");
     crease::io::write(&m, &broken).unwrap();
-    let (code, err) = crease_bin(&[
+    let (code, _, err) = run_crease(&[
         "fab",
         broken.to_str().unwrap(),
         "--out",
@@ -267,7 +258,7 @@ fn bad_fabrication_input_is_refused_and_leaves_nothing() {
     );
     assert!(!out.exists(), "nothing written for refused designs");
     // With --force it is cut anyway, and every file lands.
-    let (code, err) = crease_bin(&[
+    let (code, _, err) = run_crease(&[
         "fab",
         broken.to_str().unwrap(),
         "--force",
