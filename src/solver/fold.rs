@@ -111,17 +111,10 @@ pub fn fold_toward(
     // The soft solution is close; make the rigid conditions exact. Redundant rows (a
     // closed tuck's panels) slow Newton to linear convergence, so it gets more room here.
     // Away from the flat state the mountain/valley ranges no longer chatter, so the end
-    // state honours them too (a crease may not overshoot its target or turn over).
+    // state honours them too (no crease turns the wrong way or folds through itself).
     let newton = solver.options.max_newton;
     solver.options.max_newton = newton.max(60);
-    let folding = std::mem::replace(
-        &mut solver.set,
-        if std::env::var("NORANGE").is_ok() {
-            super::Mode::folding_set()
-        } else {
-            super::Mode::simulation_set()
-        },
-    );
+    let folding = std::mem::replace(&mut solver.set, super::Mode::simulation_set());
     let corrected = solver.correct();
     solver.options.max_newton = newton;
     solver.set = folding;

@@ -322,9 +322,12 @@ impl Solver {
     }
 
     fn project(&mut self, dx0: &[Vec3], allow_stale: bool) -> Result<Vec<Vec3>, SolverError> {
-        let fresh_needed = !allow_stale || self.factor_age >= MAX_FACTOR_AGE;
-        let rows = self.active_rows(&self.x, !fresh_needed);
-        if fresh_needed || rows.labels != self.factored {
+        // A reused factor needs only the row labels, to see the active set is the same.
+        let may_reuse = allow_stale && self.factor_age < MAX_FACTOR_AGE;
+        let rows = self.active_rows(&self.x, may_reuse);
+        if !may_reuse {
+            self.factorise(&rows)?;
+        } else if rows.labels != self.factored {
             let rows = self.active_rows(&self.x, false);
             self.factorise(&rows)?;
         }
