@@ -37,11 +37,11 @@ fn distance_to_segment(p: Vec2, s: &Stroke) -> f64 {
     (s.from + d * t - p).norm()
 }
 
-/// Vertices where three or more creases or cuts meet, on the sheet.
+/// Vertices where three or more scored creases or cuts meet, on the sheet.
 fn junctions(mesh: &Mesh, placed: &[Vec2]) -> Vec<Vec2> {
     let mut degree = vec![0; placed.len()];
     for e in mesh.edges() {
-        if LineKind::of(e.assignment) != LineKind::Flat {
+        if LineKind::of_edge(e) != LineKind::Flat {
             degree[e.vertices[0]] += 1;
             degree[e.vertices[1]] += 1;
         }
@@ -139,6 +139,50 @@ fn every_design_fabricates_isometric_clear_of_junctions_and_hpgl_faithful() {
             }
         }
     }
+}
+
+#[test]
+fn unassigned_creases_a_design_folds_are_scored_by_the_way_they_fold() {
+    // Resch's tuck sides are unassigned and flat in the regular pattern; the dome turns
+    // some of them by tens of degrees, and a sheet without them would not take its shape.
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/resch-dome.fold");
+    let mesh = crease::io::read(&path).unwrap();
+    let machine = Machine::load("generic-hpgl").unwrap();
+    let out = fabricate(&mesh, &machine, &a3()).unwrap();
+    let placed = &out.sheet.vertices;
+    let on_line = |p: Vec2, l: &crease::fab::CreaseLine| {
+        let d = l.b - l.a;
+        let t = ((p - l.a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
+        (l.a + d * t - p).norm() < 1e-6
+    };
+    let mut folded = 0;
+    for e in mesh.edges() {
+        if e.assignment != crease::mesh::Assignment::Unassigned {
+            continue;
+        }
+        let [a, b] = e.vertices.map(|v| placed[v]);
+        let kind = if e.fold_angle.abs() <= 1f64.to_radians() {
+            LineKind::Flat
+        } else if e.fold_angle > 0.0 {
+            LineKind::Mountain
+        } else {
+            LineKind::Valley
+        };
+        if kind != LineKind::Flat {
+            folded += 1;
+        }
+        assert!(
+            out.sheet
+                .lines
+                .iter()
+                .any(|l| l.kind == kind && on_line(a, l) && on_line(b, l)),
+            "edge {:?} folded {:.1}° is not on a {} line",
+            e.vertices,
+            e.fold_angle.to_degrees(),
+            kind.name()
+        );
+    }
+    assert!(folded > 20, "only {folded} unassigned creases fold");
 }
 
 #[test]

@@ -2,7 +2,7 @@
 //! vertex are merged into one line, so a plotter draws each fold in one pass. Each line
 //! remembers the points along it where three or more creases meet, where dashes must stop.
 
-use crate::mesh::{Assignment, Mesh, Vec2};
+use crate::mesh::{Assignment, Edge, Mesh, Vec2};
 use std::collections::HashMap;
 
 /// What a line does to the paper.
@@ -38,6 +38,23 @@ impl LineKind {
         }
     }
 
+    /// The kind an edge is scored as. An unassigned crease that the design folds (by more
+    /// than [`UNASSIGNED_FOLDED`]) is scored as the mountain or valley it became, so the
+    /// sheet can take the shape: Resch's tuck sides are flat in the regular pattern but
+    /// turn when a design bends its tiles.
+    pub fn of_edge(e: &Edge) -> LineKind {
+        if e.assignment == Assignment::Unassigned && e.fold_angle.abs() > UNASSIGNED_FOLDED {
+            // Paper convention: a positive fold angle is a mountain.
+            if e.fold_angle > 0.0 {
+                LineKind::Mountain
+            } else {
+                LineKind::Valley
+            }
+        } else {
+            LineKind::of(e.assignment)
+        }
+    }
+
     /// Lower-case name, for layers and reports.
     pub fn name(self) -> &'static str {
         match self {
@@ -48,6 +65,9 @@ impl LineKind {
         }
     }
 }
+
+/// Fold angle (radians, 1°) beyond which an unassigned crease is scored.
+pub const UNASSIGNED_FOLDED: f64 = std::f64::consts::PI / 180.0;
 
 /// A straight crease line on the flat pattern.
 #[derive(Clone, Debug, PartialEq)]
@@ -73,18 +93,19 @@ impl CreaseLine {
 /// Merges the mesh's edges, laid out at `flat`, into straight lines per kind.
 pub fn crease_lines(mesh: &Mesh, flat: &[Vec2]) -> Vec<CreaseLine> {
     let edges = mesh.edges();
+    let kinds: Vec<LineKind> = edges.iter().map(LineKind::of_edge).collect();
     // Creases and cuts meeting at each vertex (flat lines are not scored, so they do not
     // weaken the paper and do not count).
     let mut degree = vec![0usize; flat.len()];
-    for e in edges {
-        if LineKind::of(e.assignment) != LineKind::Flat {
+    for (e, &k) in edges.iter().zip(&kinds) {
+        if k != LineKind::Flat {
             degree[e.vertices[0]] += 1;
             degree[e.vertices[1]] += 1;
         }
     }
     let mut by_vertex: HashMap<(usize, LineKind), Vec<usize>> = HashMap::new();
     for (i, e) in edges.iter().enumerate() {
-        let k = LineKind::of(e.assignment);
+        let k = kinds[i];
         by_vertex.entry((e.vertices[0], k)).or_default().push(i);
         by_vertex.entry((e.vertices[1], k)).or_default().push(i);
     }
@@ -94,7 +115,7 @@ pub fn crease_lines(mesh: &Mesh, flat: &[Vec2]) -> Vec<CreaseLine> {
     };
     // The edge continuing `e` straight through vertex `v`, if exactly one does.
     let continuation = |e: usize, v: usize| -> Option<usize> {
-        let k = LineKind::of(edges[e].assignment);
+        let k = kinds[e];
         let d = -dir(e, v);
         let mut found = by_vertex[&(v, k)]
             .iter()
@@ -110,7 +131,7 @@ pub fn crease_lines(mesh: &Mesh, flat: &[Vec2]) -> Vec<CreaseLine> {
             continue;
         }
         used[start] = true;
-        let kind = LineKind::of(edges[start].assignment);
+        let kind = kinds[start];
         // Walk both ways from the edge.
         let mut chain = vec![edges[start].vertices[0], edges[start].vertices[1]];
         for forward in [true, false] {
