@@ -2,6 +2,8 @@
 //! removes the drift, long drags keep every condition, and the designs in `patterns/`
 //! rebuild from their scripts, verify, and differ from the regular patterns.
 
+mod common;
+
 use crease::constraints::{ConstraintSet, Family, Reference};
 use crease::fab::{verify, Tolerances};
 use crease::generate::{generate, Params, PatternKind};
@@ -394,4 +396,63 @@ fn a_closed_resch_bends_with_its_tucks_closed_and_every_condition_held() {
     assert!(miss < 4.0, "the middle is {miss} mm from its target");
     let report = verify(&s.into_mesh(), None, Tolerances::default());
     assert!(report.pass(), "{report}");
+}
+
+/// The studio's promise on the command line: with the default anchor (away from the dragged
+/// vertex) a relative drag of the middle of the Miura-ori brings the vertex to its target.
+#[test]
+fn a_relative_drag_with_the_default_anchor_reaches_its_target() {
+    let out = std::env::temp_dir().join(format!("crease-rel-{}.fold", std::process::id()));
+    let miura = patterns_dir().join("miura.fold");
+    let (code, _, err) = common::run_crease(&[
+        "deform",
+        miura.to_str().unwrap(),
+        "--drag",
+        "40=+0,+0,+15",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let start = crease::io::read(&miura).unwrap().positions()[40];
+    let end = crease::io::read(&out).unwrap().positions()[40];
+    let target = start + crease::mesh::Vec3::new(0.0, 0.0, 15.0);
+    assert!(
+        (end - target).norm() < 1.5,
+        "vertex 40 ends {:.2} mm from its target",
+        (end - target).norm()
+    );
+    // The report line says the same.
+    let line = err
+        .lines()
+        .find(|l| l.starts_with("vertex 40:"))
+        .expect("a distance line");
+    let reported: f64 = line
+        .split_whitespace()
+        .nth(2)
+        .and_then(|d| d.parse().ok())
+        .unwrap();
+    assert!((reported - (end - target).norm()).abs() < 0.01, "{line}");
+    let _ = std::fs::remove_file(out);
+}
+
+#[test]
+fn info_lists_vertex_ids_with_their_positions() {
+    let miura = patterns_dir().join("miura.fold");
+    let (code, table, _) = common::run_crease(&["info", miura.to_str().unwrap(), "--vertices"]);
+    assert_eq!(code, 0);
+    let mesh = crease::io::read(&miura).unwrap();
+    let rows: Vec<&str> = table
+        .lines()
+        .skip_while(|l| !l.trim_start().starts_with("vertex"))
+        .skip(1)
+        .collect();
+    assert_eq!(rows.len(), mesh.vertex_count());
+    for (v, row) in rows.iter().enumerate() {
+        let cols: Vec<&str> = row.split_whitespace().collect();
+        assert_eq!(cols[0].parse::<usize>().unwrap(), v);
+        let z: f64 = cols[3].parse().unwrap();
+        assert!((z - mesh.positions()[v].z).abs() < 1e-3, "{row}");
+        let place = *cols.last().unwrap();
+        assert_eq!(place == "interior", mesh.is_interior(v), "{row}");
+    }
 }

@@ -2,6 +2,7 @@
 //! binary, not of the library.)
 
 pub mod plot;
+pub mod studio;
 
 use crease::generate;
 use crease::pipeline::PipelineError;
@@ -77,21 +78,58 @@ pub fn out(text: &str) {
     let _ = std::io::stdout().lock().write_all(text.as_bytes());
 }
 
-pub fn parse_drag(text: &str) -> Result<Move, String> {
-    let bad = || format!("expected V=X,Y,Z, got \"{text}\"");
+/// A `--drag` argument: `V=X,Y,Z` to a point, or `V=+DX,+DY,+DZ` by an offset (a
+/// component written with an explicit `+` makes the whole move relative, so
+/// `40=+0,+0,-15` lowers vertex 40 by 15 mm).
+#[derive(Clone, Debug)]
+pub struct DragArg {
+    vertex: usize,
+    coords: [f64; 3],
+    relative: bool,
+}
+
+impl DragArg {
+    /// The move in absolute coordinates of `mesh`'s 3D form; refuses unknown vertices.
+    pub fn resolve(&self, mesh: &crease::mesh::Mesh) -> Result<Move, String> {
+        let n = mesh.vertex_count();
+        let at = mesh.positions().get(self.vertex).ok_or_else(|| {
+            format!(
+                "--drag names vertex {}, which does not exist (the pattern has {n} vertices, 0 to {}); `crease info FILE --vertices` lists them",
+                self.vertex,
+                n.saturating_sub(1)
+            )
+        })?;
+        let c = self.coords;
+        let to = if self.relative {
+            [at.x + c[0], at.y + c[1], at.z + c[2]]
+        } else {
+            c
+        };
+        Ok(Move {
+            vertex: self.vertex,
+            to,
+        })
+    }
+}
+
+pub fn parse_drag(text: &str) -> Result<DragArg, String> {
+    let bad = || format!("expected V=X,Y,Z or V=+DX,+DY,+DZ, got \"{text}\"");
     let (v, xyz) = text.split_once('=').ok_or_else(bad)?;
     let vertex = v.trim().parse().map_err(|_| bad())?;
-    let c: Vec<f64> = xyz
-        .split(',')
-        .map(|s| s.trim().parse::<f64>())
+    let parts: Vec<&str> = xyz.split(',').map(str::trim).collect();
+    let relative = parts.iter().any(|p| p.starts_with('+'));
+    let c: Vec<f64> = parts
+        .iter()
+        .map(|s| s.parse::<f64>())
         .collect::<Result<_, _>>()
         .map_err(|_| bad())?;
-    if c.len() != 3 {
+    if c.len() != 3 || !c.iter().all(|x| x.is_finite()) {
         return Err(bad());
     }
-    Ok(Move {
+    Ok(DragArg {
         vertex,
-        to: [c[0], c[1], c[2]],
+        coords: [c[0], c[1], c[2]],
+        relative,
     })
 }
 

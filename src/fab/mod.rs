@@ -1,6 +1,7 @@
 //! Fabrication: verify a design before anything is cut, unfold it, lay it out on the media,
 //! score it with dash codes and order the cuts.
 
+pub mod flat_fold;
 pub mod layout;
 pub mod lines;
 pub mod route;
@@ -8,6 +9,7 @@ pub mod score;
 pub mod unfold;
 pub mod verify;
 
+pub use flat_fold::{flat_folded, FlatFolded, NotFlatFoldable, PlaneMotion};
 pub use layout::{layout, LayoutError, Media, Sheet};
 pub use lines::{crease_lines, CreaseLine, LineKind};
 pub use route::route;

@@ -36,6 +36,8 @@ pub struct FamilyReport {
     pub rms: f64,
     /// Where the largest residual is.
     pub worst: Option<String>,
+    /// The same element, typed (for pictures that highlight it).
+    pub worst_element: Option<Element>,
     /// Rows above tolerance.
     pub violations: usize,
     /// The tolerance applied.
@@ -162,12 +164,12 @@ impl fmt::Display for Report {
     }
 }
 
-fn summarise(name: &'static str, values: &[(f64, String)], tolerance: f64) -> FamilyReport {
+fn summarise(name: &'static str, values: &[(f64, Element)], tolerance: f64) -> FamilyReport {
     let mut max = 0.0;
     let mut worst = None;
     let mut sum2 = 0.0;
     let mut violations = 0;
-    let mut over: Vec<(f64, &String)> = Vec::new();
+    let mut over: Vec<(f64, &Element)> = Vec::new();
     for (v, label) in values {
         let a = v.abs();
         sum2 += a * a;
@@ -177,7 +179,7 @@ fn summarise(name: &'static str, values: &[(f64, String)], tolerance: f64) -> Fa
         }
         if a > max || a.is_nan() {
             max = a;
-            worst = Some(label.clone());
+            worst = Some(*label);
         }
     }
     over.sort_by(|x, y| y.0.total_cmp(&x.0));
@@ -189,12 +191,13 @@ fn summarise(name: &'static str, values: &[(f64, String)], tolerance: f64) -> Fa
             .collect(),
         name,
         max,
+        worst: worst.map(|w| w.to_string()),
+        worst_element: worst,
         rms: if values.is_empty() {
             0.0
         } else {
             (sum2 / values.len() as f64).sqrt()
         },
-        worst,
         violations,
         tolerance,
         rows: values.len(),
@@ -223,12 +226,12 @@ pub fn verify(mesh: &Mesh, conditions: Option<&ConstraintSet>, tol: Tolerances) 
     let tol = widened;
     let mut families = Vec::new();
     for &family in &set.families {
-        let values: Vec<(f64, String)> = rows
+        let values: Vec<(f64, Element)> = rows
             .residuals
             .iter()
             .zip(&rows.labels)
             .filter(|(_, (f, _))| *f == family)
-            .map(|(r, (_, el))| (*r, el.to_string()))
+            .map(|(r, (_, el))| (*r, *el))
             .collect();
         let t = if family.is_length() {
             tol.length
@@ -301,7 +304,7 @@ fn maekawa(mesh: &Mesh, reference: &Reference) -> FamilyReport {
                 _ => {}
             }
         }
-        values.push((((m - val).abs() - 2) as f64, Element::Vertex(v).to_string()));
+        values.push((((m - val).abs() - 2) as f64, Element::Vertex(v)));
     }
     FamilyReport {
         gating: false,

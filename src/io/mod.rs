@@ -116,8 +116,15 @@ pub fn read(path: &Path) -> Result<Mesh, FileError> {
 
 /// Reads a pattern file and reports what import changed.
 pub fn read_with_notes(path: &Path) -> Result<Imported, FileError> {
-    let format = Format::from_path(path)?;
+    Format::from_path(path)?;
     let bytes = std::fs::read(path).map_err(|e| FileError::new(path, e.to_string()))?;
+    read_bytes(path, bytes)
+}
+
+/// Reads a pattern from bytes already in memory (an upload to the studio); `path` names
+/// it in errors and chooses the format by its extension.
+pub fn read_bytes(path: &Path, bytes: Vec<u8>) -> Result<Imported, FileError> {
+    let format = Format::from_path(path)?;
     let text =
         String::from_utf8(bytes).map_err(|_| FileError::new(path, "the file is not UTF-8 text"))?;
     let err = |cause: String| FileError::new(path, cause);

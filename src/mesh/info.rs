@@ -128,3 +128,41 @@ impl fmt::Display for MeshInfo {
         )
     }
 }
+
+impl Mesh {
+    /// One line per vertex, so vertex ids can be found without reading the file: id, 3D
+    /// position, crease-pattern position, creases by kind (M/V/other) and whether it lies
+    /// on the boundary.
+    pub fn vertex_table(&self) -> String {
+        use fmt::Write;
+        let mut out = String::from(
+            "vertex         x         y         z      cp.x      cp.y   M  V  other  where\n",
+        );
+        let topo = self.topology();
+        for (v, p) in self.positions().iter().enumerate() {
+            let (mut m, mut val, mut other) = (0, 0, 0);
+            for &e in &topo.fans[v].spokes {
+                match self.edges()[e].assignment {
+                    Assignment::Mountain => m += 1,
+                    Assignment::Valley => val += 1,
+                    _ => other += 1,
+                }
+            }
+            let cp = self
+                .flat()
+                .map(|f| format!("{:>9.3} {:>9.3}", f[v].x, f[v].y))
+                .unwrap_or_else(|| format!("{:>9} {:>9}", "-", "-"));
+            let place = if topo.fans[v].boundary {
+                "boundary"
+            } else {
+                "interior"
+            };
+            let _ = writeln!(
+                out,
+                "{v:>6} {:>9.3} {:>9.3} {:>9.3} {cp} {m:>3}{val:>3}{other:>7}  {place}",
+                p.x, p.y, p.z
+            );
+        }
+        out
+    }
+}

@@ -154,16 +154,7 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
         options,
     } = job;
     if let Some(a) = alpha {
-        if !(0.0..1.0).contains(&a) {
-            return Err(PipelineError::Input(format!(
-                "alpha must be in [0, 1) (got {a})"
-            )));
-        }
-        for e in mesh.edges_mut() {
-            if e.target == 0.0 && matches!(e.assignment, Assignment::Flat | Assignment::Join) {
-                e.alpha = a;
-            }
-        }
+        set_alpha(&mut mesh, a)?;
     }
     let dragged: Vec<usize> = stages
         .iter()
@@ -219,17 +210,41 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
         stats = solver.stats.clone();
         mesh = solver.into_mesh();
     }
-    record_fold_angles(&mut mesh);
-    if mode == Mode::Design && !stages.is_empty() {
-        let flat = unfold(&mesh)?;
-        mesh.set_flat(flat);
-    }
+    finish_design(&mut mesh, mode == Mode::Design && !stages.is_empty())?;
     Ok(DesignOutcome {
         mesh,
         stats,
         drags,
         fold: fold_report,
     })
+}
+
+/// Gives every untwisted facet line (target 0, flat or join) the twist allowance α of
+/// §2.4, which must lie in [0, 1).
+pub fn set_alpha(mesh: &mut Mesh, alpha: f64) -> Result<(), PipelineError> {
+    if !(0.0..1.0).contains(&alpha) {
+        return Err(PipelineError::Input(format!(
+            "alpha must be in [0, 1) (got {alpha})"
+        )));
+    }
+    for e in mesh.edges_mut() {
+        if e.target == 0.0 && matches!(e.assignment, Assignment::Flat | Assignment::Join) {
+            e.alpha = alpha;
+        }
+    }
+    Ok(())
+}
+
+/// Makes a solved mesh the file `deform` writes: each crease's fold angle recorded and,
+/// when lengths changed (`relaid`: design mode moved it), the crease pattern unfolded
+/// anew from the 3D form.
+pub fn finish_design(mesh: &mut Mesh, relaid: bool) -> Result<(), PipelineError> {
+    record_fold_angles(mesh);
+    if relaid {
+        let flat = unfold(mesh)?;
+        mesh.set_flat(flat);
+    }
+    Ok(())
 }
 
 /// Targets must be numbers and within reach: in simulation mode no farther from a fixed

@@ -82,6 +82,26 @@ pub fn search_path() -> Vec<PathBuf> {
     dirs
 }
 
+/// Names of the profiles found in [`search_path`], sorted, each once.
+pub fn known_machines() -> Vec<String> {
+    let mut known: Vec<String> = search_path()
+        .iter()
+        .filter_map(|d| std::fs::read_dir(d).ok())
+        .flatten()
+        .flatten()
+        .filter_map(|e| {
+            let p = e.path();
+            if p.extension()? != "toml" {
+                return None;
+            }
+            Some(p.file_stem()?.to_string_lossy().into_owned())
+        })
+        .collect();
+    known.sort();
+    known.dedup();
+    known
+}
+
 impl Machine {
     /// Loads a profile by name (searched in [`search_path`]) or by path.
     pub fn load(name_or_path: &str) -> Result<Machine, MachineError> {
@@ -98,21 +118,7 @@ impl Machine {
         let path = match path {
             Some(p) if p.is_file() => p,
             _ => {
-                let mut known: Vec<String> = search_path()
-                    .iter()
-                    .filter_map(|d| std::fs::read_dir(d).ok())
-                    .flatten()
-                    .flatten()
-                    .filter_map(|e| {
-                        let p = e.path();
-                        if p.extension()? != "toml" {
-                            return None;
-                        }
-                        Some(p.file_stem()?.to_string_lossy().into_owned())
-                    })
-                    .collect();
-                known.sort();
-                known.dedup();
+                let known = known_machines();
                 return Err(MachineError::Unknown {
                     name: name_or_path.to_string(),
                     known: if known.is_empty() {

@@ -72,6 +72,18 @@ pub struct DragReport {
     pub flips: usize,
 }
 
+/// Adds to `wish` the motion of pulling vertex `v` by `share`, spread to the surface
+/// around it with the Gaussian weight exp(−|x_u − x_v|² / r²): a surface, not a single
+/// point, is being pulled, and the null-space projection (eq. 10) then keeps what the
+/// conditions allow.
+pub fn pull(x: &[Vec3], v: usize, share: Vec3, radius: f64, wish: &mut [Vec3]) {
+    let centre = x[v];
+    for (u, d) in wish.iter_mut().enumerate() {
+        let w = (-(x[u] - centre).norm_squared() / (radius * radius)).exp();
+        *d += share * w;
+    }
+}
+
 /// Runs one stage. `progress` is called after every accepted step.
 pub fn run_stage(
     solver: &mut Solver,
@@ -103,11 +115,7 @@ pub fn run_stage(
         let mut dx0 = vec![Vec3::zeros(); n];
         for m in &stage.moves {
             let share = (target(m) - x[m.vertex]) / (stage.steps - k) as f64;
-            let centre = x[m.vertex];
-            for (u, d) in dx0.iter_mut().enumerate() {
-                let w = (-(x[u] - centre).norm_squared() / (radius * radius)).exp();
-                *d += share * w;
-            }
+            pull(&x, m.vertex, share, radius, &mut dx0);
         }
         solver.step(&dx0)?;
         if let Some(threshold) = remesh {

@@ -7,7 +7,7 @@ mod fold;
 mod linear;
 mod remesh;
 
-pub use drag::{run_stage, DragReport, Move, Script, Stage};
+pub use drag::{pull, run_stage, DragReport, Move, Script, Stage};
 pub use fold::{fold_toward, FoldReport};
 pub use linear::{LinearError, NormalSolver};
 pub use remesh::{collapse_edge, flip_edge, Change, Refusal, RemeshOutcome};
@@ -79,7 +79,7 @@ pub enum SolverError {
         holes: usize,
     },
     /// Newton's method did not bring the residual under tolerance.
-    #[error("the solve did not converge at step {step}: residual {residual:.2e} after {iterations} Newton iterations (tolerance {tolerance:.0e})")]
+    #[error("the solve did not converge at step {step}: residual {residual:.2e} after {iterations} Newton iterations (tolerance {tolerance:.0e}){}", blocker_text(blocker))]
     NotConverged {
         /// Step number.
         step: usize,
@@ -89,10 +89,43 @@ pub enum SolverError {
         iterations: usize,
         /// The tolerance.
         tolerance: f64,
+        /// The condition and element with the largest residual where the solve gave up:
+        /// what blocked the step.
+        blocker: Option<Blocker>,
     },
     /// The normal equations could not be factorised.
     #[error(transparent)]
     Linear(#[from] LinearError),
+}
+
+/// The condition that stopped a step, and where.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Blocker {
+    /// The condition family.
+    pub family: Family,
+    /// The element whose residual was largest.
+    pub element: crate::constraints::Element,
+    /// That residual.
+    pub residual: f64,
+}
+
+impl std::fmt::Display for Blocker {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} at {} (residual {:.1e})",
+            self.family.name(),
+            self.element,
+            self.residual
+        )
+    }
+}
+
+fn blocker_text(b: &Option<Blocker>) -> String {
+    match b {
+        Some(b) => format!("; blocked by {b}"),
+        None => String::new(),
+    }
 }
 
 /// Solver settings.
@@ -211,28 +244,48 @@ impl Solver {
         })
     }
 
-    /// A default set of fixed vertices: the face nearest the middle of the mesh, avoiding
-    /// the given vertices (those being dragged).
+    /// A default anchor: one face held still, which removes the rigid motions (§3).
+    /// Without drags it is the face nearest the middle of the mesh. With drags it is the
+    /// face farthest from every dragged vertex (largest distance from its centroid to the
+    /// nearest one; ties go to the face nearer the middle): a face beside a dragged vertex
+    /// holds the paper the user is pulling, and the vertex cannot follow the pointer.
+    /// Holding a vertex holds its coincidence group (§6.4), so group partners of dragged
+    /// vertices are avoided too.
     pub fn default_fixed(mesh: &Mesh, avoid: &[usize]) -> Vec<usize> {
         let (lo, hi) = mesh.bounding_box();
         let centre = (lo + hi) / 2.0;
         let x = mesh.positions();
-        // Holding a vertex holds its coincidence group (§6.4) too.
         let mut avoid = avoid.to_vec();
         for g in &mesh.coincident {
             if g.iter().any(|v| avoid.contains(v)) {
                 avoid.extend(g);
             }
         }
+        let centroid = |f: &[usize; 3]| f.iter().map(|&v| x[v]).sum::<Vec3>() / 3.0;
+        // Larger is better: (distance to the nearest dragged vertex, closeness to the middle).
+        let score = |f: &[usize; 3]| {
+            let c = centroid(f);
+            let away = avoid
+                .iter()
+                .map(|&v| (x[v] - c).norm())
+                .fold(f64::INFINITY, f64::min);
+            (
+                if avoid.is_empty() { 0.0 } else { away },
+                -(c - centre).norm(),
+            )
+        };
         mesh.faces()
             .iter()
             .filter(|f| f.iter().all(|v| !avoid.contains(v)))
-            .min_by(|a, b| {
-                let d =
-                    |f: &&[usize; 3]| (f.iter().map(|&v| x[v]).sum::<Vec3>() / 3.0 - centre).norm();
-                d(a).total_cmp(&d(b))
-            })
-            .map(|f| f.to_vec())
+            .map(|f| (score(f), f))
+            .fold(
+                None::<((f64, f64), &[usize; 3])>,
+                |best, (s, f)| match best {
+                    Some((b, _)) if b.0 > s.0 || (b.0 == s.0 && b.1 >= s.1) => best,
+                    _ => Some((s, f)),
+                },
+            )
+            .map(|(_, f)| f.to_vec())
             .unwrap_or_default()
     }
 
@@ -304,6 +357,23 @@ impl Solver {
                 }
             }
         }
+    }
+
+    /// The row with the largest |residual| at `x`: after a failed step, evaluated where
+    /// the smallest (most halved) step landed before Newton's correction, it names the
+    /// condition that the motion could not keep.
+    pub fn blocker_at(&self, x: &[Vec3]) -> Option<Blocker> {
+        let rows = self.set.evaluate(&self.mesh, &self.reference, x);
+        rows.residuals
+            .iter()
+            .zip(&rows.labels)
+            .filter(|(r, _)| r.is_finite())
+            .max_by(|a, b| a.0.abs().total_cmp(&b.0.abs()))
+            .map(|(r, &(family, element))| Blocker {
+                family,
+                element,
+                residual: r.abs(),
+            })
     }
 
     /// Largest |residual| of the conditions at the current positions.
@@ -403,6 +473,7 @@ impl Solver {
                 residual,
                 iterations,
                 tolerance: self.options.tolerance,
+                blocker: self.blocker_at(&self.x),
             }),
         }
     }
@@ -415,11 +486,13 @@ impl Solver {
         self.factor_age += 1;
         let mut scale = 1.0;
         let mut failure = (f64::NAN, 0);
+        let mut last_try = Vec::new();
         for _ in 0..=self.options.max_halvings {
             let mut x = self.x.clone();
             for (xv, d) in x.iter_mut().zip(&dx) {
                 *xv += d * scale;
             }
+            last_try.clone_from(&x);
             match self.correct_from(&mut x) {
                 Ok((it, r)) => {
                     let moved: Vec<Vec3> = x.iter().zip(&self.x).map(|(a, b)| a - b).collect();
@@ -443,6 +516,7 @@ impl Solver {
             residual: failure.0,
             iterations: failure.1,
             tolerance: self.options.tolerance,
+            blocker: self.blocker_at(&last_try),
         })
     }
 }

@@ -1,0 +1,264 @@
+//! The flat-folded state: every ±π crease folded completely, so the paper lies in its
+//! plane again with layers on top of each other (the "x-ray" of ORIPA and Origami
+//! Simulator). Each face is carried there by a rigid motion of the plane: walk the faces
+//! breadth first from a root face and, crossing a crease whose target is ±π, reflect across
+//! that crease's line in the folded image; crossing any other edge keeps the motion.
+//!
+//! Around a vertex the walk composes one reflection per ±π crease, so the faces close up
+//! only where Kawasaki's alternating sum vanishes (eq. 5 at ρ = ±π);
+//! [`FlatFolded::mismatch`] measures the worst gap and names its vertex, which makes a
+//! pattern that does not fold flat visible.
+
+use crate::mesh::{Mesh, Vec2};
+use std::collections::VecDeque;
+use std::f64::consts::PI;
+
+/// A rigid motion of the plane `p ↦ R p + t`, with `R` a rotation or a reflection.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlaneMotion {
+    /// The linear part, rows `[[a, b], [c, d]]`.
+    pub linear: [[f64; 2]; 2],
+    /// The translation.
+    pub shift: Vec2,
+}
+
+impl PlaneMotion {
+    /// The identity.
+    pub const IDENTITY: PlaneMotion = PlaneMotion {
+        linear: [[1.0, 0.0], [0.0, 1.0]],
+        shift: Vec2::new(0.0, 0.0),
+    };
+
+    /// Applies the motion to a point.
+    pub fn apply(&self, p: Vec2) -> Vec2 {
+        let [[a, b], [c, d]] = self.linear;
+        Vec2::new(a * p.x + b * p.y, c * p.x + d * p.y) + self.shift
+    }
+
+    /// True when the motion turns the paper over (determinant −1): the face shows its back.
+    pub fn flips(&self) -> bool {
+        let [[a, b], [c, d]] = self.linear;
+        a * d - b * c < 0.0
+    }
+
+    /// The reflection across the line through `p` and `q`.
+    pub fn reflection(p: Vec2, q: Vec2) -> PlaneMotion {
+        let u = (q - p).normalize();
+        // R = 2uuᵀ − I; t = p − R p keeps the line fixed.
+        let linear = [
+            [2.0 * u.x * u.x - 1.0, 2.0 * u.x * u.y],
+            [2.0 * u.x * u.y, 2.0 * u.y * u.y - 1.0],
+        ];
+        let m = PlaneMotion {
+            linear,
+            shift: Vec2::zeros(),
+        };
+        PlaneMotion {
+            linear,
+            shift: p - m.apply(p),
+        }
+    }
+
+    /// `self ∘ other`: first `other`, then `self`.
+    pub fn after(&self, other: &PlaneMotion) -> PlaneMotion {
+        let [[a, b], [c, d]] = self.linear;
+        let [[e, f], [g, h]] = other.linear;
+        PlaneMotion {
+            linear: [
+                [a * e + b * g, a * f + b * h],
+                [c * e + d * g, c * f + d * h],
+            ],
+            shift: self.apply(other.shift),
+        }
+    }
+}
+
+/// The flat-folded state of a crease pattern.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FlatFolded {
+    /// The face the walk started from; it keeps its crease-pattern position.
+    pub root: usize,
+    /// Per face, the motion from the crease pattern to the folded state.
+    pub motions: Vec<PlaneMotion>,
+    /// Per face, its three corners in the folded state.
+    pub triangles: Vec<[Vec2; 3]>,
+    /// The largest gap (mm) the faces around one interior vertex leave when folded flat
+    /// (see [`worst_closure`]): zero, up to rounding, exactly when every vertex folds flat.
+    pub mismatch: f64,
+    /// The vertex with that gap.
+    pub worst_vertex: Option<usize>,
+}
+
+/// Why a pattern has no flat-folded state.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum NotFlatFoldable {
+    /// No crease pattern is known (a 3D-only file that was never unfolded).
+    #[error("the design has no crease pattern")]
+    NoCreasePattern,
+    /// A crease aims at a partial fold, so the folded-flat state is not what the pattern
+    /// describes.
+    #[error("crease {edge} targets {degrees:.0}°, not ±180°: this pattern does not fold flat")]
+    PartialTarget {
+        /// The edge.
+        edge: usize,
+        /// Its target, degrees (paper sign: mountain positive).
+        degrees: f64,
+    },
+}
+
+/// Whether an edge is folded completely (target ±π) in the flat-folded state. Merged
+/// creases (§4) may target other odd multiples of π, which fold flat as well.
+fn folds_flat(target: f64) -> Option<bool> {
+    let turns = target / PI;
+    let nearest = turns.round();
+    if (turns - nearest).abs() > 1e-9 {
+        return None;
+    }
+    Some(nearest as i64 % 2 != 0)
+}
+
+/// The flat-folded state of `mesh`'s crease pattern (`flat` overrides the stored pattern,
+/// e.g. one freshly unfolded from a design being varied). Fails when a crease targets a
+/// partial fold.
+///
+/// # Performance
+/// O(faces): one breadth-first walk.
+pub fn flat_folded(mesh: &Mesh, flat: Option<&[Vec2]>) -> Result<FlatFolded, NotFlatFoldable> {
+    let cp = flat
+        .or_else(|| mesh.flat())
+        .ok_or(NotFlatFoldable::NoCreasePattern)?;
+    let mut reflects = Vec::with_capacity(mesh.edges().len());
+    for (i, e) in mesh.edges().iter().enumerate() {
+        match folds_flat(e.target) {
+            Some(r) => reflects.push(r && !e.assignment.is_boundary()),
+            None => {
+                return Err(NotFlatFoldable::PartialTarget {
+                    edge: i,
+                    degrees: e.target.to_degrees(),
+                })
+            }
+        }
+    }
+    let faces = mesh.faces();
+    let topo = mesh.topology();
+    let centre = cp.iter().sum::<Vec2>() / cp.len().max(1) as f64;
+    let centroid = |f: &[usize; 3]| (cp[f[0]] + cp[f[1]] + cp[f[2]]) / 3.0;
+    let root = (0..faces.len())
+        .min_by(|&a, &b| {
+            (centroid(&faces[a]) - centre)
+                .norm()
+                .total_cmp(&(centroid(&faces[b]) - centre).norm())
+        })
+        .unwrap_or(0);
+    let mut motions: Vec<Option<PlaneMotion>> = vec![None; faces.len()];
+    motions[root] = Some(PlaneMotion::IDENTITY);
+    let mut queue = VecDeque::from([root]);
+    while let Some(f) = queue.pop_front() {
+        let mf = motions[f].expect("queued faces have a motion");
+        for &e in &topo.face_edges[f] {
+            for g in topo.edge_faces[e].iter().flatten().copied() {
+                if motions[g].is_some() {
+                    continue;
+                }
+                let mg = if reflects[e] {
+                    let [a, b] = mesh.edges()[e].vertices;
+                    PlaneMotion::reflection(mf.apply(cp[a]), mf.apply(cp[b])).after(&mf)
+                } else {
+                    mf
+                };
+                motions[g] = Some(mg);
+                queue.push_back(g);
+            }
+        }
+    }
+    // Faces of other pieces of paper (none on a disk) keep their crease-pattern place.
+    let motions: Vec<PlaneMotion> = motions
+        .into_iter()
+        .map(|m| m.unwrap_or(PlaneMotion::IDENTITY))
+        .collect();
+    let triangles: Vec<[Vec2; 3]> = faces
+        .iter()
+        .zip(&motions)
+        .map(|(f, m)| f.map(|v| m.apply(cp[v])))
+        .collect();
+    let (mismatch, worst_vertex) = worst_closure(mesh, cp, &reflects);
+    Ok(FlatFolded {
+        root,
+        motions,
+        triangles,
+        mismatch,
+        worst_vertex,
+    })
+}
+
+/// The largest failure of the faces around one interior vertex to close up when folded
+/// flat, in mm, and that vertex. Going once around the vertex composes one reflection per
+/// folded crease: an even number leaves a rotation by Σ σ_i θ_i (σ flipping at each folded
+/// crease), which must vanish (Kawasaki, eq. 5 at ρ = ±π); an odd number leaves a
+/// reflection, which never closes (counted as a half turn). The angle is turned into a
+/// length at the vertex's shortest crease, the gap the x-ray shows there.
+fn worst_closure(mesh: &Mesh, cp: &[Vec2], reflects: &[bool]) -> (f64, Option<usize>) {
+    let topo = mesh.topology();
+    let mut worst = (0.0, None);
+    for (v, fan) in topo.fans.iter().enumerate() {
+        if fan.boundary || fan.spokes.is_empty() {
+            continue;
+        }
+        let k = fan.spokes.len();
+        let arm = |i: usize| cp[mesh.edges()[fan.spokes[i % k]].other(v)] - cp[v];
+        let (mut sum, mut sign, mut folds) = (0.0, 1.0, 0);
+        for i in 0..k {
+            let (a, b) = (arm(i), arm(i + 1));
+            sum += sign * a.perp(&b).atan2(a.dot(&b)).abs();
+            if reflects[fan.spokes[(i + 1) % k]] {
+                sign = -sign;
+                folds += 1;
+            }
+        }
+        let turn = if folds % 2 == 1 {
+            PI
+        } else {
+            let r = sum.rem_euclid(2.0 * PI);
+            r.min(2.0 * PI - r)
+        };
+        let shortest = (0..k).map(|i| arm(i).norm()).fold(f64::INFINITY, f64::min);
+        let gap = turn * shortest;
+        if gap > worst.0 {
+            worst = (gap, Some(v));
+        }
+    }
+    worst
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_reflection_fixes_its_line_and_squares_to_the_identity() {
+        let (p, q) = (Vec2::new(1.0, 2.0), Vec2::new(4.0, -1.0));
+        let r = PlaneMotion::reflection(p, q);
+        assert!((r.apply(p) - p).norm() < 1e-12);
+        assert!((r.apply(q) - q).norm() < 1e-12);
+        assert!(r.flips());
+        let twice = r.after(&r);
+        let z = Vec2::new(-3.0, 7.5);
+        assert!((twice.apply(z) - z).norm() < 1e-12);
+        assert!(!twice.flips());
+        // A point off the line lands at the same distance on the other side.
+        let m = r.apply(z);
+        let u = (q - p).normalize();
+        let side = |w: Vec2| u.perp(&(w - p));
+        assert!((side(m) + side(z)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn only_odd_multiples_of_pi_fold_flat() {
+        assert_eq!(folds_flat(PI), Some(true));
+        assert_eq!(folds_flat(-PI), Some(true));
+        assert_eq!(folds_flat(3.0 * PI), Some(true));
+        assert_eq!(folds_flat(0.0), Some(false));
+        assert_eq!(folds_flat(2.0 * PI), Some(false));
+        assert_eq!(folds_flat(PI / 2.0), None);
+    }
+}
