@@ -13,3 +13,4 @@ pub mod output;
 pub mod pipeline;
 pub mod plotter;
 pub mod solver;
+pub mod studio;

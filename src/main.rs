@@ -10,9 +10,9 @@ mod cli;
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 use clap::{Parser, Subcommand};
-use cli::{design_failure, out, parse_drag, progress_bar, GenerateArgs};
+use cli::{design_failure, out, parse_drag, progress_bar, DragArg, GenerateArgs};
 use crease::pipeline::{run_design, DesignJob};
-use crease::solver::{Mode, Move, Script, Stage};
+use crease::solver::{Mode, Script, Stage};
 use crease::{constraints::ConstraintSet, fab, generate, io};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -36,6 +36,10 @@ enum Command {
     Info {
         /// Pattern file (.fold, .cp, .svg, .obj).
         file: PathBuf,
+        /// Also list every vertex: id, 3D and crease-pattern position, creases, boundary
+        /// or interior (the ids `--drag` and `--fix` take).
+        #[arg(long)]
+        vertices: bool,
     },
     /// Check a design against the origami conditions (exit 1 if one fails).
     Verify {
@@ -73,9 +77,10 @@ enum Command {
     Deform {
         /// Pattern file (may be omitted when the script names its base).
         file: Option<PathBuf>,
-        /// Drag a vertex to a point: V=X,Y,Z (mm). Repeat for several vertices.
+        /// Drag a vertex to a point, V=X,Y,Z (mm), or by an offset, V=+DX,+DY,+DZ (a `+`
+        /// on any component makes the move relative). Repeat for several vertices.
         #[arg(long, value_parser = parse_drag)]
-        drag: Vec<Move>,
+        drag: Vec<DragArg>,
         /// Vertices held still (default: the face nearest the middle).
         #[arg(long, num_args = 1..)]
         fix: Vec<usize>,
@@ -139,6 +144,10 @@ enum Command {
     Plot(cli::plot::PlotArgs),
     /// Run an emulated HP-GL plotter on a pseudo-terminal until Ctrl-C.
     Emulate(cli::plot::EmulateArgs),
+    /// Design by hand: a local web app where you drag the 3D form with the mouse and see
+    /// the crease pattern and the flat-folded state beside it (paper §5). Serves on
+    /// 127.0.0.1 only; Ctrl-C stops it.
+    Studio(cli::studio::StudioArgs),
     /// Convert between pattern formats, chosen by extension (.fold, .cp, .svg, .obj).
     Convert {
         /// Input file.
@@ -179,7 +188,7 @@ fn run(cli: Cli) -> Result<u8, String> {
             );
             Ok(0)
         }
-        Command::Info { file } => {
+        Command::Info { file, vertices } => {
             let imported = io::read_with_notes(&file).map_err(|e| e.to_string())?;
             for note in &imported.notes {
                 eprintln!("note: {note}");
@@ -189,6 +198,9 @@ fn run(cli: Cli) -> Result<u8, String> {
                 file.display(),
                 imported.mesh.info()
             ));
+            if vertices {
+                out(&format!("\n{}", imported.mesh.vertex_table()));
+            }
             Ok(0)
         }
         Command::Verify {
@@ -278,7 +290,11 @@ fn run(cli: Cli) -> Result<u8, String> {
                 None => DesignJob::new(mesh.ok_or("give a pattern file or a --script")?),
             };
             if !drag.is_empty() {
-                job.stages.push(Stage { steps, moves: drag });
+                let moves = drag
+                    .iter()
+                    .map(|d| d.resolve(&job.mesh))
+                    .collect::<Result<_, _>>()?;
+                job.stages.push(Stage { steps, moves });
             }
             if job.stages.is_empty() && job.fold.is_none() {
                 return Err(
@@ -387,6 +403,7 @@ fn run(cli: Cli) -> Result<u8, String> {
             Ok(0)
         }
         Command::Plot(args) => cli::plot::plot(args),
+        Command::Studio(args) => cli::studio::studio(args),
         Command::Emulate(args) => cli::plot::emulate(args),
         Command::Convert { input, output } => {
             let imported = io::read_with_notes(&input).map_err(|e| e.to_string())?;

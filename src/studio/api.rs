@@ -1,0 +1,278 @@
+//! The studio's HTTP API, as a pure function from a request to a response so tests can
+//! call it without a socket (axum's `fn app()` habit). Every route is documented in the
+//! README; bad requests get a 4xx and a one-line message, and the session keeps its design.
+
+use super::assets;
+use super::hub::Hub;
+use super::session::{Command, FabRequest, GenerateRequest, Reply, Settings, MAX_UPLOAD};
+use crate::constraints::Family;
+use crate::generate::{Params, PatternKind};
+use serde::de::DeserializeOwned;
+use serde::Deserialize;
+use serde_json::json;
+use std::path::PathBuf;
+use std::time::Duration;
+
+/// A request as the server read it.
+pub struct Request<'a> {
+    /// GET, POST, …
+    pub method: &'a str,
+    /// Path without the query.
+    pub path: &'a str,
+    /// The query string, without `?`.
+    pub query: &'a str,
+    /// The body.
+    pub body: Vec<u8>,
+}
+
+/// A response to send.
+#[derive(Debug)]
+pub struct Response {
+    /// HTTP status.
+    pub status: u16,
+    /// Content type.
+    pub content_type: &'static str,
+    /// Body.
+    pub body: Vec<u8>,
+    /// A file name to offer as a download.
+    pub download: Option<String>,
+}
+
+impl Response {
+    fn json(status: u16, value: &serde_json::Value) -> Response {
+        Response {
+            status,
+            content_type: "application/json",
+            body: value.to_string().into_bytes(),
+            download: None,
+        }
+    }
+
+    fn error(status: u16, message: &str) -> Response {
+        Response::json(status, &json!({"error": message}))
+    }
+}
+
+/// How long a long-poll for the next frame waits before answering with the current one.
+pub const LONG_POLL: Duration = Duration::from_secs(10);
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DragBody {
+    vertex: usize,
+    target: [f64; 3],
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PinBody {
+    vertex: usize,
+    pinned: bool,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FoldBody {
+    amount: f64,
+}
+
+fn parse<T: DeserializeOwned>(path: &str, body: &[u8]) -> Result<T, Response> {
+    serde_json::from_slice(body).map_err(|e| {
+        Response::error(
+            400,
+            &format!("{path}: the request body is not what this route takes: {e}"),
+        )
+    })
+}
+
+fn query_value<'a>(query: &'a str, key: &str) -> Option<&'a str> {
+    query
+        .split('&')
+        .filter_map(|kv| kv.split_once('='))
+        .find(|(k, _)| *k == key)
+        .map(|(_, v)| v)
+}
+
+fn query_number(query: &str, key: &str) -> Result<Option<u64>, Response> {
+    query_value(query, key)
+        .map(|v| {
+            v.parse().map_err(|_| {
+                Response::error(400, &format!("query {key}={v} is not a whole number"))
+            })
+        })
+        .transpose()
+}
+
+/// Undoes `%XX` escapes and `+` of a query value (a file name).
+fn percent_decode(text: &str) -> String {
+    let bytes = text.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        match bytes[i] {
+            b'%' if i + 2 < bytes.len() => {
+                let hex = |b: u8| (b as char).to_digit(16);
+                match (hex(bytes[i + 1]), hex(bytes[i + 2])) {
+                    (Some(h), Some(l)) => {
+                        out.push((h * 16 + l) as u8);
+                        i += 3;
+                        continue;
+                    }
+                    _ => out.push(b'%'),
+                }
+            }
+            b'+' => out.push(b' '),
+            b => out.push(b),
+        }
+        i += 1;
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+/// Static facts the page needs once: condition families, patterns with defaults, machines.
+fn meta() -> serde_json::Value {
+    let patterns: Vec<serde_json::Value> = PatternKind::ALL
+        .iter()
+        .map(|&k| {
+            let d = Params::defaults(k);
+            json!({"name": k.name(), "nx": d.nx, "ny": d.ny, "size": d.size,
+                   "angle": d.angle_deg, "fold": d.fold, "closedForm": k.has_closed_form_3d()})
+        })
+        .collect();
+    json!({
+        "families": Family::ALL.iter().map(|f| f.name()).collect::<Vec<_>>(),
+        "patterns": patterns,
+        "machines": crate::plotter::machine::known_machines(),
+        "formats": ["fold", "cp", "svg", "obj"],
+    })
+}
+
+/// Answers one request.
+pub fn handle(hub: &Hub, assets_dir: Option<&PathBuf>, request: Request) -> Response {
+    let Request {
+        method,
+        path,
+        query,
+        body,
+    } = request;
+    if !path.starts_with("/api/") {
+        if method != "GET" && method != "HEAD" {
+            return Response::error(405, &format!("{method} {path}: pages are read with GET"));
+        }
+        return match assets::lookup(path, assets_dir) {
+            Some((content_type, bytes)) => Response {
+                status: 200,
+                content_type,
+                body: bytes,
+                download: None,
+            },
+            None => Response::error(404, &format!("no page at {path}")),
+        };
+    }
+    let route = &path[4..];
+    let command = match (method, route) {
+        ("GET", "/frame") => {
+            let numbers = (|| {
+                Ok::<_, Response>((
+                    query_number(query, "after")?.unwrap_or(0),
+                    query_number(query, "topology")?,
+                    query_number(query, "pattern")?,
+                ))
+            })();
+            return match numbers {
+                Ok((after, topology, pattern)) => {
+                    let frame = hub.frame_after(after, LONG_POLL);
+                    Response {
+                        status: 200,
+                        content_type: "application/json",
+                        body: frame.to_json_for(topology, pattern).into_bytes(),
+                        download: None,
+                    }
+                }
+                Err(r) => r,
+            };
+        }
+        ("GET", "/meta") => return Response::json(200, &meta()),
+        ("GET", "/state") => Command::State,
+        ("GET", "/design.fold") => Command::SaveFold,
+        ("GET", r) if r.starts_with("/fab/") => Command::FabFile(r["/fab/".len()..].to_string()),
+        ("POST", "/drag") => match parse::<DragBody>(path, &body) {
+            Ok(b) => Command::Drag {
+                vertex: b.vertex,
+                target: b.target,
+            },
+            Err(r) => return r,
+        },
+        ("POST", "/release") => Command::Release,
+        ("POST", "/pin") => match parse::<PinBody>(path, &body) {
+            Ok(b) => Command::Pin {
+                vertex: b.vertex,
+                pinned: b.pinned,
+            },
+            Err(r) => return r,
+        },
+        ("POST", "/undo") => Command::Undo,
+        ("POST", "/redo") => Command::Redo,
+        ("POST", "/settings") => match parse::<Settings>(path, &body) {
+            Ok(s) => Command::Settings(s),
+            Err(r) => return r,
+        },
+        ("POST", "/fold") => match parse::<FoldBody>(path, &body) {
+            Ok(b) => Command::Fold { amount: b.amount },
+            Err(r) => return r,
+        },
+        ("POST", "/generate") => match parse::<GenerateRequest>(path, &body) {
+            Ok(g) => Command::Generate(g),
+            Err(r) => return r,
+        },
+        ("POST", "/fabricate") => match parse::<FabRequest>(path, &body) {
+            Ok(f) => Command::Fabricate(f),
+            Err(r) => return r,
+        },
+        ("POST", "/open") => {
+            let Some(name) = query_value(query, "name").map(percent_decode) else {
+                return Response::error(
+                    400,
+                    "/api/open needs ?name=FILE (its extension picks the format)",
+                );
+            };
+            if body.len() > MAX_UPLOAD {
+                return Response::error(
+                    413,
+                    &format!("{name}: larger than {} MiB", MAX_UPLOAD >> 20),
+                );
+            }
+            Command::Open { name, bytes: body }
+        }
+        (_, r) => {
+            return Response::error(
+                404,
+                &format!("no route {method} /api{r} (see the README's studio API)"),
+            )
+        }
+    };
+    match hub.ask(command) {
+        Ok(Reply::Json(v)) => Response::json(200, &v),
+        Ok(Reply::File { name, bytes }) => Response {
+            status: 200,
+            content_type: assets::content_type(&name),
+            body: bytes,
+            download: Some(name),
+        },
+        Err(refusal) => Response::error(refusal.status, &refusal.message),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn query_values_are_found_and_decoded() {
+        assert_eq!(query_value("after=3&topology=1", "topology"), Some("1"));
+        assert_eq!(query_value("after=3", "pattern"), None);
+        assert_eq!(percent_decode("my%20design+v2.fold"), "my design v2.fold");
+        assert_eq!(percent_decode("bad%zzname%"), "bad%zzname%");
+        assert_eq!(percent_decode("%é%"), "%é%");
+    }
+}

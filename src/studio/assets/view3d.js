@@ -1,0 +1,201 @@
+// The 3D form: shaded faces, creases coloured by kind, pins and the worst element marked.
+// Pressing on a vertex drags it in the plane that faces the camera through it; elsewhere
+// the mouse orbits (left), pans (right) and zooms (wheel).
+
+import * as THREE from 'three';
+import { OrbitControls } from '/vendor/three/OrbitControls.js';
+
+export const KIND_COLOURS = { M: 0xd62728, V: 0x1f5fd6, F: 0xc8c8c8, B: 0x111111 };
+const PICK_PX = 14;
+
+export class View3D {
+  constructor(host, handlers) {
+    this.host = host;
+    this.handlers = handlers;
+    this.scene = new THREE.Scene();
+    this.scene.background = new THREE.Color(0xfbfaf7);
+    this.camera = new THREE.PerspectiveCamera(35, 1, 0.1, 1e6);
+    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    this.renderer.setPixelRatio(window.devicePixelRatio || 1);
+    host.appendChild(this.renderer.domElement);
+    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x8a8070, 1.6));
+    const sun = new THREE.DirectionalLight(0xffffff, 1.4);
+    sun.position.set(1, 2, 3);
+    this.scene.add(sun);
+
+    this.faces = new THREE.Mesh(new THREE.BufferGeometry(), new THREE.MeshLambertMaterial({
+      color: 0xf1e7d0, side: THREE.DoubleSide, flatShading: true,
+      polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1,
+    }));
+    this.creases = new THREE.LineSegments(new THREE.BufferGeometry(),
+      new THREE.LineBasicMaterial({ vertexColors: true }));
+    this.pins = this.markers(0xff8c00, 11);
+    this.anchor = this.markers(0x9a9a9a, 6);
+    this.worst = this.markers(0xe0119d, 14);
+    this.hover = this.markers(0x111111, 12);
+    this.scene.add(this.faces, this.creases, this.pins, this.anchor, this.worst, this.hover);
+
+    this.positions = new Float32Array(0);
+    this.dragging = null;
+    this.framed = false;
+    // Registered before OrbitControls so a press on a vertex can switch orbiting off
+    // before the controls see it.
+    const el = this.renderer.domElement;
+    el.addEventListener('pointerdown', (e) => this.down(e));
+    el.addEventListener('pointermove', (e) => this.moveEvent(e));
+    el.addEventListener('pointerup', (e) => this.up(e));
+    el.addEventListener('pointercancel', (e) => this.up(e));
+    this.controls = new OrbitControls(this.camera, el);
+    this.controls.addEventListener('change', () => this.render());
+    new ResizeObserver(() => this.resize()).observe(host);
+    this.resize();
+  }
+
+  markers(colour, size) {
+    const m = new THREE.Points(new THREE.BufferGeometry(), new THREE.PointsMaterial({
+      color: colour, size, sizeAttenuation: false, depthTest: false,
+    }));
+    m.renderOrder = 2;
+    return m;
+  }
+
+  resize() {
+    const w = this.host.clientWidth, h = this.host.clientHeight;
+    if (!w || !h) return;
+    this.renderer.setSize(w, h);
+    this.camera.aspect = w / h;
+    this.camera.updateProjectionMatrix();
+    this.render();
+  }
+
+  render() { this.renderer.render(this.scene, this.camera); }
+
+  /** Rebuilds what changed from the model the server sent. */
+  update(model, topologyChanged) {
+    const live = model.live, topo = model.topology;
+    if (!live || !topo) return;
+    this.positions = Float32Array.from(live.positions);
+    const g = this.faces.geometry;
+    if (topologyChanged) {
+      g.setIndex(topo.faces);
+      const colours = new Float32Array(topo.edges.length * 6);
+      topo.edges.forEach(([, , kind], i) => {
+        const c = new THREE.Color(KIND_COLOURS[kind] ?? KIND_COLOURS.F);
+        colours.set([c.r, c.g, c.b, c.r, c.g, c.b], i * 6);
+      });
+      this.creases.geometry.setAttribute('color', new THREE.BufferAttribute(colours, 3));
+    }
+    g.setAttribute('position', new THREE.BufferAttribute(this.positions, 3));
+    g.computeVertexNormals();
+    g.computeBoundingSphere();
+    const line = new Float32Array(topo.edges.length * 6);
+    topo.edges.forEach(([a, b], i) => {
+      line.set(this.positions.subarray(3 * a, 3 * a + 3), i * 6);
+      line.set(this.positions.subarray(3 * b, 3 * b + 3), i * 6 + 3);
+    });
+    this.creases.geometry.setAttribute('position', new THREE.BufferAttribute(line, 3));
+    this.creases.geometry.computeBoundingSphere();
+    this.setMarkers(this.pins, live.pinned);
+    this.setMarkers(this.anchor, live.anchor.filter((v) => !live.pinned.includes(v)));
+    let worst = [];
+    if (live.worst && !live.worst.pass) {
+      const el = live.worst.element;
+      worst = el.vertex !== undefined ? [el.vertex] : (topo.edges[el.edge] || []).slice(0, 2);
+    }
+    this.setMarkers(this.worst, worst);
+    if (topologyChanged || !this.framed) this.frame();
+    this.render();
+  }
+
+  setMarkers(points, vertices) {
+    const p = new Float32Array(vertices.length * 3);
+    vertices.forEach((v, i) => p.set(this.positions.subarray(3 * v, 3 * v + 3), i * 3));
+    points.geometry.setAttribute('position', new THREE.BufferAttribute(p, 3));
+    points.geometry.computeBoundingSphere();
+  }
+
+  /** Points the camera at the whole design, seen from above and in front. */
+  frame() {
+    const s = this.faces.geometry.boundingSphere;
+    if (!s) return;
+    const d = s.radius / Math.sin((this.camera.fov * Math.PI) / 360) * 1.05;
+    this.controls.target.copy(s.center);
+    this.camera.position.copy(s.center).add(new THREE.Vector3(0.15, -0.75, 0.65).normalize().multiplyScalar(d));
+    this.camera.near = d / 100;
+    this.camera.far = d * 100;
+    this.camera.updateProjectionMatrix();
+    this.controls.update();
+    this.framed = true;
+  }
+
+  vertex(v) {
+    return new THREE.Vector3(this.positions[3 * v], this.positions[3 * v + 1], this.positions[3 * v + 2]);
+  }
+
+  /** Client coordinates of vertex v. */
+  screenOf(v) {
+    const rect = this.renderer.domElement.getBoundingClientRect();
+    const p = this.vertex(v).project(this.camera);
+    return { x: rect.left + (p.x + 1) / 2 * rect.width, y: rect.top + (1 - p.y) / 2 * rect.height };
+  }
+
+  /** The vertex nearest the pointer within PICK_PX, the nearer to the camera on a tie. */
+  pick(e) {
+    const rect = this.renderer.domElement.getBoundingClientRect();
+    const n = this.positions.length / 3;
+    let best = null, bestScore = Infinity;
+    const p = new THREE.Vector3();
+    for (let v = 0; v < n; v++) {
+      p.set(this.positions[3 * v], this.positions[3 * v + 1], this.positions[3 * v + 2]).project(this.camera);
+      const x = rect.left + (p.x + 1) / 2 * rect.width, y = rect.top + (1 - p.y) / 2 * rect.height;
+      const d = Math.hypot(x - e.clientX, y - e.clientY);
+      if (d > PICK_PX) continue;
+      const score = d + p.z * 1e-3;
+      if (score < bestScore) { best = v; bestScore = score; }
+    }
+    return best;
+  }
+
+  down(e) {
+    if (e.button !== 0) return;
+    const v = this.pick(e);
+    if (v === null) return;
+    this.controls.enabled = false;
+    if (e.shiftKey) { this.handlers.onPin(v); return; }
+    const normal = new THREE.Vector3();
+    this.camera.getWorldDirection(normal);
+    this.dragging = { vertex: v, plane: new THREE.Plane().setFromNormalAndCoplanarPoint(normal, this.vertex(v)) };
+    this.renderer.domElement.setPointerCapture(e.pointerId);
+    this.handlers.onDragStart(v);
+  }
+
+  pointerOnPlane(e, plane) {
+    const rect = this.renderer.domElement.getBoundingClientRect();
+    const ndc = new THREE.Vector2((e.clientX - rect.left) / rect.width * 2 - 1, -(e.clientY - rect.top) / rect.height * 2 + 1);
+    const ray = new THREE.Raycaster();
+    ray.setFromCamera(ndc, this.camera);
+    return ray.ray.intersectPlane(plane, new THREE.Vector3());
+  }
+
+  moveEvent(e) {
+    if (this.dragging) {
+      const p = this.pointerOnPlane(e, this.dragging.plane);
+      if (p) this.handlers.onDragMove(this.dragging.vertex, [p.x, p.y, p.z]);
+      return;
+    }
+    if (e.buttons) return;
+    const v = this.pick(e);
+    this.renderer.domElement.style.cursor = v === null ? 'default' : 'grab';
+    this.setMarkers(this.hover, v === null ? [] : [v]);
+    this.render();
+  }
+
+  up(e) {
+    if (this.dragging) {
+      this.renderer.domElement.releasePointerCapture?.(e.pointerId);
+      this.dragging = null;
+      this.handlers.onDragEnd();
+    }
+    this.controls.enabled = true;
+  }
+}

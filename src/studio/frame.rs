@@ -1,0 +1,260 @@
+//! What the page draws, as JSON in three parts that change at different rates: the
+//! topology (faces and creases: on load, remesh, undo), the pattern (crease pattern and
+//! x-ray: while design mode changes lengths, a few times a second), and the live part
+//! (positions and numbers: every solver step). A long-poll sends only the parts the page
+//! does not have yet.
+
+use crate::constraints::{Element, Family};
+use crate::fab::{flat_folded, LineKind, Report};
+use crate::mesh::{Mesh, Vec2, Vec3};
+use crate::solver::Mode;
+use serde_json::{json, Value};
+use std::collections::{BTreeSet, VecDeque};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// Version counters of the session's parts.
+#[derive(Clone, Debug, Default)]
+pub struct Versions {
+    /// Every published frame.
+    pub frame: u64,
+    /// Faces and creases.
+    pub topology: u64,
+    /// Crease pattern and x-ray.
+    pub pattern: u64,
+    /// Positions.
+    pub positions: u64,
+    /// The positions version the pattern was last built from.
+    pub pattern_built: u64,
+}
+
+impl Versions {
+    /// The next frame number.
+    pub fn next_frame(&mut self) -> u64 {
+        self.frame += 1;
+        self.frame
+    }
+}
+
+/// A published frame.
+#[derive(Clone, Debug)]
+pub struct Frame {
+    /// Increases with every publication.
+    pub version: u64,
+    /// Version of `topology`.
+    pub topology_version: u64,
+    /// Version of `pattern`.
+    pub pattern_version: u64,
+    /// `{"faces": [...], "edges": [[a, b, kind], ...]}`.
+    pub topology: Arc<String>,
+    /// `{"creasePattern": [...], "xray": {...} | {"reason": ...}}`.
+    pub pattern: Arc<String>,
+    /// Positions and numbers.
+    pub live: String,
+    /// Solver steps per second shown in `live`.
+    pub steps_per_second: f64,
+}
+
+impl Frame {
+    /// The JSON a page gets, leaving out the parts whose versions it already has.
+    pub fn to_json_for(&self, topology: Option<u64>, pattern: Option<u64>) -> String {
+        let mut out = format!(
+            "{{\"version\":{},\"topologyVersion\":{},\"patternVersion\":{},\"live\":{}",
+            self.version, self.topology_version, self.pattern_version, self.live
+        );
+        if topology != Some(self.topology_version) {
+            out.push_str(",\"topology\":");
+            out.push_str(&self.topology);
+        }
+        if pattern != Some(self.pattern_version) {
+            out.push_str(",\"pattern\":");
+            out.push_str(&self.pattern);
+        }
+        out.push('}');
+        out
+    }
+}
+
+/// Solver steps per second over the last second.
+#[derive(Default)]
+pub struct Meter {
+    ticks: VecDeque<Instant>,
+}
+
+impl Meter {
+    /// Counts a step.
+    pub fn tick(&mut self) {
+        let now = Instant::now();
+        self.ticks.push_back(now);
+        while self
+            .ticks
+            .front()
+            .is_some_and(|t| now.duration_since(*t) > Duration::from_secs(1))
+        {
+            self.ticks.pop_front();
+        }
+    }
+
+    /// Steps in the last second (0 when idle for a second).
+    pub fn rate(&self) -> f64 {
+        match self.ticks.back() {
+            Some(t) if t.elapsed() <= Duration::from_secs(1) => self.ticks.len() as f64,
+            _ => 0.0,
+        }
+    }
+}
+
+/// A crease's kind as the page colours it.
+fn kind_name(kind: LineKind) -> &'static str {
+    match kind {
+        LineKind::Mountain => "M",
+        LineKind::Valley => "V",
+        LineKind::Cut => "B",
+        _ => "F",
+    }
+}
+
+/// Faces and creases.
+pub fn topology_json(mesh: &Mesh) -> String {
+    let faces: Vec<usize> = mesh.faces().iter().flatten().copied().collect();
+    let edges: Vec<Value> = mesh
+        .edges()
+        .iter()
+        .map(|e| {
+            json!([
+                e.vertices[0],
+                e.vertices[1],
+                kind_name(LineKind::of_edge(e))
+            ])
+        })
+        .collect();
+    json!({"vertices": mesh.vertex_count(), "faces": faces, "edges": edges, "title": mesh.title})
+        .to_string()
+}
+
+/// Rounds to 1 µm: the page needs no more, and the numbers print shorter.
+fn micro(x: f64) -> f64 {
+    (x * 1e3).round() / 1e3
+}
+
+fn flat2(points: impl Iterator<Item = Vec2>) -> Vec<f64> {
+    points.flat_map(|p| [micro(p.x), micro(p.y)]).collect()
+}
+
+/// The crease pattern and the flat-folded x-ray (or why there is none).
+pub fn pattern_json(mesh: &Mesh, pattern: Option<&[Vec2]>) -> String {
+    let cp = pattern.map(|p| flat2(p.iter().copied()));
+    let xray = match pattern {
+        None => json!({"reason": "the design cannot be unfolded into a crease pattern"}),
+        Some(p) => match flat_folded(mesh, Some(p)) {
+            Ok(f) => json!({
+                "triangles": flat2(f.triangles.iter().flatten().copied()),
+                "flipped": f.motions.iter().map(|m| m.flips()).collect::<Vec<_>>(),
+                "mismatch": f.mismatch,
+                "worstVertex": f.worst_vertex,
+            }),
+            Err(e) => json!({"reason": e.to_string()}),
+        },
+    };
+    json!({"creasePattern": cp, "xray": xray}).to_string()
+}
+
+/// The parts of the live frame.
+pub struct Live<'a> {
+    /// Positions.
+    pub positions: &'a [Vec3],
+    /// Pinned vertices.
+    pub pinned: &'a BTreeSet<usize>,
+    /// Vertices held by the solver.
+    pub anchor: &'a [usize],
+    /// Mode.
+    pub mode: Mode,
+    /// The latest verification.
+    pub report: Option<&'a Report>,
+    /// The dragged vertex.
+    pub dragging: Option<usize>,
+    /// Status line.
+    pub message: &'a str,
+    /// Why the last step was blocked.
+    pub blocked: Option<&'a str>,
+    /// Solver steps per second.
+    pub steps_per_second: f64,
+    /// Undo depth.
+    pub undo: usize,
+    /// Redo depth.
+    pub redo: usize,
+    /// Conditions in force.
+    pub conditions: &'a [Family],
+    /// Whether the user chose the conditions.
+    pub custom_conditions: bool,
+    /// α.
+    pub alpha: f64,
+    /// Remesh threshold.
+    pub remesh: Option<f64>,
+    /// Design title.
+    pub title: &'a str,
+}
+
+/// The element to highlight: a vertex, or an edge (an index into the topology's edges).
+fn element_json(element: Element) -> Value {
+    match element {
+        Element::Vertex(v) | Element::Sector(v, _, _) => json!({"vertex": v}),
+        Element::Edge(e) => json!({"edge": e}),
+    }
+}
+
+/// Positions and numbers.
+pub fn live_json(l: &Live) -> String {
+    let positions: Vec<f64> = l
+        .positions
+        .iter()
+        .flat_map(|p| [micro(p.x), micro(p.y), micro(p.z)])
+        .collect();
+    let (residuals, pass, worst) = match l.report {
+        Some(r) => {
+            let families: Vec<Value> = r
+                .families
+                .iter()
+                .map(|f| {
+                    json!({"name": f.name, "max": f.max, "tolerance": f.tolerance,
+                           "pass": f.pass(), "judged": f.gating, "worst": f.worst})
+                })
+                .collect();
+            let worst = r
+                .families
+                .iter()
+                .filter(|f| f.gating && f.max > 0.0)
+                .max_by(|a, b| (a.max / a.tolerance).total_cmp(&(b.max / b.tolerance)))
+                .and_then(|f| {
+                    f.worst_element.map(|e| {
+                        json!({"family": f.name, "element": element_json(e),
+                               "max": f.max, "pass": f.pass()})
+                    })
+                });
+            (Value::Array(families), Value::Bool(r.pass()), worst)
+        }
+        None => (Value::Array(vec![]), Value::Null, None),
+    };
+    json!({
+        "positions": positions,
+        "pinned": l.pinned,
+        "anchor": l.anchor,
+        "mode": super::session::mode_name(l.mode),
+        "residuals": residuals,
+        "pass": pass,
+        "worst": worst,
+        "dragging": l.dragging,
+        "message": l.message,
+        "blocked": l.blocked,
+        "stepsPerSecond": l.steps_per_second,
+        "vertices": l.positions.len(),
+        "undo": l.undo,
+        "redo": l.redo,
+        "conditions": l.conditions.iter().map(|f| f.name()).collect::<Vec<_>>(),
+        "customConditions": l.custom_conditions,
+        "alpha": l.alpha,
+        "remesh": l.remesh,
+        "title": l.title,
+    })
+    .to_string()
+}

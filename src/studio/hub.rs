@@ -1,0 +1,152 @@
+//! One thread owns the session; request handlers only forward (bevy_remote's habit).
+//! Handlers post a [`Command`] with a reply channel to the mailbox; the session thread
+//! answers each in turn, publishes a [`Frame`] after every change and, while a drag can
+//! go on, takes solver steps between messages. Long-polls wait on the published frame and
+//! never touch the mesh.
+
+use super::frame::Frame;
+use super::session::{Command, Refusal, Reply, Session};
+use crate::mesh::Mesh;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{self, RecvTimeoutError, Sender, TryRecvError};
+use std::sync::{Arc, Condvar, Mutex};
+use std::thread::JoinHandle;
+use std::time::Duration;
+
+type Answer = Result<Reply, Refusal>;
+
+struct Envelope {
+    command: Command,
+    reply: Sender<Answer>,
+}
+
+/// The shared side of the session thread.
+pub struct Hub {
+    mailbox: Mutex<Sender<Envelope>>,
+    published: Mutex<Arc<Frame>>,
+    changed: Condvar,
+    stop: AtomicBool,
+    thread: Mutex<Option<JoinHandle<()>>>,
+}
+
+/// How long a request may wait for the session (a fold or fabrication of a large design
+/// takes seconds; longer means something is wrong).
+const ANSWER_WITHIN: Duration = Duration::from_secs(120);
+
+impl Hub {
+    /// Starts the session thread around a design.
+    pub fn start(mesh: Mesh, title: &str) -> Arc<Hub> {
+        let mut session = Session::new(mesh, title);
+        let first = Arc::new(session.frame(None));
+        let (tx, rx) = mpsc::channel::<Envelope>();
+        let hub = Arc::new(Hub {
+            mailbox: Mutex::new(tx),
+            published: Mutex::new(first),
+            changed: Condvar::new(),
+            stop: AtomicBool::new(false),
+            thread: Mutex::new(None),
+        });
+        let shared = Arc::clone(&hub);
+        let handle = std::thread::Builder::new()
+            .name("studio-session".into())
+            .spawn(move || shared.run(session, rx))
+            .expect("the session thread starts");
+        *hub.thread.lock().expect("hub lock") = Some(handle);
+        hub
+    }
+
+    fn run(&self, mut session: Session, rx: mpsc::Receiver<Envelope>) {
+        while !self.stop.load(Ordering::Relaxed) {
+            let next = if session.wants_to_step() {
+                match rx.try_recv() {
+                    Ok(e) => Some(e),
+                    Err(TryRecvError::Empty) => None,
+                    Err(TryRecvError::Disconnected) => return,
+                }
+            } else {
+                match rx.recv_timeout(Duration::from_millis(250)) {
+                    Ok(e) => Some(e),
+                    Err(RecvTimeoutError::Timeout) => {
+                        // The step meter decays to 0 at rest; let the page see it.
+                        if session.steps_per_second() != self.latest_rate() {
+                            self.publish(&mut session);
+                        }
+                        continue;
+                    }
+                    Err(RecvTimeoutError::Disconnected) => return,
+                }
+            };
+            match next {
+                Some(envelope) => {
+                    let answer = session.handle(envelope.command);
+                    self.publish(&mut session);
+                    // The asker may have gone (a closed tab): nothing to do then.
+                    let _ = envelope.reply.send(answer);
+                }
+                None => {
+                    session.step();
+                    self.publish(&mut session);
+                }
+            }
+        }
+    }
+
+    fn publish(&self, session: &mut Session) {
+        let previous = self.latest();
+        let frame = Arc::new(session.frame(Some(&previous)));
+        *self.published.lock().expect("hub lock") = frame;
+        self.changed.notify_all();
+    }
+
+    fn latest_rate(&self) -> f64 {
+        self.latest().steps_per_second
+    }
+
+    /// The newest frame.
+    pub fn latest(&self) -> Arc<Frame> {
+        self.published.lock().expect("hub lock").clone()
+    }
+
+    /// Waits up to `timeout` for a frame newer than `after`, then returns the newest.
+    pub fn frame_after(&self, after: u64, timeout: Duration) -> Arc<Frame> {
+        let guard = self.published.lock().expect("hub lock");
+        let (guard, _) = self
+            .changed
+            .wait_timeout_while(guard, timeout, |f| {
+                f.version <= after && !self.stop.load(Ordering::Relaxed)
+            })
+            .expect("hub lock");
+        guard.clone()
+    }
+
+    /// Sends a command to the session and waits for its answer.
+    pub fn ask(&self, command: Command) -> Answer {
+        let (tx, rx) = mpsc::channel();
+        let sent = self
+            .mailbox
+            .lock()
+            .expect("hub lock")
+            .send(Envelope { command, reply: tx });
+        if sent.is_err() {
+            return Err(Refusal {
+                status: 503,
+                message: "the studio is shutting down".into(),
+            });
+        }
+        rx.recv_timeout(ANSWER_WITHIN).unwrap_or_else(|_| {
+            Err(Refusal {
+                status: 503,
+                message: "the session did not answer in time".into(),
+            })
+        })
+    }
+
+    /// Stops the session thread and wakes every waiting long-poll.
+    pub fn stop(&self) {
+        self.stop.store(true, Ordering::Relaxed);
+        self.changed.notify_all();
+        if let Some(t) = self.thread.lock().expect("hub lock").take() {
+            let _ = t.join();
+        }
+    }
+}

@@ -1,0 +1,496 @@
+//! The studio without a browser: its API called in process (the router as a function), and
+//! the real binary over HTTP (address line, port taken, dropped sockets, two clients,
+//! Ctrl-C). The page itself is driven in a real browser by `studio_browser.rs`.
+
+#[path = "common/studio.rs"]
+mod studio_process;
+
+use crease::generate::{generate, Params, PatternKind};
+use crease::mesh::Mesh;
+use crease::studio::api::{handle, Request, Response};
+use crease::studio::Hub;
+use serde_json::{json, Value};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+use studio_process::{http, StudioProcess};
+
+fn miura() -> Mesh {
+    generate(&Params::defaults(PatternKind::Miura)).unwrap()
+}
+
+fn call(hub: &Hub, method: &str, path: &str, body: &[u8]) -> Response {
+    let (path, query) = path.split_once('?').unwrap_or((path, ""));
+    handle(
+        hub,
+        None,
+        Request {
+            method,
+            path,
+            query,
+            body: body.to_vec(),
+        },
+    )
+}
+
+fn json_call(hub: &Hub, method: &str, path: &str, body: Value) -> (u16, Value) {
+    let r = call(hub, method, path, body.to_string().as_bytes());
+    let v = serde_json::from_slice(&r.body).expect("JSON reply");
+    (r.status, v)
+}
+
+fn state(hub: &Hub) -> Value {
+    let (status, s) = json_call(hub, "GET", "/api/state", json!(null));
+    assert_eq!(status, 200);
+    s
+}
+
+fn position(s: &Value, v: usize) -> [f64; 3] {
+    let p = &s["positions"][v];
+    [0, 1, 2].map(|k| p[k].as_f64().unwrap())
+}
+
+fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>().sqrt()
+}
+
+/// Drags `vertex` to `target` and waits until the solver has gone as far as it can.
+fn drag_to(hub: &Hub, vertex: usize, target: [f64; 3]) {
+    let (status, r) = json_call(
+        hub,
+        "POST",
+        "/api/drag",
+        json!({"vertex": vertex, "target": target}),
+    );
+    assert_eq!(status, 200, "{r}");
+    let start = Instant::now();
+    while state(hub)["settled"] != true {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "the drag settles"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let (status, _) = json_call(hub, "POST", "/api/release", json!({}));
+    assert_eq!(status, 200);
+}
+
+fn fresh_hub() -> Arc<Hub> {
+    Hub::start(miura(), "miura")
+}
+
+#[test]
+fn dragging_moves_the_vertex_keeps_every_condition_and_saves_a_file_that_verifies() {
+    let hub = fresh_hub();
+    let before = state(&hub);
+    assert_eq!(before["vertices"], 81);
+    assert_eq!(before["mode"], "design");
+    assert_eq!(before["pass"], true);
+    let start = position(&before, 40);
+    let target = [start[0], start[1], start[2] + 15.0];
+    drag_to(&hub, 40, target);
+    let after = state(&hub);
+    // The default anchor lies away from the dragged vertex, so it follows the pointer.
+    assert!(
+        distance(position(&after, 40), target) < 1.5,
+        "vertex 40 is {:.2} mm from the pointer",
+        distance(position(&after, 40), target)
+    );
+    assert_eq!(after["pass"], true, "{}", after["residuals"]);
+    for (family, max) in after["residuals"].as_object().unwrap() {
+        assert!(max.as_f64().unwrap() < 1e-6, "{family}: {max}");
+    }
+    let anchor: Vec<u64> = serde_json::from_value(after["anchor"].clone()).unwrap();
+    assert!(!anchor.is_empty() && !anchor.contains(&40));
+
+    let saved = call(&hub, "GET", "/api/design.fold", b"");
+    assert_eq!(saved.status, 200);
+    assert_eq!(saved.download.as_deref(), Some("miura.fold"));
+    let dir = std::env::temp_dir().join(format!("crease-studio-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("dragged.fold");
+    std::fs::write(&file, &saved.body).unwrap();
+    let mesh = crease::io::read(&file).unwrap();
+    let report = crease::fab::verify(&mesh, None, Default::default());
+    assert!(report.pass(), "{report}");
+    // The saved 3D form is the one on screen, and its crease pattern was laid out anew
+    // (design mode changes lengths): isometric to the 3D form.
+    assert!(distance(mesh.positions()[40].into(), position(&after, 40)) < 1e-6);
+    let flat = mesh.flat().unwrap();
+    for e in mesh.edges() {
+        let [a, b] = e.vertices;
+        let l3 = (mesh.positions()[a] - mesh.positions()[b]).norm();
+        let l2 = (flat[a] - flat[b]).norm();
+        assert!((l3 - l2).abs() < 1e-6 * l3, "edge {a}-{b}: {l3} vs {l2}");
+    }
+    hub.stop();
+}
+
+#[test]
+fn pinned_vertices_hold_still_and_refuse_to_be_dragged() {
+    let hub = fresh_hub();
+    let (status, _) = json_call(
+        &hub,
+        "POST",
+        "/api/pin",
+        json!({"vertex": 0, "pinned": true}),
+    );
+    assert_eq!(status, 200);
+    let s = state(&hub);
+    assert_eq!(s["pinned"], json!([0]));
+    let held = position(&s, 0);
+    let (status, r) = json_call(
+        &hub,
+        "POST",
+        "/api/drag",
+        json!({"vertex": 0, "target": [0.0, 0.0, 10.0]}),
+    );
+    assert_eq!(status, 409);
+    assert!(r["error"].as_str().unwrap().contains("pinned"), "{r}");
+    let p = position(&s, 8);
+    drag_to(&hub, 8, [p[0], p[1], p[2] + 12.0]);
+    let s = state(&hub);
+    assert_eq!(position(&s, 0), held, "a pinned vertex does not move");
+    assert!(
+        distance(position(&s, 8), p) > 3.0,
+        "the dragged corner moved"
+    );
+    let anchor: Vec<u64> = serde_json::from_value(s["anchor"].clone()).unwrap();
+    assert!(anchor.contains(&0));
+    // Unpinning.
+    let (status, _) = json_call(
+        &hub,
+        "POST",
+        "/api/pin",
+        json!({"vertex": 0, "pinned": false}),
+    );
+    assert_eq!(status, 200);
+    assert_eq!(state(&hub)["pinned"], json!([]));
+    hub.stop();
+}
+
+#[test]
+fn undo_and_redo_restore_positions_pins_and_mode_exactly() {
+    let hub = fresh_hub();
+    let original = state(&hub);
+    let p = position(&original, 40);
+    drag_to(&hub, 40, [p[0] + 5.0, p[1], p[2] + 10.0]);
+    let dragged = state(&hub);
+    assert_ne!(dragged["positions"], original["positions"]);
+    assert_eq!(dragged["undo"], 1);
+    json_call(&hub, "POST", "/api/settings", json!({"mode": "simulation"}));
+    assert_eq!(state(&hub)["mode"], "simulation");
+    let (status, _) = json_call(&hub, "POST", "/api/undo", json!({}));
+    assert_eq!(status, 200);
+    assert_eq!(
+        state(&hub)["mode"],
+        "design",
+        "undo reverts the mode switch"
+    );
+    let (status, _) = json_call(&hub, "POST", "/api/undo", json!({}));
+    assert_eq!(status, 200);
+    let undone = state(&hub);
+    assert_eq!(undone["positions"], original["positions"]);
+    assert_eq!(undone["redo"], 2);
+    let (status, r) = json_call(&hub, "POST", "/api/undo", json!({}));
+    assert_eq!(status, 409, "nothing left to undo: {r}");
+    json_call(&hub, "POST", "/api/redo", json!({}));
+    assert_eq!(state(&hub)["positions"], dragged["positions"]);
+    hub.stop();
+}
+
+#[test]
+fn simulation_mode_keeps_every_edge_length_while_dragging() {
+    let hub = fresh_hub();
+    let (status, _) = json_call(&hub, "POST", "/api/settings", json!({"mode": "simulation"}));
+    assert_eq!(status, 200);
+    let s0 = state(&hub);
+    assert_eq!(s0["mode"], "simulation");
+    let conditions: Vec<String> = serde_json::from_value(s0["conditions"].clone()).unwrap();
+    assert!(conditions.contains(&"edge-length".to_string()));
+    let mesh = miura();
+    let p = position(&s0, 0);
+    drag_to(&hub, 0, [p[0] - 4.0, p[1], p[2] + 8.0]);
+    let s1 = state(&hub);
+    assert_eq!(s1["pass"], true);
+    assert!(distance(position(&s1, 0), p) > 1.0, "the corner moved");
+    for e in mesh.edges() {
+        let [a, b] = e.vertices;
+        let before = distance(position(&s0, a), position(&s0, b));
+        let after = distance(position(&s1, a), position(&s1, b));
+        assert!((before - after).abs() < 1e-6 * before, "edge {a}-{b}");
+    }
+    // The fold slider needs simulation mode; in design mode it is refused.
+    let (status, r) = json_call(&hub, "POST", "/api/fold", json!({"amount": 0.3}));
+    assert_eq!(status, 200, "{r}");
+    json_call(&hub, "POST", "/api/settings", json!({"mode": "design"}));
+    let (status, r) = json_call(&hub, "POST", "/api/fold", json!({"amount": 0.3}));
+    assert_eq!(status, 409, "{r}");
+    hub.stop();
+}
+
+#[test]
+fn bad_requests_get_a_4xx_and_the_design_stays() {
+    let hub = fresh_hub();
+    let before = state(&hub);
+    let r = call(
+        &hub,
+        "POST",
+        "/api/open?name=broken.fold",
+        b"{\"vertices_coords\": [[0,0]",
+    );
+    assert_eq!(r.status, 400);
+    let message: Value = serde_json::from_slice(&r.body).unwrap();
+    let text = message["error"].as_str().unwrap();
+    assert!(
+        text.contains("broken.fold") && !text.contains('\n'),
+        "{text}"
+    );
+    let r = call(&hub, "POST", "/api/open?name=notes.txt", b"hello");
+    assert_eq!(r.status, 400);
+    let r = call(&hub, "POST", "/api/open", b"{}");
+    assert_eq!(r.status, 400);
+    for (path, body, status) in [
+        (
+            "/api/drag",
+            json!({"vertex": 9999, "target": [0, 0, 0]}),
+            404,
+        ),
+        ("/api/drag", json!({"vertex": 1}), 400),
+        (
+            "/api/drag",
+            json!({"vertex": 1, "target": [0, 0, 1e9]}),
+            400,
+        ),
+        ("/api/pin", json!({"vertex": -1, "pinned": true}), 400),
+        ("/api/settings", json!({"mode": "dream"}), 400),
+        ("/api/settings", json!({"conditions": ["gravity"]}), 400),
+        ("/api/settings", json!({"alpha": 2.0}), 400),
+        ("/api/settings", json!({"remesh": 1.5}), 400),
+        ("/api/generate", json!({"pattern": "crane"}), 400),
+        (
+            "/api/generate",
+            json!({"pattern": "miura", "nx": 100000}),
+            400,
+        ),
+        ("/api/fold", json!({"amount": 3}), 400),
+        ("/api/fabricate", json!({"machine": "no-such-cutter"}), 400),
+        ("/api/nothing", json!({}), 404),
+    ] {
+        let (got, r) = json_call(&hub, "POST", path, body.clone());
+        assert_eq!(got, status, "{path} {body}: {r}");
+        assert!(r["error"].is_string(), "{path}: a message");
+    }
+    let after = state(&hub);
+    assert_eq!(after["positions"], before["positions"]);
+    assert_eq!(after["title"], before["title"]);
+    assert_eq!(after["undo"], 0, "refused requests leave no history");
+    hub.stop();
+}
+
+#[test]
+fn opening_and_generating_replace_the_design_and_can_be_undone() {
+    let hub = fresh_hub();
+    let text = std::fs::read(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/patterns/waterbomb.fold"
+    ))
+    .unwrap();
+    let r = call(&hub, "POST", "/api/open?name=my%20waterbomb.fold", &text);
+    assert_eq!(r.status, 200);
+    let s = state(&hub);
+    assert_eq!(s["title"], "my-waterbomb");
+    let expected = crease::io::read(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/patterns/waterbomb.fold"
+    )))
+    .unwrap();
+    assert_eq!(s["vertices"], expected.vertex_count());
+    let (status, _) = json_call(
+        &hub,
+        "POST",
+        "/api/generate",
+        json!({"pattern": "yoshimura", "nx": 4, "ny": 3}),
+    );
+    assert_eq!(status, 200);
+    let s = state(&hub);
+    let mut p = Params::defaults(PatternKind::Yoshimura);
+    p.nx = 4;
+    p.ny = 3;
+    assert_eq!(s["vertices"], generate(&p).unwrap().vertex_count());
+    json_call(&hub, "POST", "/api/undo", json!({}));
+    assert_eq!(state(&hub)["vertices"], expected.vertex_count());
+    hub.stop();
+}
+
+#[test]
+fn fabricate_writes_every_file_fab_writes_and_serves_them() {
+    let hub = fresh_hub();
+    let r = call(&hub, "GET", "/api/fab/sheet.svg", b"");
+    assert_eq!(r.status, 404, "nothing fabricated yet");
+    let (status, r) = json_call(
+        &hub,
+        "POST",
+        "/api/fabricate",
+        json!({"machine": "generic-hpgl", "media": "a4"}),
+    );
+    assert_eq!(status, 200, "{r}");
+    let files: Vec<String> = serde_json::from_value(r["files"].clone()).unwrap();
+    // The same set `crease fab` writes for the same design and machine.
+    let mesh = miura();
+    let machine = crease::plotter::Machine::load("generic-hpgl").unwrap();
+    let options = crease::pipeline::FabOptions {
+        media: Some(crease::fab::Media::parse("a4").unwrap()),
+        ..Default::default()
+    };
+    let cli = crease::pipeline::fabricate(&mesh, &machine, &options).unwrap();
+    let names: Vec<String> = cli.files.iter().map(|(n, _)| n.clone()).collect();
+    assert_eq!(files, names);
+    for (name, bytes) in &cli.files {
+        let got = call(&hub, "GET", &format!("/api/fab/{name}"), b"");
+        assert_eq!(got.status, 200, "{name}");
+        assert_eq!(got.download.as_deref(), Some(name.as_str()));
+        // The toolpath files are byte for byte what `fab` writes for the same design.
+        if name == "sheet.hpgl" || name == "sheet.svg" {
+            assert!(got.body == *bytes, "{name} differs from what fab writes");
+        } else {
+            assert!(!got.body.is_empty(), "{name} is empty");
+        }
+    }
+    assert!(r["report"]["sheet"]["strokes"].as_u64().unwrap() > 100);
+    hub.stop();
+}
+
+#[test]
+fn frames_send_only_the_parts_a_page_lacks_and_show_the_flat_folded_state() {
+    let hub = fresh_hub();
+    let r = call(&hub, "GET", "/api/frame?after=0", b"");
+    let first: Value = serde_json::from_slice(&r.body).unwrap();
+    let topo = first["topology"].clone();
+    assert_eq!(topo["faces"].as_array().unwrap().len(), 3 * 128);
+    let xray = &first["pattern"]["xray"];
+    assert!(
+        xray["mismatch"].as_f64().unwrap() < 1e-6,
+        "Miura-ori folds flat"
+    );
+    assert_eq!(xray["triangles"].as_array().unwrap().len(), 128 * 6);
+    // A page that has both parts gets only the live part.
+    let path = format!(
+        "/api/frame?after=0&topology={}&pattern={}",
+        first["topologyVersion"], first["patternVersion"]
+    );
+    let again: Value = serde_json::from_slice(&call(&hub, "GET", &path, b"").body).unwrap();
+    assert!(again.get("topology").is_none() && again.get("pattern").is_none());
+    assert_eq!(again["live"]["vertices"], 81);
+    // Resch's pattern targets partial folds: the x-ray pane says why there is none.
+    json_call(&hub, "POST", "/api/generate", json!({"pattern": "resch"}));
+    let r: Value =
+        serde_json::from_slice(&call(&hub, "GET", "/api/frame?after=0", b"").body).unwrap();
+    let reason = r["pattern"]["xray"]["reason"].as_str().unwrap();
+    assert!(reason.contains("does not fold flat"), "{reason}");
+    hub.stop();
+}
+
+#[test]
+fn the_binary_serves_the_page_and_the_api_on_loopback() {
+    let studio = StudioProcess::start(&[]);
+    assert!(studio.url.starts_with("http://127.0.0.1:"));
+    let (status, page) = studio.request("GET", "/", b"");
+    assert_eq!(status, 200);
+    assert!(String::from_utf8_lossy(&page).contains("crease studio"));
+    let (status, s) = studio.json("GET", "/api/state", "");
+    assert_eq!(status, 200);
+    assert_eq!(s["vertices"], 81, "without a file: the generated Miura-ori");
+    let (status, meta) = studio.json("GET", "/api/meta", "");
+    assert_eq!(status, 200);
+    assert_eq!(meta["patterns"].as_array().unwrap().len(), 6);
+    assert!(meta["machines"]
+        .as_array()
+        .unwrap()
+        .contains(&json!("generic-hpgl")));
+}
+
+#[test]
+fn a_taken_port_is_a_clear_error() {
+    let studio = StudioProcess::start(&[]);
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_crease"))
+        .args(["studio", "--no-open", "--port", &studio.port.to_string()])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains(&studio.port.to_string()) && err.contains("--port"),
+        "{err}"
+    );
+    assert!(out.stdout.is_empty());
+}
+
+#[test]
+fn dropped_sockets_and_closed_tabs_never_stop_the_server_and_two_clients_share_a_design() {
+    use std::io::Write;
+    let studio = StudioProcess::start(&["patterns/miura.fold"]);
+    // A client that sends half a request and goes away.
+    {
+        let mut s = std::net::TcpStream::connect(("127.0.0.1", studio.port)).unwrap();
+        s.write_all(b"POST /api/drag HTTP/1.1\r\nContent-Length: 500\r\n\r\n{\"ver")
+            .unwrap();
+    }
+    // A tab that long-polls and is closed mid-wait.
+    {
+        let mut s = std::net::TcpStream::connect(("127.0.0.1", studio.port)).unwrap();
+        s.write_all(b"GET /api/frame?after=999999 HTTP/1.1\r\nHost: x\r\n\r\n")
+            .unwrap();
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    let (status, s1) = studio.json("GET", "/api/state", "");
+    assert_eq!(status, 200);
+    let p = position(&s1, 40);
+    let (status, _) = studio.json(
+        "POST",
+        "/api/drag",
+        &json!({"vertex": 40, "target": [p[0], p[1], p[2] + 6.0]}).to_string(),
+    );
+    assert_eq!(status, 200);
+    let start = Instant::now();
+    while studio.json("GET", "/api/state", "").1["settled"] != true {
+        assert!(start.elapsed() < Duration::from_secs(30));
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    studio.json("POST", "/api/release", "{}");
+    // A second client (another tab) sees the same design.
+    let (_, a) = studio.json("GET", "/api/state", "");
+    let (_, b) = http(studio.port, "GET", "/api/state", b"");
+    let b: Value = serde_json::from_slice(&b).unwrap();
+    assert_eq!(a["positions"], b["positions"]);
+    assert!(distance(position(&a, 40), p) > 3.0);
+}
+
+#[test]
+fn ctrl_c_stops_the_studio_cleanly() {
+    let mut studio = StudioProcess::start(&[]);
+    let status = std::process::Command::new("kill")
+        .args(["-INT", &studio.child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let start = Instant::now();
+    let code = loop {
+        if let Some(s) = studio.child.try_wait().unwrap() {
+            break s.code();
+        }
+        assert!(start.elapsed() < Duration::from_secs(20), "it stops");
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    assert_eq!(code, Some(0));
+    let mut err = String::new();
+    use std::io::Read;
+    studio
+        .child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    assert!(err.contains("stopped"), "{err}");
+}

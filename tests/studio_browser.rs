@@ -1,0 +1,280 @@
+//! The studio in a real headless browser (Debian's chromium, driven by chromedriver over
+//! WebDriver) with real pointer events: the page loads a bundled pattern, a vertex is
+//! pressed, dragged 40 px and released, and the server's state and saved FOLD are checked.
+//! A Shift-click pins a vertex. Screenshots go to `out/`.
+//!
+//! It needs `chromium` and `chromium-driver`; `bash tests/run` (the README's test command)
+//! installs them. Without them this test fails and says so.
+
+#[path = "common/studio.rs"]
+mod studio_process;
+
+use fantoccini::actions::{
+    InputSource, KeyAction, KeyActions, MouseActions, PointerAction, MOUSE_BUTTON_LEFT,
+};
+use fantoccini::key::Key;
+use fantoccini::{Client, ClientBuilder};
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+use studio_process::{http, StudioProcess};
+
+fn which(program: &str) -> Option<PathBuf> {
+    std::env::var_os("PATH")?
+        .to_str()?
+        .split(':')
+        .map(|d| Path::new(d).join(program))
+        .find(|p| p.is_file())
+}
+
+/// chromedriver on a free port, killed on drop.
+struct Driver {
+    child: Child,
+    url: String,
+}
+
+impl Driver {
+    fn start() -> Driver {
+        let exe = which("chromedriver").unwrap_or_else(|| {
+            panic!("chromedriver not found: run `bash tests/run` (it installs chromium and chromium-driver)")
+        });
+        let port = std::net::TcpListener::bind("127.0.0.1:0")
+            .unwrap()
+            .local_addr()
+            .unwrap()
+            .port();
+        let child = Command::new(exe)
+            .arg(format!("--port={port}"))
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("chromedriver starts");
+        let start = Instant::now();
+        while std::net::TcpStream::connect(("127.0.0.1", port)).is_err() {
+            assert!(
+                start.elapsed() < Duration::from_secs(20),
+                "chromedriver listens"
+            );
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        Driver {
+            child,
+            url: format!("http://127.0.0.1:{port}"),
+        }
+    }
+}
+
+impl Drop for Driver {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+async fn browser(driver: &Driver, profile: &Path) -> Client {
+    let chromium = which("chromium").unwrap_or_else(|| {
+        panic!(
+            "chromium not found: run `bash tests/run` (it installs chromium and chromium-driver)"
+        )
+    });
+    let caps = json!({
+        "browserName": "chrome",
+        "goog:chromeOptions": {
+            "binary": chromium,
+            "args": [
+                "--headless=new", "--no-sandbox", "--disable-dev-shm-usage",
+                // WebGL without a GPU.
+                "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+                // This machine has no network beyond loopback.
+                "--disable-background-networking", "--disable-component-update",
+                "--disable-sync", "--no-first-run",
+                "--window-size=1400,860",
+                format!("--user-data-dir={}", profile.display()),
+            ]
+        }
+    });
+    let Value::Object(caps) = caps else {
+        unreachable!()
+    };
+    ClientBuilder::new(hyper_util::client::legacy::connect::HttpConnector::new())
+        .capabilities(caps)
+        .connect(&driver.url)
+        .await
+        .expect("a browser session")
+}
+
+async fn eval(client: &Client, script: &str, args: Vec<Value>) -> Value {
+    client
+        .execute(script, args)
+        .await
+        .unwrap_or_else(|e| panic!("{script}: {e}"))
+}
+
+/// The server's state as the page sees it (`window.crease.state()`).
+async fn page_state(client: &Client) -> Value {
+    eval(client, "return window.crease.state();", vec![]).await
+}
+
+async fn wait_until(client: &Client, what: &str, script: &str) {
+    let start = Instant::now();
+    while eval(client, script, vec![]).await != Value::Bool(true) {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "waiting for {what}"
+        );
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+}
+
+async fn screen_of(client: &Client, v: usize) -> (f64, f64) {
+    let at = eval(
+        client,
+        "return window.crease.screenOf(arguments[0]);",
+        vec![json!(v)],
+    )
+    .await;
+    (at["x"].as_f64().unwrap(), at["y"].as_f64().unwrap())
+}
+
+fn position(s: &Value, v: usize) -> [f64; 3] {
+    [0, 1, 2].map(|k| s["positions"][v][k].as_f64().unwrap())
+}
+
+fn out_dir() -> PathBuf {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("out");
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[tokio::test(flavor = "current_thread")]
+async fn dragging_a_vertex_with_the_mouse_moves_it_and_every_condition_still_holds() {
+    let driver = Driver::start();
+    let studio = StudioProcess::start(&["patterns/miura.fold"]);
+    let profile = std::env::temp_dir().join(format!("crease-chromium-{}", std::process::id()));
+    let client = browser(&driver, &profile).await;
+    client.goto(&studio.url).await.expect("the page loads");
+    wait_until(
+        &client,
+        "the first frame",
+        "return !!(window.crease && window.crease.ready);",
+    )
+    .await;
+    // The 3D view draws with WebGL (three.js asked the canvas for a WebGL 2 context).
+    let webgl = eval(
+        &client,
+        "const c = document.querySelector('#view3d canvas'); return c.getContext('webgl2') !== null;",
+        vec![],
+    )
+    .await;
+    assert_eq!(webgl, json!(true), "the 3D view has a WebGL context");
+
+    let before = page_state(&client).await;
+    assert_eq!(before["vertices"], 81);
+    assert_eq!(before["pass"], true);
+    let v = 40; // the middle of the sheet: an interior vertex
+    let (x, y) = screen_of(&client, v).await;
+    let press = MouseActions::new("mouse".into())
+        .then(PointerAction::MoveTo {
+            duration: None,
+            x,
+            y,
+        })
+        .then(PointerAction::Down {
+            button: MOUSE_BUTTON_LEFT,
+        })
+        .then(PointerAction::MoveTo {
+            duration: Some(Duration::from_millis(400)),
+            x,
+            y: y - 40.0,
+        })
+        .then(PointerAction::Pause {
+            duration: Duration::from_millis(300),
+        })
+        .then(PointerAction::Up {
+            button: MOUSE_BUTTON_LEFT,
+        });
+    client
+        .perform_actions(press)
+        .await
+        .expect("pointer actions");
+    wait_until(
+        &client,
+        "the drag to end",
+        "return window.crease.state().then(s => s.dragging === null && s.settled);",
+    )
+    .await;
+    let after = page_state(&client).await;
+    let moved = (0..3)
+        .map(|k| (position(&after, v)[k] - position(&before, v)[k]).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    assert!(moved > 1.0, "vertex {v} moved only {moved:.3} mm");
+    assert_eq!(after["pass"], true, "{}", after["residuals"]);
+    assert!(
+        after["undo"].as_u64().unwrap() >= 1,
+        "the drag can be undone"
+    );
+
+    // The saved design passes `crease verify`.
+    let (status, fold) = http(studio.port, "GET", "/api/design.fold", b"");
+    assert_eq!(status, 200);
+    let file = out_dir().join("studio-dragged.fold");
+    std::fs::write(&file, fold).unwrap();
+    let verify = Command::new(env!("CARGO_BIN_EXE_crease"))
+        .args(["verify", file.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(
+        verify.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&verify.stdout)
+    );
+
+    // Shift-click pins a vertex (a modifier-click with real key and pointer events).
+    let (cx, cy) = screen_of(&client, 0).await;
+    let keys = KeyActions::new("keyboard".into())
+        .then(KeyAction::Down {
+            value: Key::Shift.into(),
+        })
+        .then(KeyAction::Pause {
+            duration: Duration::ZERO,
+        })
+        .then(KeyAction::Pause {
+            duration: Duration::ZERO,
+        })
+        .then(KeyAction::Up {
+            value: Key::Shift.into(),
+        });
+    let click = MouseActions::new("mouse".into())
+        .then(PointerAction::MoveTo {
+            duration: None,
+            x: cx,
+            y: cy,
+        })
+        .then(PointerAction::Down {
+            button: MOUSE_BUTTON_LEFT,
+        })
+        .then(PointerAction::Up {
+            button: MOUSE_BUTTON_LEFT,
+        })
+        .then(PointerAction::Pause {
+            duration: Duration::ZERO,
+        });
+    client
+        .perform_actions(fantoccini::actions::Actions::from(keys).and(click))
+        .await
+        .expect("shift-click");
+    wait_until(
+        &client,
+        "vertex 0 to be pinned",
+        "return window.crease.state().then(s => s.pinned.includes(0));",
+    )
+    .await;
+
+    let png = client.screenshot().await.expect("a screenshot");
+    std::fs::write(out_dir().join("studio.png"), png).unwrap();
+    let _ = client.close().await;
+    let _ = std::fs::remove_dir_all(&profile);
+}
