@@ -24,8 +24,6 @@ pub struct Versions {
     pub pattern: u64,
     /// Positions.
     pub positions: u64,
-    /// The positions version the pattern was last built from.
-    pub pattern_built: u64,
 }
 
 impl Versions {
@@ -147,6 +145,22 @@ pub fn pattern_json(mesh: &Mesh, pattern: Option<&[Vec2]>) -> String {
     let xray = match pattern {
         None => json!({"reason": "the design cannot be unfolded into a crease pattern"}),
         Some(p) => match flat_folded(mesh, Some(p)) {
+            // Where the layers close up every vertex has one image, and the page needs
+            // only those (a sixth of the triangles' numbers); otherwise each face's own.
+            Ok(f) if f.mismatch < 1e-6 => {
+                let mut points = vec![Vec2::zeros(); p.len()];
+                for (face, tri) in mesh.faces().iter().zip(&f.triangles) {
+                    for (&v, &q) in face.iter().zip(tri) {
+                        points[v] = q;
+                    }
+                }
+                json!({
+                    "points": flat2(points.into_iter()),
+                    "flipped": f.motions.iter().map(|m| m.flips()).collect::<Vec<_>>(),
+                    "mismatch": f.mismatch,
+                    "worstVertex": f.worst_vertex,
+                })
+            }
             Ok(f) => json!({
                 "triangles": flat2(f.triangles.iter().flatten().copied()),
                 "flipped": f.motions.iter().map(|m| m.flips()).collect::<Vec<_>>(),
@@ -203,7 +217,31 @@ fn element_json(element: Element) -> Value {
     }
 }
 
-/// Positions and numbers.
+#[derive(serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+struct LiveOut<'a> {
+    positions: Vec<f64>,
+    pinned: &'a BTreeSet<usize>,
+    anchor: &'a [usize],
+    mode: &'static str,
+    residuals: Value,
+    pass: Option<bool>,
+    worst: Option<Value>,
+    dragging: Option<usize>,
+    message: &'a str,
+    blocked: Option<&'a str>,
+    steps_per_second: f64,
+    vertices: usize,
+    undo: usize,
+    redo: usize,
+    conditions: Vec<&'static str>,
+    custom_conditions: bool,
+    alpha: f64,
+    remesh: Option<f64>,
+    title: &'a str,
+}
+
+/// Positions and numbers, serialised directly (no JSON tree of the positions).
 pub fn live_json(l: &Live) -> String {
     let positions: Vec<f64> = l
         .positions
@@ -231,30 +269,30 @@ pub fn live_json(l: &Live) -> String {
                                "max": f.max, "pass": f.pass()})
                     })
                 });
-            (Value::Array(families), Value::Bool(r.pass()), worst)
+            (Value::Array(families), Some(r.pass()), worst)
         }
-        None => (Value::Array(vec![]), Value::Null, None),
+        None => (Value::Array(vec![]), None, None),
     };
-    json!({
-        "positions": positions,
-        "pinned": l.pinned,
-        "anchor": l.anchor,
-        "mode": super::session::mode_name(l.mode),
-        "residuals": residuals,
-        "pass": pass,
-        "worst": worst,
-        "dragging": l.dragging,
-        "message": l.message,
-        "blocked": l.blocked,
-        "stepsPerSecond": l.steps_per_second,
-        "vertices": l.positions.len(),
-        "undo": l.undo,
-        "redo": l.redo,
-        "conditions": l.conditions.iter().map(|f| f.name()).collect::<Vec<_>>(),
-        "customConditions": l.custom_conditions,
-        "alpha": l.alpha,
-        "remesh": l.remesh,
-        "title": l.title,
+    serde_json::to_string(&LiveOut {
+        positions,
+        pinned: l.pinned,
+        anchor: l.anchor,
+        mode: super::session::mode_name(l.mode),
+        residuals,
+        pass,
+        worst,
+        dragging: l.dragging,
+        message: l.message,
+        blocked: l.blocked,
+        steps_per_second: l.steps_per_second,
+        vertices: l.positions.len(),
+        undo: l.undo,
+        redo: l.redo,
+        conditions: l.conditions.iter().map(|f| f.name()).collect(),
+        custom_conditions: l.custom_conditions,
+        alpha: l.alpha,
+        remesh: l.remesh,
+        title: l.title,
     })
-    .to_string()
+    .expect("the live frame serialises")
 }

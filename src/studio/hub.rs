@@ -64,11 +64,11 @@ impl Hub {
                     Err(TryRecvError::Disconnected) => return,
                 }
             } else {
-                match rx.recv_timeout(Duration::from_millis(250)) {
+                match rx.recv_timeout(Duration::from_millis(40)) {
                     Ok(e) => Some(e),
                     Err(RecvTimeoutError::Timeout) => {
-                        // The step meter decays to 0 at rest; let the page see it.
-                        if session.steps_per_second() != self.latest_rate() {
+                        // An analysis may have finished, or the step meter fallen to 0.
+                        if session.idle(self.latest_rate()) {
                             self.publish(&mut session);
                         }
                         continue;
@@ -79,7 +79,9 @@ impl Hub {
             match next {
                 Some(envelope) => {
                     let answer = session.handle(envelope.command);
-                    self.publish(&mut session);
+                    if session.take_unpublished() {
+                        self.publish(&mut session);
+                    }
                     // The asker may have gone (a closed tab): nothing to do then.
                     let _ = envelope.reply.send(answer);
                 }

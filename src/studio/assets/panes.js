@@ -55,7 +55,13 @@ export class XrayPane {
       this.reason.textContent = 'No flat-folded state: ' + xray.reason + '.';
       return;
     }
-    const t = xray.triangles;
+    // Closed layers come as one image per vertex; otherwise as each face's corners.
+    let t = xray.triangles;
+    if (!t) {
+      const faces = model.topology.faces, p = xray.points;
+      t = new Float64Array(faces.length * 2);
+      faces.forEach((v, i) => { t[2 * i] = p[2 * v]; t[2 * i + 1] = p[2 * v + 1]; });
+    }
     const { ctx, at } = fit(this.canvas, t);
     ctx.lineWidth = 0.6;
     for (let f = 0; f < t.length / 6; f++) {

@@ -1,0 +1,200 @@
+//! Dragging (§3, §5): the anchor, the solver built for it, and one Euler step of the
+//! drag toward the pointer.
+
+use super::requests::{Refusal, Reply};
+use super::{ok, Session};
+use crate::mesh::{Mesh, Vec3};
+use crate::solver::{pull, Mode, Options, Solver};
+use std::collections::BTreeSet;
+
+/// Longest pull of one drag step, in mean edge lengths.
+const STEP_CAP: f64 = 0.1;
+
+pub(super) struct DragState {
+    pub(super) vertex: usize,
+    pub(super) target: Vec3,
+    /// The solver cannot go on toward this target (a step failed, or no progress).
+    pub(super) stuck: bool,
+    pub(super) moved: bool,
+}
+
+impl Session {
+    /// The anchor for dragging `vertex`: the pins, plus the face farthest from the dragged
+    /// vertex while fewer than three are pinned (fewer cannot hold the rigid motions).
+    fn anchor_for(&self, vertex: usize) -> Vec<usize> {
+        let mut anchor: BTreeSet<usize> = self.pinned.clone();
+        if anchor.len() < 3 {
+            let avoid: Vec<usize> = std::iter::once(vertex).collect();
+            anchor.extend(Solver::default_fixed(&self.mesh, &avoid));
+        }
+        anchor.remove(&vertex);
+        anchor.into_iter().collect()
+    }
+
+    pub(super) fn ensure_solver(&mut self, vertex: usize) -> Result<(), String> {
+        let anchor = self.anchor_for(vertex);
+        if self.solver.is_some() && anchor == self.anchor {
+            return Ok(());
+        }
+        self.settle();
+        let set = self.condition_set();
+        let mut solver = Solver::new(self.mesh.clone(), set, &anchor, Options::default())
+            .map_err(|e| e.to_string())?;
+        solver.correct().map_err(|e| {
+            format!("the design does not hold the chosen conditions, so it cannot be dragged: {e}")
+        })?;
+        self.anchor = anchor;
+        self.solver = Some(solver);
+        Ok(())
+    }
+
+    pub(super) fn check_vertex(&self, vertex: usize) -> Result<(), Refusal> {
+        let n = self.positions().len();
+        if vertex >= n {
+            return Err(Refusal {
+                status: 404,
+                message: format!("vertex {vertex} does not exist (the design has {n} vertices)"),
+            });
+        }
+        Ok(())
+    }
+
+    pub(super) fn drag(&mut self, vertex: usize, target: [f64; 3]) -> Result<Reply, Refusal> {
+        self.check_vertex(vertex)?;
+        let t = Vec3::new(target[0], target[1], target[2]);
+        if !t.iter().all(|c| c.is_finite()) {
+            return Err(Refusal::bad("the drag target is not a finite point"));
+        }
+        let (lo, hi) = self.mesh.bounding_box();
+        let size = (hi - lo).norm().max(1.0);
+        if (t - self.positions()[vertex]).norm() > 10.0 * size {
+            return Err(Refusal::bad(format!(
+                "the drag target is {:.0} mm away, more than ten times the design's size",
+                (t - self.positions()[vertex]).norm()
+            )));
+        }
+        if self.pinned.contains(&vertex) {
+            return Err(Refusal::conflict(format!(
+                "vertex {vertex} is pinned: Shift-click it to unpin it before dragging"
+            )));
+        }
+        match &mut self.drag {
+            Some(d) if d.vertex == vertex => {
+                d.target = t;
+                d.stuck = false;
+            }
+            _ => {
+                self.release();
+                self.remember();
+                if let Err(m) = self.ensure_solver(vertex) {
+                    self.history.pop();
+                    self.blocked = Some(m.clone());
+                    self.message = m.clone();
+                    return Err(Refusal::failed(m));
+                }
+                self.blocked = None;
+                self.drag = Some(DragState {
+                    vertex,
+                    target: t,
+                    stuck: false,
+                    moved: false,
+                });
+                self.message = format!("dragging vertex {vertex}");
+            }
+        }
+        Ok(ok())
+    }
+
+    pub(super) fn release(&mut self) {
+        if let Some(d) = self.drag.take() {
+            if !d.moved {
+                self.history.pop();
+            }
+            if self.blocked.is_none() {
+                self.message = format!("released vertex {}", d.vertex);
+            }
+            self.versions.positions += 1;
+        }
+    }
+
+    /// One Euler step of the drag (§3, §5): pull the dragged vertex a bounded share of its
+    /// way to the pointer, project into the null space, correct with Newton.
+    pub fn step(&mut self) {
+        let Some(drag) = &self.drag else { return };
+        let (v, target) = (drag.vertex, drag.target);
+        let Some(solver) = self.solver.as_mut() else {
+            return;
+        };
+        let x = solver.positions();
+        let gap = target - x[v];
+        let mean = mean_edge(solver.mesh(), x);
+        if gap.norm() < 1e-3 * mean {
+            self.drag.as_mut().expect("dragging").stuck = true;
+            return;
+        }
+        // A step longer than half an edge leaves Newton's basin; the drag is integrated.
+        let share = if gap.norm() > STEP_CAP * mean {
+            gap * (STEP_CAP * mean / gap.norm())
+        } else {
+            gap
+        };
+        let (lo, hi) = crate::mesh::bounds(x);
+        let radius = 0.25 * (hi - lo).norm();
+        let mut wish = vec![Vec3::zeros(); x.len()];
+        pull(x, v, share, radius, &mut wish);
+        let before = x[v];
+        match solver.step(&wish) {
+            Ok(_) => {
+                let progress = (solver.positions()[v] - before).dot(&share) / share.norm();
+                self.meter.tick();
+                let drag = self.drag.as_mut().expect("dragging");
+                drag.moved = true;
+                self.relaid |= self.mode == Mode::Design;
+                self.versions.positions += 1;
+                if progress < 1e-3 * share.norm() {
+                    drag.stuck = true;
+                    self.message = format!(
+                        "vertex {v} cannot get closer: the conditions hold it (pin elsewhere or switch conditions off)"
+                    );
+                }
+                self.remesh_after_step();
+            }
+            Err(e) => {
+                self.drag.as_mut().expect("dragging").stuck = true;
+                let m = format!("the step was blocked: {e}");
+                self.message = m.clone();
+                self.blocked = Some(m);
+            }
+        }
+    }
+
+    fn remesh_after_step(&mut self) {
+        let (Some(threshold), Some(solver), Some(drag)) =
+            (self.remesh, self.solver.as_mut(), self.drag.as_mut())
+        else {
+            return;
+        };
+        let outcome = solver.remesh(&[drag.vertex], threshold);
+        if let Some(map) = outcome.renumbered {
+            drag.vertex = map[drag.vertex];
+            self.pinned = self.pinned.iter().map(|&p| map[p]).collect();
+            self.anchor = self.anchor.iter().map(|&p| map[p]).collect();
+        }
+        if outcome.collapses + outcome.flips > 0 {
+            self.message = format!(
+                "remeshed: {} edge collapse(s), {} flip(s)",
+                outcome.collapses, outcome.flips
+            );
+            self.forget_pattern();
+            self.in_force = None;
+        }
+    }
+}
+
+fn mean_edge(mesh: &Mesh, x: &[Vec3]) -> f64 {
+    let e = mesh.edges();
+    e.iter()
+        .map(|e| (x[e.vertices[1]] - x[e.vertices[0]]).norm())
+        .sum::<f64>()
+        / e.len().max(1) as f64
+}

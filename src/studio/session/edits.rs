@@ -1,0 +1,242 @@
+//! Requests that replace or reshape the design as a whole: settings, folding, new
+//! patterns, files, saving and fabrication.
+
+use super::requests::{FabRequest, GenerateRequest, Refusal, Reply, Settings};
+use super::{ok, Session};
+use crate::constraints::ConstraintSet;
+use crate::fab;
+use crate::generate::{self, Params, PatternKind};
+use crate::mesh::Mesh;
+use crate::pipeline::{self, FabError, FabOptions};
+use crate::solver::{fold_toward, Mode, Options, Solver};
+use std::path::Path;
+
+/// Largest grid a request may generate (cells per side): 200 × 200 cells is over 40k
+/// vertices, already past interactive speed.
+const MAX_CELLS: usize = 200;
+impl Session {
+    pub(super) fn settings(&mut self, s: Settings) -> Result<Reply, Refusal> {
+        let mode = s
+            .mode
+            .as_deref()
+            .map(Mode::parse)
+            .transpose()
+            .map_err(Refusal::bad)?;
+        let conditions = s
+            .conditions
+            .as_ref()
+            .map(|list| {
+                if list.is_empty() {
+                    return Ok(Vec::new());
+                }
+                ConstraintSet::parse(&list.join(",")).map(|c| c.families)
+            })
+            .transpose()
+            .map_err(Refusal::bad)?;
+        if let Some(a) = s.alpha {
+            if !(0.0..1.0).contains(&a) {
+                return Err(Refusal::bad(format!("alpha must be in [0, 1) (got {a})")));
+            }
+        }
+        if let Some(r) = s.remesh {
+            if !(r > 0.0 && r < 1.0) {
+                return Err(Refusal::bad(format!(
+                    "the remesh threshold must be in (0, 1), a fraction of the mean edge (got {r})"
+                )));
+            }
+        }
+        self.release();
+        self.remember();
+        self.settle();
+        if let Some(m) = mode {
+            self.mode = m;
+        }
+        if let Some(c) = conditions {
+            self.conditions = (!c.is_empty()).then_some(c);
+        }
+        if let Some(a) = s.alpha {
+            pipeline::set_alpha(&mut self.mesh, a).map_err(|e| Refusal::bad(e.to_string()))?;
+            self.alpha = a;
+        }
+        if s.remesh_off == Some(true) {
+            self.remesh = None;
+        } else if let Some(r) = s.remesh {
+            self.remesh = Some(r);
+        }
+        self.blocked = None;
+        self.report = None;
+        self.in_force = None;
+        self.versions.positions += 1;
+        self.message = "settings changed".into();
+        Ok(ok())
+    }
+
+    pub(super) fn fold(&mut self, amount: f64) -> Result<Reply, Refusal> {
+        if !(0.0..=1.0).contains(&amount) {
+            return Err(Refusal::bad(format!(
+                "the fold amount must be in [0, 1] (got {amount})"
+            )));
+        }
+        if self.mode != Mode::Simulation {
+            return Err(Refusal::conflict(
+                "folding keeps every edge length: switch to simulation mode first",
+            ));
+        }
+        self.release();
+        self.settle();
+        let centre = Solver::default_fixed(&self.mesh, &[]);
+        let mut solver = Solver::new(
+            self.mesh.clone(),
+            Mode::folding_set(),
+            &centre,
+            Options::default(),
+        )
+        .map_err(|e| Refusal::failed(e.to_string()))?;
+        let report = fold_toward(&mut solver, amount, 4000, &mut |_| {})
+            .map_err(|e| Refusal::failed(format!("folding failed: {e}")))?;
+        self.remember();
+        self.mesh = solver.into_mesh();
+        pipeline::record_fold_angles(&mut self.mesh);
+        self.design_changed(false);
+        self.message = format!(
+            "folded to {:.0}% of the targets on average",
+            100.0 * report.mean_fraction
+        );
+        Ok(Reply::Json(serde_json::json!({
+            "ok": true, "steps": report.steps, "meanFraction": report.mean_fraction,
+            "error": report.error
+        })))
+    }
+
+    fn replace_design(&mut self, mesh: Mesh, title: String) {
+        self.release();
+        self.remember();
+        self.solver = None;
+        self.mesh = mesh;
+        self.title = title;
+        self.pinned.clear();
+        self.relaid = false;
+        self.blocked = None;
+        self.alpha = self.mesh_alpha();
+        self.design_changed(true);
+    }
+
+    pub(super) fn generate(&mut self, g: GenerateRequest) -> Result<Reply, Refusal> {
+        let kind = PatternKind::from_name(&g.pattern).ok_or_else(|| {
+            let names: Vec<&str> = PatternKind::ALL.iter().map(|k| k.name()).collect();
+            Refusal::bad(format!(
+                "unknown pattern \"{}\" (choose one of: {})",
+                g.pattern,
+                names.join(", ")
+            ))
+        })?;
+        let d = Params::defaults(kind);
+        let p = Params {
+            kind,
+            nx: g.nx.unwrap_or(d.nx),
+            ny: g.ny.unwrap_or(d.ny),
+            size: g.size.unwrap_or(d.size),
+            angle_deg: g.angle.unwrap_or(d.angle_deg),
+            fold: g.fold.or(d.fold),
+            alpha: d.alpha,
+        };
+        if p.nx > MAX_CELLS || p.ny > MAX_CELLS {
+            return Err(Refusal::bad(format!(
+                "at most {MAX_CELLS} cells a side (asked for {} × {})",
+                p.nx, p.ny
+            )));
+        }
+        let mesh = generate::generate(&p).map_err(|e| Refusal::bad(e.to_string()))?;
+        let title = format!("{} {}x{}", kind.name(), p.nx, p.ny);
+        self.replace_design(mesh, title);
+        self.message = format!("generated {}", self.title);
+        Ok(ok())
+    }
+
+    pub(super) fn open(&mut self, name: &str, bytes: Vec<u8>) -> Result<Reply, Refusal> {
+        let path = Path::new(name);
+        let imported =
+            crate::io::read_bytes(path, bytes).map_err(|e| Refusal::bad(e.to_string()))?;
+        let stem = file_stem(name);
+        self.replace_design(imported.mesh, stem);
+        self.message = format!("opened {name}");
+        Ok(Reply::Json(
+            serde_json::json!({"ok": true, "notes": imported.notes}),
+        ))
+    }
+
+    /// The design as `deform` writes it: residual polished to 1e-12, fold angles recorded,
+    /// the crease pattern unfolded anew when design mode changed lengths.
+    pub(super) fn finished(&mut self) -> Result<Mesh, Refusal> {
+        self.release();
+        if let Some(s) = self.solver.as_mut() {
+            s.polish(1e-12);
+        }
+        let mut mesh = self.current();
+        pipeline::finish_design(&mut mesh, self.relaid)
+            .map_err(|e| Refusal::failed(format!("the design cannot be unfolded: {e}")))?;
+        mesh.title.clone_from(&self.title);
+        Ok(mesh)
+    }
+
+    pub(super) fn fabricate(&mut self, r: FabRequest) -> Result<Reply, Refusal> {
+        let machine = crate::plotter::Machine::load(&r.machine)
+            .map_err(|e| Refusal::bad(format!("machine: {e}")))?;
+        let media = r
+            .media
+            .as_deref()
+            .filter(|m| !m.trim().is_empty())
+            .map(fab::Media::parse)
+            .transpose()
+            .map_err(|e| Refusal::bad(format!("media: {e}")))?;
+        if let Some(w) = r.width {
+            if !(w.is_finite() && w > 0.0) {
+                return Err(Refusal::bad(format!(
+                    "width must be a positive length in mm (got {w})"
+                )));
+            }
+        }
+        let mesh = self.finished()?;
+        let options = FabOptions {
+            media,
+            width: r.width,
+            force: r.force.unwrap_or(false),
+            ..FabOptions::default()
+        };
+        match pipeline::fabricate(&mesh, &machine, &options) {
+            Ok(out) => {
+                let names: Vec<&str> = out.files.iter().map(|(n, _)| n.as_str()).collect();
+                let reply = serde_json::json!({"ok": true, "files": names, "report": out.report});
+                self.fab_files = out.files;
+                self.message = format!("fabricated for {}", machine.name);
+                Ok(Reply::Json(reply))
+            }
+            Err(FabError::Input(m)) => Err(Refusal::bad(m)),
+            Err(FabError::Rejected(r)) => Err(Refusal::failed(format!(
+                "{r} (tick \"cut anyway\" to fabricate regardless)"
+            ))),
+        }
+    }
+}
+
+pub(super) fn file_stem(name: &str) -> String {
+    let stem = Path::new(name)
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let clean: String = stem
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '-'
+            }
+        })
+        .collect();
+    if clean.is_empty() {
+        "design".into()
+    } else {
+        clean
+    }
+}

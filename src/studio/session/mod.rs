@@ -1,0 +1,499 @@
+//! The studio's session: the design being varied, its solver, the user's pins and
+//! settings, and the undo history. One thread owns it (see [`super::hub`]); requests
+//! reach it as [`Command`]s and every change is published as a [`Frame`].
+//!
+//! It turns requests into library calls and holds no geometry of its own: dragging is the
+//! solver's null-space step and Newton correction (§3), the crease pattern is
+//! [`crate::fab::unfold`], the x-ray is [`crate::fab::flat_folded`], the verdict is
+//! [`crate::fab::verify`], saving is [`crate::pipeline::finish_design`] as `deform` does.
+
+mod analysis;
+mod drag;
+mod edits;
+mod requests;
+
+pub use requests::{Command, FabRequest, GenerateRequest, Refusal, Reply, Settings};
+
+use super::frame::{self, Frame, Meter};
+use crate::constraints::{ConstraintSet, Family, Reference};
+use crate::fab::Report;
+use crate::generate::{self, Params, PatternKind};
+use crate::mesh::{Mesh, Vec3};
+use crate::solver::{Mode, Solver};
+use analysis::{Analyst, Job, Stamp};
+use drag::DragState;
+use std::collections::BTreeSet;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// Largest file the studio opens.
+pub const MAX_UPLOAD: usize = 64 << 20;
+
+/// Minimum time between crease-pattern rebuilds during a drag (the page redraws two flat
+/// views from them); at rest the pattern is always rebuilt.
+const RELAY_EVERY: Duration = Duration::from_millis(300);
+#[derive(Clone)]
+struct Snapshot {
+    mesh: Mesh,
+    pinned: BTreeSet<usize>,
+    mode: Mode,
+    conditions: Option<Vec<Family>>,
+    alpha: f64,
+    remesh: Option<f64>,
+    relaid: bool,
+}
+
+/// The studio's design session.
+pub struct Session {
+    mesh: Mesh,
+    title: String,
+    pinned: BTreeSet<usize>,
+    mode: Mode,
+    conditions: Option<Vec<Family>>,
+    alpha: f64,
+    remesh: Option<f64>,
+    /// Design mode changed lengths since the pattern was loaded: saving unfolds anew.
+    relaid: bool,
+    solver: Option<Solver>,
+    anchor: Vec<usize>,
+    drag: Option<DragState>,
+    history: Vec<Snapshot>,
+    future: Vec<Snapshot>,
+    message: String,
+    blocked: Option<String>,
+    report: Option<Report>,
+    /// The design the report describes.
+    report_stamp: Option<Stamp>,
+    /// The crease-pattern part of frames, and the design it describes.
+    pattern_json: Arc<String>,
+    pattern_stamp: Option<Stamp>,
+    pattern_at: Option<Instant>,
+    analyst: Analyst,
+    versions: frame::Versions,
+    meter: Meter,
+    fab_files: Vec<(String, Vec<u8>)>,
+    /// The conditions in force, computed once per design and settings (the default set
+    /// needs the design's reference state).
+    in_force: Option<ConstraintSet>,
+    /// A request changed what the page shows since the last frame.
+    unpublished: bool,
+}
+
+impl Session {
+    /// A session around a design.
+    pub fn new(mesh: Mesh, title: &str) -> Session {
+        let mut s = Session {
+            mesh,
+            title: title.to_string(),
+            pinned: BTreeSet::new(),
+            mode: Mode::Design,
+            conditions: None,
+            alpha: 0.0,
+            remesh: None,
+            relaid: false,
+            solver: None,
+            anchor: Vec::new(),
+            drag: None,
+            history: Vec::new(),
+            future: Vec::new(),
+            message: "ready: drag a vertex; Shift-click pins it".into(),
+            blocked: None,
+            report: None,
+            report_stamp: None,
+            pattern_json: Arc::new(String::from("{}")),
+            pattern_stamp: None,
+            pattern_at: None,
+            analyst: Analyst::start(),
+            versions: frame::Versions::default(),
+            meter: Meter::default(),
+            fab_files: Vec::new(),
+            in_force: None,
+            unpublished: false,
+        };
+        s.alpha = s.mesh_alpha();
+        s.design_changed(true);
+        s
+    }
+
+    /// The starting design without a file: the bundled Miura-ori at half fold.
+    pub fn default_design() -> Mesh {
+        generate::generate(&Params::defaults(PatternKind::Miura))
+            .expect("the default Miura-ori parameters are valid")
+    }
+
+    fn mesh_alpha(&self) -> f64 {
+        self.mesh
+            .edges()
+            .iter()
+            .filter(|e| e.target == 0.0)
+            .map(|e| e.alpha)
+            .fold(0.0, f64::max)
+    }
+
+    /// Whether the session has work to do without a request: a drag that can go on.
+    pub fn wants_to_step(&self) -> bool {
+        self.drag.as_ref().is_some_and(|d| !d.stuck)
+    }
+
+    /// The design as it stands (the solver's positions during a drag).
+    pub fn current(&self) -> Mesh {
+        match &self.solver {
+            Some(s) => {
+                let mut m = s.mesh().clone();
+                m.set_positions(s.positions().to_vec());
+                m
+            }
+            None => self.mesh.clone(),
+        }
+    }
+
+    fn positions(&self) -> &[Vec3] {
+        match &self.solver {
+            Some(s) => s.positions(),
+            None => self.mesh.positions(),
+        }
+    }
+
+    /// Moves the solver's state into `mesh` and drops the solver (settings or anchor change).
+    fn settle(&mut self) {
+        if let Some(s) = self.solver.take() {
+            self.mesh = s.into_mesh();
+        }
+    }
+
+    fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            mesh: self.current(),
+            pinned: self.pinned.clone(),
+            mode: self.mode,
+            conditions: self.conditions.clone(),
+            alpha: self.alpha,
+            remesh: self.remesh,
+            relaid: self.relaid,
+        }
+    }
+
+    fn restore(&mut self, s: Snapshot) {
+        self.solver = None;
+        self.drag = None;
+        self.mesh = s.mesh;
+        self.pinned = s.pinned;
+        self.mode = s.mode;
+        self.conditions = s.conditions;
+        self.alpha = s.alpha;
+        self.remesh = s.remesh;
+        self.relaid = s.relaid;
+        self.blocked = None;
+        self.design_changed(true);
+    }
+
+    /// Records the state before a change, for undo.
+    fn remember(&mut self) {
+        let snap = self.snapshot();
+        self.history.push(snap);
+        self.future.clear();
+        // Each snapshot holds a whole mesh; a long session keeps the last hundred.
+        if self.history.len() > 100 {
+            self.history.remove(0);
+        }
+    }
+
+    fn design_changed(&mut self, topology: bool) {
+        self.versions.positions += 1;
+        if topology {
+            self.forget_pattern();
+        }
+        self.in_force = None;
+        self.fab_files.clear();
+    }
+
+    /// The conditions in force: simulation mode's, the user's choice, or what the design's
+    /// own assignment calls for.
+    fn condition_set(&mut self) -> ConstraintSet {
+        if self.in_force.is_none() {
+            self.in_force = Some(match (self.mode, &self.conditions) {
+                (Mode::Simulation, _) => Mode::simulation_set(),
+                (Mode::Design, Some(f)) if !f.is_empty() => ConstraintSet {
+                    families: f.clone(),
+                },
+                (Mode::Design, _) => ConstraintSet::default_for(&Reference::new(&self.mesh)),
+            });
+        }
+        self.in_force.clone().expect("just computed")
+    }
+
+    /// Handles one request; the caller publishes [`Session::frame`] afterwards.
+    pub fn handle(&mut self, command: Command) -> Result<Reply, Refusal> {
+        self.unpublished |= !self.is_quiet(&command);
+        match command {
+            Command::State => Ok(Reply::Json(self.state_json())),
+            Command::Drag { vertex, target } => self.drag(vertex, target),
+            Command::Release => {
+                self.release();
+                Ok(ok())
+            }
+            Command::Pin { vertex, pinned } => self.pin(vertex, pinned),
+            Command::Undo => self.undo(true),
+            Command::Redo => self.undo(false),
+            Command::Settings(s) => self.settings(s),
+            Command::Fold { amount } => self.fold(amount),
+            Command::Generate(g) => self.generate(g),
+            Command::Open { name, bytes } => self.open(&name, bytes),
+            Command::SaveFold => {
+                let mesh = self.finished()?;
+                Ok(Reply::File {
+                    name: format!("{}.fold", edits::file_stem(&self.title)),
+                    bytes: crate::io::fold::to_string(&mesh).into_bytes(),
+                })
+            }
+            Command::Fabricate(r) => self.fabricate(r),
+            Command::FabFile(name) => self
+                .fab_files
+                .iter()
+                .find(|(n, _)| *n == name)
+                .map(|(n, b)| Reply::File {
+                    name: n.clone(),
+                    bytes: b.clone(),
+                })
+                .ok_or_else(|| Refusal {
+                    status: 404,
+                    message: format!(
+                        "no fabricated file \"{name}\": press Fabricate first (files: {})",
+                        self.fab_files
+                            .iter()
+                            .map(|(n, _)| n.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                }),
+        }
+    }
+
+    /// Requests that change nothing on screen: reads, and a new pointer position for the
+    /// drag under way (the next solver step shows it). At 10k vertices a frame costs
+    /// milliseconds, and a mouse sends sixty positions a second.
+    fn is_quiet(&self, command: &Command) -> bool {
+        match command {
+            Command::State | Command::FabFile(_) => true,
+            Command::Drag { vertex, .. } => self.drag.as_ref().is_some_and(|d| d.vertex == *vertex),
+            _ => false,
+        }
+    }
+
+    /// Whether something changed since the last frame was built; clears the flag.
+    pub fn take_unpublished(&mut self) -> bool {
+        std::mem::take(&mut self.unpublished)
+    }
+
+    fn pin(&mut self, vertex: usize, pinned: bool) -> Result<Reply, Refusal> {
+        self.check_vertex(vertex)?;
+        if self.drag.as_ref().is_some_and(|d| d.vertex == vertex) {
+            return Err(Refusal::conflict(format!(
+                "vertex {vertex} is being dragged; release it first"
+            )));
+        }
+        if self.pinned.contains(&vertex) != pinned {
+            self.remember();
+            if pinned {
+                self.pinned.insert(vertex);
+            } else {
+                self.pinned.remove(&vertex);
+            }
+            self.versions.positions += 1;
+        }
+        self.message = format!(
+            "vertex {vertex} {}",
+            if pinned { "pinned" } else { "unpinned" }
+        );
+        Ok(ok())
+    }
+
+    fn undo(&mut self, back: bool) -> Result<Reply, Refusal> {
+        self.release();
+        let (from, word) = if back {
+            (&mut self.history, "undo")
+        } else {
+            (&mut self.future, "redo")
+        };
+        let Some(s) = from.pop() else {
+            return Err(Refusal::conflict(format!("nothing to {word}")));
+        };
+        let now = self.snapshot();
+        if back {
+            self.future.push(now);
+        } else {
+            self.history.push(now);
+        }
+        self.restore(s);
+        self.message = format!("{word}: done");
+        Ok(ok())
+    }
+
+    /// A new topology: the old crease pattern's indices no longer fit, so frames carry
+    /// none until the analyst has laid out the new one.
+    fn forget_pattern(&mut self) {
+        self.versions.topology += 1;
+        self.versions.pattern += 1;
+        self.pattern_json = Arc::new(String::from("{}"));
+        self.pattern_stamp = None;
+    }
+
+    fn stamp(&self) -> Stamp {
+        Stamp {
+            positions: self.versions.positions,
+            topology: self.versions.topology,
+        }
+    }
+
+    fn job(&mut self, with_pattern: bool) -> Job {
+        Job {
+            mesh: self.current(),
+            set: self.condition_set(),
+            relaid: self.relaid,
+            with_pattern,
+            stamp: self.stamp(),
+        }
+    }
+
+    fn accept(&mut self, a: analysis::Analysis) -> bool {
+        if a.stamp.topology != self.versions.topology {
+            return false;
+        }
+        self.report = Some(a.report);
+        self.report_stamp = Some(a.stamp);
+        if let Some(json) = a.pattern_json {
+            self.pattern_stamp = Some(a.stamp);
+            self.pattern_at = Some(Instant::now());
+            if *self.pattern_json != json {
+                self.pattern_json = Arc::new(json);
+                self.versions.pattern += 1;
+            }
+        }
+        true
+    }
+
+    /// Takes in a finished analysis and starts the next one if the design has moved on.
+    /// Returns whether anything new arrived.
+    pub fn analyse(&mut self) -> bool {
+        let arrived = match self.analyst.collect() {
+            Some(a) => self.accept(a),
+            None => false,
+        };
+        let now = self.stamp();
+        if !self.analyst.busy() && self.report_stamp != Some(now) {
+            let pattern_due = self
+                .pattern_stamp
+                .is_none_or(|s| s.topology != now.topology)
+                || (self.pattern_stamp != Some(now)
+                    && (!self.wants_to_step()
+                        || self.pattern_at.is_none_or(|t| t.elapsed() >= RELAY_EVERY)));
+            let job = self.job(pattern_due);
+            self.analyst.send(job);
+        }
+        arrived
+    }
+
+    /// Work for an idle session: a finished analysis, or a step meter that fell to 0.
+    pub fn idle(&mut self, shown_rate: f64) -> bool {
+        let arrived = self.analyse();
+        arrived || self.meter.rate() != shown_rate
+    }
+
+    /// The report of the design as it is now, computed here if the analyst has not.
+    fn fresh_report(&mut self) -> &Report {
+        if self.report_stamp != Some(self.stamp()) {
+            let job = self.job(false);
+            let a = analysis::analyse(job);
+            self.report = Some(a.report);
+            self.report_stamp = Some(a.stamp);
+        }
+        self.report.as_ref().expect("just computed")
+    }
+
+    /// The frame the page draws, rebuilt from what changed.
+    pub fn frame(&mut self, previous: Option<&Frame>) -> Frame {
+        let conditions = self.condition_set();
+        self.analyse();
+        let mesh_for_parts = previous
+            .is_none_or(|p| p.topology_version != self.versions.topology)
+            .then(|| self.current());
+        let topology = match (previous, &mesh_for_parts) {
+            (Some(p), _) if p.topology_version == self.versions.topology => p.topology.clone(),
+            (_, Some(m)) => Arc::new(frame::topology_json(m)),
+            (_, None) => unreachable!("a mesh is built when a part is stale"),
+        };
+        let pattern = Arc::clone(&self.pattern_json);
+        Frame {
+            version: self.versions.next_frame(),
+            topology_version: self.versions.topology,
+            pattern_version: self.versions.pattern,
+            topology,
+            pattern,
+            steps_per_second: self.meter.rate(),
+            live: frame::live_json(&frame::Live {
+                positions: self.positions(),
+                pinned: &self.pinned,
+                anchor: &self.anchor,
+                mode: self.mode,
+                report: self.report.as_ref(),
+                dragging: self.drag.as_ref().map(|d| d.vertex),
+                message: &self.message,
+                blocked: self.blocked.as_deref(),
+                steps_per_second: self.meter.rate(),
+                undo: self.history.len(),
+                redo: self.future.len(),
+                conditions: &conditions.families,
+                custom_conditions: self.conditions.is_some(),
+                alpha: self.alpha,
+                remesh: self.remesh,
+                title: &self.title,
+            }),
+        }
+    }
+
+    /// `GET /api/state`: the documented object, positions at full precision.
+    pub fn state_json(&mut self) -> serde_json::Value {
+        let conditions = self.condition_set();
+        let report = self.fresh_report().clone();
+        let residuals: serde_json::Map<String, serde_json::Value> = report
+            .families
+            .iter()
+            .filter(|f| f.gating)
+            .map(|f| (f.name.to_string(), f.max.into()))
+            .collect();
+        let positions: Vec<[f64; 3]> = self.positions().iter().map(|p| [p.x, p.y, p.z]).collect();
+        serde_json::json!({
+            "vertices": positions.len(),
+            "positions": positions,
+            "pinned": self.pinned,
+            "mode": mode_name(self.mode),
+            "residuals": residuals,
+            "pass": report.pass(),
+            "title": self.title,
+            "dragging": self.drag.as_ref().map(|d| d.vertex),
+            "settled": !self.wants_to_step(),
+            "blocked": self.blocked,
+            "message": self.message,
+            "anchor": self.anchor,
+            "undo": self.history.len(),
+            "redo": self.future.len(),
+            "alpha": self.alpha,
+            "remesh": self.remesh,
+            "conditions": conditions.families.iter().map(|f| f.name()).collect::<Vec<_>>(),
+            "stepsPerSecond": self.meter.rate(),
+            "topologyVersion": self.versions.topology,
+        })
+    }
+}
+
+fn ok() -> Reply {
+    Reply::Json(serde_json::json!({"ok": true}))
+}
+
+/// "design" or "simulation".
+pub fn mode_name(mode: Mode) -> &'static str {
+    match mode {
+        Mode::Design => "design",
+        Mode::Simulation => "simulation",
+    }
+}

@@ -1,0 +1,144 @@
+//! What the page may ask of the session, parsed from JSON, and what it gets back.
+
+use serde::Deserialize;
+
+/// A request to the session, already parsed from JSON.
+#[derive(Debug)]
+pub enum Command {
+    /// The full state (`GET /api/state`).
+    State,
+    /// Pull `vertex` toward `target` (mm, 3D frame) until released.
+    Drag {
+        /// The vertex.
+        vertex: usize,
+        /// Where the pointer is.
+        target: [f64; 3],
+    },
+    /// End the drag.
+    Release,
+    /// Pin or unpin a vertex.
+    Pin {
+        /// The vertex.
+        vertex: usize,
+        /// Pinned afterwards.
+        pinned: bool,
+    },
+    /// Undo the last change.
+    Undo,
+    /// Redo the last undone change.
+    Redo,
+    /// Change mode, conditions, α or remeshing.
+    Settings(Settings),
+    /// Fold toward a fraction of every crease's target (simulation mode).
+    Fold {
+        /// The fraction, in [0, 1].
+        amount: f64,
+    },
+    /// Start from a generated pattern.
+    Generate(GenerateRequest),
+    /// Start from a file's bytes.
+    Open {
+        /// Its name (the extension picks the format).
+        name: String,
+        /// Its content.
+        bytes: Vec<u8>,
+    },
+    /// The design as the FOLD file `deform` writes.
+    SaveFold,
+    /// Run `fab` on the design.
+    Fabricate(FabRequest),
+    /// A file of the last fabrication.
+    FabFile(String),
+}
+
+/// Settings a request may change; absent fields stay.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Settings {
+    /// "design" or "simulation".
+    pub mode: Option<String>,
+    /// Condition families held in design mode; empty means the design's default set.
+    pub conditions: Option<Vec<String>>,
+    /// Twist allowance α of facet lines, [0, 1).
+    pub alpha: Option<f64>,
+    /// Remeshing threshold (fraction of the mean edge), or `null`/absent to leave it.
+    pub remesh: Option<f64>,
+    /// Turn remeshing off.
+    pub remesh_off: Option<bool>,
+}
+
+/// A generated starting pattern.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GenerateRequest {
+    /// miura, waterbomb, yoshimura, resch, plane, curved.
+    pub pattern: String,
+    /// Cells across.
+    pub nx: Option<usize>,
+    /// Cells along.
+    pub ny: Option<usize>,
+    /// Cell size (mm).
+    pub size: Option<f64>,
+    /// Miura angle (degrees).
+    pub angle: Option<f64>,
+    /// Closed-form fold amount, or none for flat.
+    pub fold: Option<f64>,
+}
+
+/// A fabrication request.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FabRequest {
+    /// Machine profile name.
+    pub machine: String,
+    /// Media (a4, a3, letter, WxHmm); default the machine's.
+    pub media: Option<String>,
+    /// Scale to this width (mm).
+    pub width: Option<f64>,
+    /// Fabricate even if verification fails.
+    pub force: Option<bool>,
+}
+
+/// What a request produced.
+#[derive(Debug)]
+pub enum Reply {
+    /// JSON.
+    Json(serde_json::Value),
+    /// A file to download.
+    File {
+        /// File name.
+        name: String,
+        /// Bytes.
+        bytes: Vec<u8>,
+    },
+}
+
+/// Why a request was refused: an HTTP status (4xx) and a one-line message.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Refusal {
+    /// 400 bad request, 404 unknown, 409 conflicts with the state, 422 cannot be done.
+    pub status: u16,
+    /// What is wrong and what to do.
+    pub message: String,
+}
+
+impl Refusal {
+    pub(super) fn bad(message: impl Into<String>) -> Refusal {
+        Refusal {
+            status: 400,
+            message: message.into(),
+        }
+    }
+    pub(super) fn conflict(message: impl Into<String>) -> Refusal {
+        Refusal {
+            status: 409,
+            message: message.into(),
+        }
+    }
+    pub(super) fn failed(message: impl Into<String>) -> Refusal {
+        Refusal {
+            status: 422,
+            message: message.into(),
+        }
+    }
+}
