@@ -19,7 +19,7 @@ export class Panel {
     this.meta = await this.api('/meta');
     const pattern = $('pattern');
     for (const p of this.meta.patterns) pattern.add(new Option(p.name, p.name));
-    pattern.addEventListener('change', () => this.fillPattern());
+    pattern.addEventListener('change', () => { this.patternChosen = true; this.fillPattern(); });
     this.fillPattern();
     $('generate').addEventListener('click', () => {
       const num = (id) => ($(id).value === '' ? null : Number($(id).value));
@@ -117,6 +117,12 @@ export class Panel {
     const live = model.live;
     if (!live) return;
     $('title').textContent = live.title;
+    // Until the user picks one, the pattern list shows what the design was made from.
+    const made = this.meta.patterns.find((p) => live.title.startsWith(p.name));
+    if (!this.patternChosen && made && $('pattern').value !== made.name) {
+      $('pattern').value = made.name;
+      this.fillPattern();
+    }
     $('vertex-count').textContent = live.vertices;
     $('steps').textContent = Math.round(live.stepsPerSecond);
     const verdict = $('verdict');
