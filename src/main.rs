@@ -53,8 +53,8 @@ enum Command {
         #[arg(long)]
         tol: Option<f64>,
         /// Comma-separated conditions: developability, boundary-angle, boundary-length,
-        /// convexity, flat-foldability, angular-inequality, fold-angle-range, edge-length.
-        /// Default: what the design's assignment calls for.
+        /// convexity, flat-foldability, angular-inequality, fold-angle-range, twist-range,
+        /// edge-length, coincidence. Default: what the design's assignment calls for.
         #[arg(long)]
         conditions: Option<String>,
     },
@@ -66,8 +66,9 @@ enum Command {
         /// Fraction of each crease's target angle, in [0, 1].
         #[arg(long)]
         amount: f64,
-        /// Vertices held still (default: the face nearest the middle).
-        #[arg(long, num_args = 1..)]
+        /// Vertices held still, separated by spaces or commas (default: the face farthest
+        /// from the dragged vertices, or nearest the middle when folding).
+        #[arg(long, num_args = 1.., value_delimiter = ',')]
         fix: Vec<usize>,
         /// Output FOLD file.
         #[arg(short, long)]
@@ -81,8 +82,9 @@ enum Command {
         /// on any component makes the move relative). Repeat for several vertices.
         #[arg(long, value_parser = parse_drag)]
         drag: Vec<DragArg>,
-        /// Vertices held still (default: the face nearest the middle).
-        #[arg(long, num_args = 1..)]
+        /// Vertices held still, separated by spaces or commas (default: the face farthest
+        /// from the dragged vertices, or nearest the middle when folding).
+        #[arg(long, num_args = 1.., value_delimiter = ',')]
         fix: Vec<usize>,
         /// A TOML script of drags (see patterns/*.toml).
         #[arg(long)]
@@ -139,6 +141,8 @@ enum Command {
         #[arg(long)]
         tile: bool,
     },
+    /// List the machine profiles `--machine` can name.
+    Machines,
     /// Send an HP-GL job to a plotter over a serial port, with flow control, progress
     /// confirmed by the plotter, and a journal for --resume.
     Plot(cli::plot::PlotArgs),
@@ -241,7 +245,7 @@ fn run(cli: Cli) -> Result<u8, String> {
             let mesh = io::read(&file).map_err(|e| e.to_string())?;
             let mut job = DesignJob::new(mesh);
             job.fold = Some(amount);
-            job.fixed = (!fix.is_empty()).then_some(fix);
+            job.fold_fixed = (!fix.is_empty()).then_some(fix);
             job.mode = Mode::Simulation;
             let outcome = match run_design(job, &mut progress_bar()) {
                 Ok(o) => o,
@@ -400,6 +404,20 @@ fn run(cli: Cli) -> Result<u8, String> {
             if !result.verification.pass() {
                 eprintln!("warning: the design fails verification; cut anyway because of --force");
             }
+            Ok(0)
+        }
+        Command::Machines => {
+            let mut table = String::new();
+            for name in crease::plotter::machine::known_machines() {
+                match crease::plotter::Machine::load(&name) {
+                    Ok(m) => table.push_str(&format!(
+                        "{name:<18} {:<6} {:<8} {}\n",
+                        m.protocol, m.media, m.name
+                    )),
+                    Err(e) => table.push_str(&format!("{name:<18} (unusable: {e})\n")),
+                }
+            }
+            out(&table);
             Ok(0)
         }
         Command::Plot(args) => cli::plot::plot(args),

@@ -114,3 +114,125 @@ fn info_prints_counts() {
         "{out}"
     );
 }
+
+/// Command lines that named missing vertices, impossible thresholds or malformed lists
+/// used to panic or be accepted; each is now exit 2 with one line naming the cause, and
+/// nothing is written.
+#[test]
+fn bad_vertex_lists_thresholds_and_condition_lists_exit_2_with_one_line() {
+    let miura = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura.fold");
+    let m = miura.to_str().unwrap();
+    let out = std::env::temp_dir().join(format!("crease-cli-bad-{}.fold", std::process::id()));
+    let o = out.to_str().unwrap();
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec![
+                "deform",
+                m,
+                "--drag",
+                "40=+0,+0,+5",
+                "--fix",
+                "99999",
+                "-o",
+                o,
+            ],
+            "99999",
+        ),
+        (
+            vec!["fold", m, "--amount", "0.3", "--fix", "99999", "-o", o],
+            "99999",
+        ),
+        (
+            vec![
+                "deform",
+                m,
+                "--drag",
+                "40=+0,+0,+5",
+                "--remesh",
+                "1.5",
+                "-o",
+                o,
+            ],
+            "remesh",
+        ),
+        (
+            vec!["verify", m, "--conditions", "developability,,convexity"],
+            "empty entry",
+        ),
+        (
+            vec!["verify", m, "--conditions", "developability,developability"],
+            "twice",
+        ),
+    ];
+    for (args, cause) in cases {
+        let (code, _, err) = run_crease(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(cause), "{args:?}: {err}");
+        assert!(!out.exists(), "{args:?} wrote {o}");
+    }
+}
+
+#[test]
+fn fix_takes_commas_like_drag_and_a_fold_holds_what_is_fixed() {
+    let miura = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/plane.fold");
+    let out = std::env::temp_dir().join(format!("crease-cli-fix-{}.fold", std::process::id()));
+    let (code, _, err) = run_crease(&[
+        "deform",
+        miura.to_str().unwrap(),
+        "--drag",
+        "80=+0,+0,+10",
+        "--fix",
+        "0,1,9",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let before = crease::io::read(&miura).unwrap();
+    let after = crease::io::read(&out).unwrap();
+    for v in [0, 1, 9] {
+        assert_eq!(
+            after.positions()[v],
+            before.positions()[v],
+            "vertex {v} is held"
+        );
+    }
+    let _ = std::fs::remove_file(out);
+}
+
+#[test]
+fn machines_are_listed_and_found_in_the_working_folder() {
+    let (code, list, _) = run_crease(&["machines"]);
+    assert_eq!(code, 0);
+    for name in ["generic-hpgl", "hp7475a", "roland-cutter"] {
+        assert!(list.lines().any(|l| l.starts_with(name)), "{list}");
+    }
+    assert!(!list.contains("Cargo"), "only profiles are listed: {list}");
+    // A profile beside the user's design is found by name.
+    let dir = std::env::temp_dir().join(format!("crease-cli-machine-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let profile = Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/generic-hpgl.toml");
+    std::fs::copy(profile, dir.join("my-cutter.toml")).unwrap();
+    let design = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura-bent.fold");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_crease"))
+        .current_dir(&dir)
+        .args([
+            "fab",
+            design.to_str().unwrap(),
+            "--machine",
+            "my-cutter",
+            "--out",
+            "job",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(dir.join("job/sheet.hpgl").is_file());
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -169,6 +169,12 @@ pub fn design_failure(e: PipelineError) -> Result<u8, String> {
         Err(e.to_string())
     } else {
         eprintln!("error: {e}; nothing was written");
+        if matches!(
+            e,
+            PipelineError::Solver(crease::solver::SolverError::NotConverged { .. })
+        ) {
+            eprintln!("hint: try a smaller move or more --steps, a twist allowance (--alpha 0.1), or hold other vertices (--fix)");
+        }
         Ok(1)
     }
 }

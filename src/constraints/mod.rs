@@ -251,9 +251,19 @@ pub struct ConstraintSet {
 impl ConstraintSet {
     /// Parses a comma-separated list of family names.
     pub fn parse(list: &str) -> Result<ConstraintSet, String> {
-        let families = list
-            .split(',')
-            .map(str::trim)
+        let names: Vec<&str> = list.split(',').map(str::trim).collect();
+        if names.iter().any(|n| n.is_empty()) && names.len() > 1 {
+            return Err(format!(
+                "empty entry in the condition list \"{list}\" (names separated by single commas)"
+            ));
+        }
+        for (i, n) in names.iter().enumerate() {
+            if names[..i].contains(n) {
+                return Err(format!("condition \"{n}\" is listed twice"));
+            }
+        }
+        let families = names
+            .into_iter()
             .filter(|s| !s.is_empty())
             .map(|n| {
                 Family::from_name(n).ok_or_else(|| {

@@ -54,8 +54,10 @@ pub struct DesignJob {
     pub conditions: Option<ConstraintSet>,
     /// Twist allowance for flat creases.
     pub alpha: Option<f64>,
-    /// Fixed vertices; default the face nearest the middle.
+    /// Fixed vertices of the drags; default the face farthest from the dragged vertices.
     pub fixed: Option<Vec<usize>>,
+    /// Fixed vertices of the fold; default the face nearest the middle.
+    pub fold_fixed: Option<Vec<usize>>,
     /// Drag falloff radius (mm).
     pub radius: Option<f64>,
     /// Fold toward this fraction of the targets first.
@@ -90,6 +92,7 @@ impl DesignJob {
             conditions: None,
             alpha: None,
             fixed: None,
+            fold_fixed: None,
             radius: None,
             fold: None,
             remesh: None,
@@ -147,6 +150,7 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
         conditions,
         alpha,
         fixed,
+        fold_fixed,
         radius,
         fold,
         remesh,
@@ -160,6 +164,30 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
         .iter()
         .flat_map(|s| s.moves.iter().map(|m| m.vertex))
         .collect();
+    if let Some(r) = remesh {
+        if !(r > 0.0 && r < 1.0) {
+            return Err(PipelineError::Input(format!(
+                "remesh threshold must be in (0, 1), a fraction of the mean edge (got {r})"
+            )));
+        }
+    }
+    let n = mesh.vertex_count();
+    if let Some(&bad) = fixed.iter().flatten().find(|&&v| v >= n) {
+        return Err(SolverError::UnknownVertex {
+            vertex: bad,
+            count: n,
+        }
+        .into());
+    }
+    if let Some(&bad) = fold_fixed.iter().flatten().find(|&&v| v >= n) {
+        return Err(SolverError::UnknownVertex {
+            vertex: bad,
+            count: n,
+        }
+        .into());
+    }
+    // Folding shrinks the sheet: unless told otherwise, a face in the middle is held.
+    let fold_anchor = fold_fixed.unwrap_or_else(|| Solver::default_fixed(&mesh, &[]));
     let fixed = fixed.unwrap_or_else(|| Solver::default_fixed(&mesh, &dragged));
     let mut fold_report = None;
     if let Some(amount) = fold {
@@ -168,9 +196,7 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
                 "fold amount must be in [0, 1] (got {amount})"
             )));
         }
-        // Folding shrinks the sheet; only a face in the middle is held for it.
-        let centre = Solver::default_fixed(&mesh, &[]);
-        let mut solver = Solver::new(mesh, Mode::folding_set(), &centre, options.clone())?;
+        let mut solver = Solver::new(mesh, Mode::folding_set(), &fold_anchor, options.clone())?;
         let report = fold_toward(&mut solver, amount, 4000, &mut |k| {
             progress("fold", k, 4000)
         })?;

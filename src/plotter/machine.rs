@@ -70,13 +70,14 @@ pub enum MachineError {
     },
 }
 
-/// Folders searched for profiles by name: `$CREASE_MACHINES`, `./machines`, and the
+/// Folders searched for profiles by name: `$CREASE_MACHINES`, `.`, `./machines`, and the
 /// `machines/` folder crease was built from.
 pub fn search_path() -> Vec<PathBuf> {
     let mut dirs = Vec::new();
     if let Ok(d) = std::env::var("CREASE_MACHINES") {
         dirs.push(PathBuf::from(d));
     }
+    dirs.push(PathBuf::from("."));
     dirs.push(PathBuf::from("machines"));
     dirs.push(Path::new(env!("CARGO_MANIFEST_DIR")).join("machines"));
     dirs
@@ -84,8 +85,11 @@ pub fn search_path() -> Vec<PathBuf> {
 
 /// Names of the profiles found in [`search_path`], sorted, each once.
 pub fn known_machines() -> Vec<String> {
+    // The working folder is searched by name but not listed: its .toml files are mostly
+    // not profiles (Cargo.toml).
     let mut known: Vec<String> = search_path()
         .iter()
+        .filter(|d| d.as_os_str() != ".")
         .filter_map(|d| std::fs::read_dir(d).ok())
         .flatten()
         .flatten()
