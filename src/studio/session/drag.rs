@@ -22,10 +22,10 @@ impl Session {
     /// The anchor for dragging `vertex`: the pins, plus the face farthest from the dragged
     /// vertex while fewer than three are pinned (fewer cannot hold the rigid motions).
     fn anchor_for(&self, vertex: usize) -> Vec<usize> {
-        let mut anchor: BTreeSet<usize> = self.pinned.clone();
+        let mut anchor: BTreeSet<usize> = self.design.pinned.clone();
         if anchor.len() < 3 {
             let avoid: Vec<usize> = std::iter::once(vertex).collect();
-            anchor.extend(Solver::default_fixed(&self.mesh, &avoid));
+            anchor.extend(Solver::default_fixed(&self.design.mesh, &avoid));
         }
         anchor.remove(&vertex);
         anchor.into_iter().collect()
@@ -38,7 +38,7 @@ impl Session {
         }
         self.settle();
         let set = self.condition_set();
-        let mut solver = Solver::new(self.mesh.clone(), set, &anchor, Options::default())
+        let mut solver = Solver::new(self.design.mesh.clone(), set, &anchor, Options::default())
             .map_err(|e| e.to_string())?;
         solver.correct().map_err(|e| {
             format!("the design does not hold the chosen conditions, so it cannot be dragged: {e}")
@@ -65,7 +65,7 @@ impl Session {
         if !t.iter().all(|c| c.is_finite()) {
             return Err(Refusal::bad("the drag target is not a finite point"));
         }
-        let (lo, hi) = self.mesh.bounding_box();
+        let (lo, hi) = self.design.mesh.bounding_box();
         let size = (hi - lo).norm().max(1.0);
         if (t - self.positions()[vertex]).norm() > 10.0 * size {
             return Err(Refusal::bad(format!(
@@ -73,7 +73,7 @@ impl Session {
                 (t - self.positions()[vertex]).norm()
             )));
         }
-        if self.pinned.contains(&vertex) {
+        if self.design.pinned.contains(&vertex) {
             return Err(Refusal::conflict(format!(
                 "vertex {vertex} is pinned: Shift-click it to unpin it before dragging"
             )));
@@ -149,7 +149,7 @@ impl Session {
                 self.meter.tick();
                 let drag = self.drag.as_mut().expect("dragging");
                 drag.moved = true;
-                self.relaid |= self.mode == Mode::Design;
+                self.design.relaid |= self.design.mode == Mode::Design;
                 self.versions.positions += 1;
                 if progress < 1e-3 * share.norm() {
                     drag.stuck = true;
@@ -170,14 +170,14 @@ impl Session {
 
     fn remesh_after_step(&mut self) {
         let (Some(threshold), Some(solver), Some(drag)) =
-            (self.remesh, self.solver.as_mut(), self.drag.as_mut())
+            (self.design.remesh, self.solver.as_mut(), self.drag.as_mut())
         else {
             return;
         };
         let outcome = solver.remesh(&[drag.vertex], threshold);
         if let Some(map) = outcome.renumbered {
             drag.vertex = map[drag.vertex];
-            self.pinned = self.pinned.iter().map(|&p| map[p]).collect();
+            self.design.pinned = self.design.pinned.iter().map(|&p| map[p]).collect();
             self.anchor = self.anchor.iter().map(|&p| map[p]).collect();
         }
         if outcome.collapses + outcome.flips > 0 {

@@ -49,19 +49,20 @@ impl Session {
         self.remember();
         self.settle();
         if let Some(m) = mode {
-            self.mode = m;
+            self.design.mode = m;
         }
         if let Some(c) = conditions {
-            self.conditions = (!c.is_empty()).then_some(c);
+            self.design.conditions = (!c.is_empty()).then_some(c);
         }
         if let Some(a) = s.alpha {
-            pipeline::set_alpha(&mut self.mesh, a).map_err(|e| Refusal::bad(e.to_string()))?;
-            self.alpha = a;
+            pipeline::set_alpha(&mut self.design.mesh, a)
+                .map_err(|e| Refusal::bad(e.to_string()))?;
+            self.design.alpha = a;
         }
         if s.remesh_off == Some(true) {
-            self.remesh = None;
+            self.design.remesh = None;
         } else if let Some(r) = s.remesh {
-            self.remesh = Some(r);
+            self.design.remesh = Some(r);
         }
         self.blocked = None;
         self.report = None;
@@ -77,16 +78,16 @@ impl Session {
                 "the fold amount must be in [0, 1] (got {amount})"
             )));
         }
-        if self.mode != Mode::Simulation {
+        if self.design.mode != Mode::Simulation {
             return Err(Refusal::conflict(
                 "folding keeps every edge length: switch to simulation mode first",
             ));
         }
         self.release();
         self.settle();
-        let centre = Solver::default_fixed(&self.mesh, &[]);
+        let centre = Solver::default_fixed(&self.design.mesh, &[]);
         let mut solver = Solver::new(
-            self.mesh.clone(),
+            self.design.mesh.clone(),
             Mode::folding_set(),
             &centre,
             Options::default(),
@@ -95,8 +96,8 @@ impl Session {
         let report = fold_toward(&mut solver, amount, 4000, &mut |_| {})
             .map_err(|e| Refusal::failed(format!("folding failed: {e}")))?;
         self.remember();
-        self.mesh = solver.into_mesh();
-        pipeline::record_fold_angles(&mut self.mesh);
+        self.design.mesh = solver.into_mesh();
+        pipeline::record_fold_angles(&mut self.design.mesh);
         self.design_changed(false);
         self.message = format!(
             "folded to {:.0}% of the targets on average",
@@ -112,12 +113,12 @@ impl Session {
         self.release();
         self.remember();
         self.solver = None;
-        self.mesh = mesh;
+        self.design.mesh = mesh;
         self.title = title;
-        self.pinned.clear();
-        self.relaid = false;
+        self.design.pinned.clear();
+        self.design.relaid = false;
         self.blocked = None;
-        self.alpha = self.mesh_alpha();
+        self.design.alpha = self.mesh_alpha();
         self.design_changed(true);
     }
 
@@ -173,7 +174,7 @@ impl Session {
             s.polish(1e-12);
         }
         let mut mesh = self.current();
-        pipeline::finish_design(&mut mesh, self.relaid)
+        pipeline::finish_design(&mut mesh, self.design.relaid)
             .map_err(|e| Refusal::failed(format!("the design cannot be unfolded: {e}")))?;
         mesh.title.clone_from(&self.title);
         Ok(mesh)

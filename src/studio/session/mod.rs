@@ -32,33 +32,31 @@ pub const MAX_UPLOAD: usize = 64 << 20;
 /// Minimum time between crease-pattern rebuilds during a drag (the page redraws two flat
 /// views from them); at rest the pattern is always rebuilt.
 const RELAY_EVERY: Duration = Duration::from_millis(300);
+/// What undo restores: the design and every setting the user chose for it.
 #[derive(Clone)]
-struct Snapshot {
+struct Design {
     mesh: Mesh,
     pinned: BTreeSet<usize>,
     mode: Mode,
-    conditions: Option<Vec<Family>>,
-    alpha: f64,
-    remesh: Option<f64>,
-    relaid: bool,
-}
-
-/// The studio's design session.
-pub struct Session {
-    mesh: Mesh,
-    title: String,
-    pinned: BTreeSet<usize>,
-    mode: Mode,
+    /// Condition families held in design mode; `None` is the design's default set.
     conditions: Option<Vec<Family>>,
     alpha: f64,
     remesh: Option<f64>,
     /// Design mode changed lengths since the pattern was loaded: saving unfolds anew.
     relaid: bool,
+}
+
+/// The studio's design session.
+pub struct Session {
+    /// The design as of the last settled change (during a drag the solver holds the
+    /// moving positions; see [`Session::current`]).
+    design: Design,
+    title: String,
     solver: Option<Solver>,
     anchor: Vec<usize>,
     drag: Option<DragState>,
-    history: Vec<Snapshot>,
-    future: Vec<Snapshot>,
+    history: Vec<Design>,
+    future: Vec<Design>,
     message: String,
     blocked: Option<String>,
     report: Option<Report>,
@@ -83,14 +81,16 @@ impl Session {
     /// A session around a design.
     pub fn new(mesh: Mesh, title: &str) -> Session {
         let mut s = Session {
-            mesh,
+            design: Design {
+                mesh,
+                pinned: BTreeSet::new(),
+                mode: Mode::Design,
+                conditions: None,
+                alpha: 0.0,
+                remesh: None,
+                relaid: false,
+            },
             title: title.to_string(),
-            pinned: BTreeSet::new(),
-            mode: Mode::Design,
-            conditions: None,
-            alpha: 0.0,
-            remesh: None,
-            relaid: false,
             solver: None,
             anchor: Vec::new(),
             drag: None,
@@ -110,7 +110,7 @@ impl Session {
             in_force: None,
             unpublished: false,
         };
-        s.alpha = s.mesh_alpha();
+        s.design.alpha = s.mesh_alpha();
         s.design_changed(true);
         s
     }
@@ -122,7 +122,8 @@ impl Session {
     }
 
     fn mesh_alpha(&self) -> f64 {
-        self.mesh
+        self.design
+            .mesh
             .edges()
             .iter()
             .filter(|e| e.target == 0.0)
@@ -143,46 +144,39 @@ impl Session {
                 m.set_positions(s.positions().to_vec());
                 m
             }
-            None => self.mesh.clone(),
+            None => self.design.mesh.clone(),
         }
     }
 
     fn positions(&self) -> &[Vec3] {
         match &self.solver {
             Some(s) => s.positions(),
-            None => self.mesh.positions(),
+            None => self.design.mesh.positions(),
         }
     }
 
     /// Moves the solver's state into `mesh` and drops the solver (settings or anchor change).
     fn settle(&mut self) {
         if let Some(s) = self.solver.take() {
-            self.mesh = s.into_mesh();
+            self.design.mesh = s.into_mesh();
         }
     }
 
-    fn snapshot(&self) -> Snapshot {
-        Snapshot {
-            mesh: self.current(),
-            pinned: self.pinned.clone(),
-            mode: self.mode,
-            conditions: self.conditions.clone(),
-            alpha: self.alpha,
-            remesh: self.remesh,
-            relaid: self.relaid,
+    /// The design as it stands, with the solver's positions.
+    fn snapshot(&self) -> Design {
+        match self.solver {
+            None => self.design.clone(),
+            Some(_) => Design {
+                mesh: self.current(),
+                ..self.design.clone()
+            },
         }
     }
 
-    fn restore(&mut self, s: Snapshot) {
+    fn restore(&mut self, design: Design) {
         self.solver = None;
         self.drag = None;
-        self.mesh = s.mesh;
-        self.pinned = s.pinned;
-        self.mode = s.mode;
-        self.conditions = s.conditions;
-        self.alpha = s.alpha;
-        self.remesh = s.remesh;
-        self.relaid = s.relaid;
+        self.design = design;
         self.blocked = None;
         self.design_changed(true);
     }
@@ -211,12 +205,12 @@ impl Session {
     /// own assignment calls for.
     fn condition_set(&mut self) -> ConstraintSet {
         if self.in_force.is_none() {
-            self.in_force = Some(match (self.mode, &self.conditions) {
+            self.in_force = Some(match (self.design.mode, &self.design.conditions) {
                 (Mode::Simulation, _) => Mode::simulation_set(),
                 (Mode::Design, Some(f)) if !f.is_empty() => ConstraintSet {
                     families: f.clone(),
                 },
-                (Mode::Design, _) => ConstraintSet::default_for(&Reference::new(&self.mesh)),
+                (Mode::Design, _) => ConstraintSet::default_for(&Reference::new(&self.design.mesh)),
             });
         }
         self.in_force.clone().expect("just computed")
@@ -292,12 +286,12 @@ impl Session {
                 "vertex {vertex} is being dragged; release it first"
             )));
         }
-        if self.pinned.contains(&vertex) != pinned {
+        if self.design.pinned.contains(&vertex) != pinned {
             self.remember();
             if pinned {
-                self.pinned.insert(vertex);
+                self.design.pinned.insert(vertex);
             } else {
-                self.pinned.remove(&vertex);
+                self.design.pinned.remove(&vertex);
             }
             self.versions.positions += 1;
         }
@@ -349,7 +343,7 @@ impl Session {
         Job {
             mesh: self.current(),
             set: self.condition_set(),
-            relaid: self.relaid,
+            relaid: self.design.relaid,
             with_pattern,
             stamp: self.stamp(),
         }
@@ -432,9 +426,9 @@ impl Session {
             steps_per_second: self.meter.rate(),
             live: frame::live_json(&frame::Live {
                 positions: self.positions(),
-                pinned: &self.pinned,
+                pinned: &self.design.pinned,
                 anchor: &self.anchor,
-                mode: self.mode,
+                mode: self.design.mode,
                 report: self.report.as_ref(),
                 dragging: self.drag.as_ref().map(|d| d.vertex),
                 message: &self.message,
@@ -443,9 +437,9 @@ impl Session {
                 undo: self.history.len(),
                 redo: self.future.len(),
                 conditions: &conditions.families,
-                custom_conditions: self.conditions.is_some(),
-                alpha: self.alpha,
-                remesh: self.remesh,
+                custom_conditions: self.design.conditions.is_some(),
+                alpha: self.design.alpha,
+                remesh: self.design.remesh,
                 title: &self.title,
             }),
         }
@@ -465,8 +459,8 @@ impl Session {
         serde_json::json!({
             "vertices": positions.len(),
             "positions": positions,
-            "pinned": self.pinned,
-            "mode": mode_name(self.mode),
+            "pinned": self.design.pinned,
+            "mode": mode_name(self.design.mode),
             "residuals": residuals,
             "pass": report.pass(),
             "title": self.title,
@@ -477,8 +471,8 @@ impl Session {
             "anchor": self.anchor,
             "undo": self.history.len(),
             "redo": self.future.len(),
-            "alpha": self.alpha,
-            "remesh": self.remesh,
+            "alpha": self.design.alpha,
+            "remesh": self.design.remesh,
             "conditions": conditions.families.iter().map(|f| f.name()).collect::<Vec<_>>(),
             "stepsPerSecond": self.meter.rate(),
             "topologyVersion": self.versions.topology,
