@@ -22,11 +22,7 @@ fn main() {
         "vertices", "rows", "steps", "ms/step", "steps/s", "newton/st", "factor/st"
     );
     for (cells, steps) in sizes {
-        let mut p = Params::defaults(PatternKind::Miura);
-        p.nx = cells;
-        p.ny = cells;
-        p.size = 10.0;
-        let mesh = generate(&p).unwrap();
+        let mesh = generate(&Params::square(PatternKind::Miura, cells, 10.0)).unwrap();
         let n = mesh.vertex_count();
         let set = ConstraintSet::default_for(&Reference::new(&mesh));
         let rows = set

@@ -122,11 +122,7 @@ fn main() {
         "vertices", "solver steps/s", "frames shown/s", "KiB/frame"
     );
     for cells in [15usize, 31, 99] {
-        let mut p = Params::defaults(PatternKind::Miura);
-        p.nx = cells;
-        p.ny = cells;
-        p.size = 10.0;
-        let mesh = generate(&p).unwrap();
+        let mesh = generate(&Params::square(PatternKind::Miura, cells, 10.0)).unwrap();
         let n = mesh.vertex_count();
         let hub = Hub::start(mesh, "bench");
         let v = n / 2;

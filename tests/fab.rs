@@ -441,3 +441,74 @@ fn an_oversized_sheet_is_tiled_over_media_pages_when_asked() {
         assert!((w - 210.0).abs() < 0.05 && (h - 297.0).abs() < 0.05);
     }
 }
+
+/// The router searched rings of grid cells around the pen, bounded by the grid's size, so
+/// a small design far from the pen's origin ran out of rings ("an undone stroke remains").
+#[test]
+fn routing_a_small_design_far_from_the_pen_keeps_every_stroke() {
+    let mut strokes = Vec::new();
+    for i in 0..40 {
+        let x = 1000.0 + (i % 8) as f64 * 0.7;
+        let y = 800.0 + (i / 8) as f64 * 0.9;
+        strokes.push(Stroke {
+            kind: if i % 3 == 0 {
+                LineKind::Valley
+            } else {
+                LineKind::Mountain
+            },
+            from: Vec2::new(x, y),
+            to: Vec2::new(x + 0.5, y + 0.2),
+        });
+    }
+    let routed = crease::fab::route(&strokes);
+    assert_eq!(routed.len(), strokes.len());
+    for s in &strokes {
+        let found = routed.iter().any(|r| {
+            r.kind == s.kind
+                && ((r.from == s.from && r.to == s.to) || (r.from == s.to && r.to == s.from))
+        });
+        assert!(found, "stroke {s:?} is routed once");
+    }
+}
+
+#[test]
+fn small_sheets_and_huge_media_fabricate_without_a_panic() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let anchors = root.join("../shared/anchors/data/fold");
+    let cases: Vec<Vec<String>> = vec![
+        vec![
+            root.join("patterns/miura.fold").display().to_string(),
+            "--width".into(),
+            "60".into(),
+        ],
+        vec![
+            root.join("patterns/miura.fold").display().to_string(),
+            "--media".into(),
+            "2000x2000mm".into(),
+        ],
+        vec![
+            anchors.join("simple.fold").display().to_string(),
+            "--force".into(),
+        ],
+        vec![
+            anchors.join("squaretwist.fold").display().to_string(),
+            "--force".into(),
+        ],
+        vec![
+            anchors.join("cube-folded.fold").display().to_string(),
+            "--force".into(),
+        ],
+    ];
+    for (k, mut args) in cases.into_iter().enumerate() {
+        let out = std::env::temp_dir().join(format!("crease-fab-small-{}-{k}", std::process::id()));
+        args.insert(0, "fab".into());
+        args.extend(["--out".into(), out.display().to_string()]);
+        let refs: Vec<&str> = args.iter().map(String::as_str).collect();
+        let (code, _, err) = run_crease(&refs);
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert_eq!(code, 0, "{args:?}: {err}");
+        let hpgl = std::fs::read_to_string(out.join("sheet.hpgl")).unwrap();
+        assert!(hpgl.contains("PD"), "{args:?}: the job cuts something");
+        let _ = std::fs::remove_dir_all(out);
+    }
+}

@@ -67,7 +67,11 @@ fn nearest_neighbour(group: &[Stroke], start: Vec2) -> Vec<Stroke> {
     for _ in 0..n {
         let (cx, cy) = key(at);
         let mut best: Option<(f64, usize, bool)> = None;
-        let mut ring = 0i64;
+        // The pen may start far outside the grid (its origin beside a small design): the
+        // rings nearer than the grid itself are empty, so the search starts at the grid.
+        let outside = |c: i64| (-c).max(c - (cells_per_side - 1)).max(0);
+        let first_ring = outside(cx).max(outside(cy));
+        let mut ring = first_ring;
         loop {
             for dx in -ring..=ring {
                 for dy in -ring..=ring {
@@ -96,11 +100,25 @@ fn nearest_neighbour(group: &[Stroke], start: Vec2) -> Vec<Stroke> {
                 }
             }
             ring += 1;
-            if ring > 2 * cells_per_side + 2 {
+            if ring > first_ring + 2 * cells_per_side + 2 {
                 break;
             }
         }
-        let (_, i, reversed) = best.expect("an undone stroke remains");
+        // The rings cover the whole grid, so an undone stroke is always found; the scan is
+        // a guard against a grid that rounding left short.
+        let best = best.or_else(|| {
+            (0..n)
+                .filter(|&i| !done[i])
+                .flat_map(|i| [(i, false), (i, true)])
+                .map(|(i, r)| {
+                    let end = if r { group[i].to } else { group[i].from };
+                    ((end - at).norm(), i, r)
+                })
+                .min_by(|a, b| a.0.total_cmp(&b.0))
+        });
+        let Some((_, i, reversed)) = best else {
+            break;
+        };
         done[i] = true;
         let s = if reversed {
             group[i].reversed()

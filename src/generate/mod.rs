@@ -81,6 +81,17 @@ pub struct Params {
 }
 
 impl Params {
+    /// The defaults of `kind` on a square grid of `cells` × `cells` cells of `size` mm
+    /// (benchmarks and scaling tests).
+    pub fn square(kind: PatternKind, cells: usize, size: f64) -> Params {
+        Params {
+            nx: cells,
+            ny: cells,
+            size,
+            ..Params::defaults(kind)
+        }
+    }
+
     /// The defaults used for the files in `patterns/`.
     pub fn defaults(kind: PatternKind) -> Params {
         Params {
