@@ -512,3 +512,32 @@ fn small_sheets_and_huge_media_fabricate_without_a_panic() {
         let _ = std::fs::remove_dir_all(out);
     }
 }
+
+/// With a folder named like one of the outputs in the way, `fab` writes none of its files
+/// and leaves no temporary file behind.
+#[test]
+fn a_folder_in_the_way_leaves_the_output_folder_untouched() {
+    let dir = std::env::temp_dir().join(format!("crease-fab-blocked-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("report.json")).unwrap();
+    let design = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura-bent.fold");
+    let (code, _, err) = run_crease(&[
+        "fab",
+        design.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.contains("report.json"), "{err}");
+    let left: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(
+        left,
+        vec!["report.json".to_string()],
+        "only the folder stays"
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -173,6 +173,21 @@ pub fn write_all_atomic(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<(), F
         }
         written.push(t);
     }
+    // Every destination is checked before the first rename: a folder (or anything but a
+    // file) in the way would otherwise stop the set half renamed in.
+    let blocked = files
+        .iter()
+        .map(|(name, _)| dir.join(name))
+        .find(|d| std::fs::symlink_metadata(d).is_ok_and(|m| !m.file_type().is_file()));
+    if let Some(d) = blocked {
+        for w in &written {
+            let _ = std::fs::remove_file(w);
+        }
+        return Err(FileError::new(
+            &d,
+            "something other than a file is in the way; move it and run again (nothing was written)",
+        ));
+    }
     for ((name, _), t) in files.iter().zip(&written) {
         std::fs::rename(t, dir.join(name))
             .map_err(|e| FileError::new(&dir.join(name), e.to_string()))?;

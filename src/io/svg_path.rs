@@ -51,8 +51,10 @@ pub fn parse_transform(text: &str) -> Result<Affine, String> {
         let open = rest
             .find('(')
             .ok_or_else(|| format!("bad transform \"{text}\""))?;
-        let close = rest
+        // The closing parenthesis is looked for after the opening one: ")(" is malformed.
+        let close = rest[open..]
             .find(')')
+            .map(|c| open + c)
             .ok_or_else(|| format!("bad transform \"{text}\""))?;
         let name = rest[..open].trim().trim_start_matches(',').trim();
         let args: Vec<f64> = rest[open + 1..close]
@@ -400,6 +402,24 @@ fn arc(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn malformed_transforms_are_errors_not_panics() {
+        for t in [
+            ")(",
+            "translate)(",
+            "(",
+            ")",
+            "matrix(",
+            "rotate(1,2",
+            "scale)1(",
+        ] {
+            let e = parse_transform(t).expect_err(t);
+            assert!(e.contains("transform"), "{t}: {e}");
+        }
+        let ok = parse_transform("translate(3) scale(2)").unwrap();
+        assert_eq!(ok.0, [2.0, 0.0, 0.0, 2.0, 3.0, 0.0]);
+    }
 
     #[test]
     fn compact_numbers_and_implicit_line_tos_parse() {
