@@ -109,6 +109,25 @@ pub fn decimal_quantum(text: &str) -> f64 {
     }
 }
 
+/// A TOML error on one line: where it is (line, and the key when the parser names one)
+/// and what is wrong, instead of the parser's multi-line snippet.
+pub fn toml_error(text: &str, e: &toml::de::Error) -> String {
+    let message = e.message().replace('\n', " ");
+    match e.span() {
+        Some(span) => {
+            let line = text[..span.start.min(text.len())].matches('\n').count() + 1;
+            let key = text
+                .lines()
+                .nth(line - 1)
+                .and_then(|l| l.split_once('='))
+                .map(|(k, _)| format!(" (key {})", k.trim()))
+                .unwrap_or_default();
+            format!("line {line}{key}: {message}")
+        }
+        None => message,
+    }
+}
+
 /// Reads a pattern file of any supported format.
 pub fn read(path: &Path) -> Result<Mesh, FileError> {
     read_with_notes(path).map(|i| i.mesh)

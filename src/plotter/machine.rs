@@ -18,7 +18,21 @@ pub struct Tool {
     /// Blade force in the machine's units.
     pub force: Option<f64>,
     /// Perforation `[cut, gap]` in mm; absent for a solid line.
+    #[serde(default, deserialize_with = "cut_and_gap")]
     pub dash: Option<[f64; 2]>,
+}
+
+/// Exactly two lengths (an array of three used to be cut to its first two in silence).
+fn cut_and_gap<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<[f64; 2]>, D::Error> {
+    let v: Option<Vec<f64>> = Deserialize::deserialize(d)?;
+    v.map(|v| match v[..] {
+        [cut, gap] => Ok([cut, gap]),
+        _ => Err(serde::de::Error::custom(format!(
+            "dash must be two lengths [cut, gap] in mm, got {}",
+            v.len()
+        ))),
+    })
+    .transpose()
 }
 
 /// A plotter or cutter profile.
@@ -69,6 +83,16 @@ pub enum MachineError {
         cause: String,
     },
 }
+
+/// Serial speeds a profile may name.
+pub const STANDARD_BAUDS: [u32; 12] = [
+    300, 600, 1200, 2400, 4800, 9600, 19200, 38400, 57600, 115200, 230400, 460800,
+];
+/// Highest pen or tool number (HP-GL `SP`, GP-GL `J`).
+pub const MAX_PEN: u32 = 8;
+/// Shortest dash or bridge a profile may ask for, mm: a few plotter steps, below which a
+/// blade only tears and a sheet of dashes grows without bound.
+pub const MIN_DASH_MM: f64 = 0.1;
 
 /// Folders searched for profiles by name: `$CREASE_MACHINES`, `.`, `./machines`, and the
 /// `machines/` folder crease was built from.
@@ -141,9 +165,11 @@ impl Machine {
         Machine::parse(&text).map_err(invalid)
     }
 
-    /// Parses and checks profile text.
+    /// Parses and checks profile text: every field within the range a real machine can
+    /// have, each refusal naming its key.
     pub fn parse(text: &str) -> Result<Machine, String> {
-        let m: Machine = toml::from_str(text).map_err(|e| e.to_string())?;
+        let m: Machine = toml::from_str(text).map_err(|e| crate::io::toml_error(text, &e))?;
+        m.check_ranges()?;
         if m.protocol != "hpgl" {
             return Err(format!(
                 "protocol \"{}\" is not supported yet (hpgl)",
@@ -175,6 +201,97 @@ impl Machine {
             return Err("the profile needs a \"cut\" tool for the outline".into());
         }
         Ok(m)
+    }
+
+    fn check_ranges(&self) -> Result<(), String> {
+        let within = |key: &str, v: f64, lo: f64, hi: f64, what: &str| {
+            if v.is_finite() && v >= lo && v <= hi {
+                Ok(())
+            } else {
+                Err(format!("{key} = {v}: {what}"))
+            }
+        };
+        within(
+            "units_per_mm",
+            self.units_per_mm,
+            1.0,
+            1000.0,
+            "must be between 1 and 1000 plotter units per mm",
+        )?;
+        within(
+            "margin_mm",
+            self.margin_mm,
+            0.0,
+            500.0,
+            "must be 0 to 500 mm",
+        )?;
+        within(
+            "clearance_mm",
+            self.clearance_mm,
+            0.0,
+            50.0,
+            "must be 0 to 50 mm",
+        )?;
+        within(
+            "pen_up_speed_mm_s",
+            self.pen_up_speed_mm_s,
+            1e-3,
+            10_000.0,
+            "must be a positive speed up to 10 m/s",
+        )?;
+        if !STANDARD_BAUDS.contains(&self.baud) {
+            return Err(format!(
+                "baud = {}: not a standard rate ({})",
+                self.baud,
+                STANDARD_BAUDS.map(|b| b.to_string()).join(", ")
+            ));
+        }
+        if !(1..=(1 << 24)).contains(&self.buffer_bytes) {
+            return Err(format!(
+                "buffer_bytes = {}: must be 1 byte to 16 MiB",
+                self.buffer_bytes
+            ));
+        }
+        for (k, t) in &self.tools {
+            if !(1..=MAX_PEN).contains(&t.pen) {
+                return Err(format!(
+                    "tools.{k}.pen = {}: must be a pen from 1 to {MAX_PEN}",
+                    t.pen
+                ));
+            }
+            if let Some(v) = t.speed_mm_s {
+                within(
+                    &format!("tools.{k}.speed_mm_s"),
+                    v,
+                    1e-3,
+                    10_000.0,
+                    "must be a positive speed up to 10 m/s",
+                )?;
+            }
+            if let Some(v) = t.force {
+                within(
+                    &format!("tools.{k}.force"),
+                    v,
+                    1e-6,
+                    1e6,
+                    "must be a positive force",
+                )?;
+            }
+            if let Some(d) = t.dash {
+                for v in d {
+                    within(
+                        &format!("tools.{k}.dash"),
+                        v,
+                        MIN_DASH_MM,
+                        1000.0,
+                        &format!(
+                            "cut and gap must each be at least {MIN_DASH_MM} mm (a blade cannot make shorter ones)"
+                        ),
+                    )?;
+                }
+            }
+        }
+        Ok(())
     }
 
     fn kind(name: &str) -> Option<LineKind> {

@@ -57,7 +57,7 @@ pub struct Script {
 impl Script {
     /// Parses script text.
     pub fn parse(text: &str) -> Result<Script, String> {
-        toml::from_str(text).map_err(|e| e.to_string())
+        toml::from_str(text).map_err(|e| crate::io::toml_error(text, &e))
     }
 }
 

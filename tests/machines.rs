@@ -1,0 +1,87 @@
+//! Machine profiles with absurd values are refused with one line naming the file and the
+//! key, instead of being accepted (a 1e-5 mm dash used to take gigabytes).
+
+mod common;
+
+use common::run_crease;
+use crease::plotter::Machine;
+use std::path::Path;
+
+fn generic() -> String {
+    std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/generic-hpgl.toml"),
+    )
+    .unwrap()
+}
+
+#[test]
+fn every_field_out_of_range_is_refused_naming_its_key() {
+    let text = generic();
+    assert!(Machine::parse(&text).is_ok());
+    let cases = [
+        ("units_per_mm = 40.0", "units_per_mm = 0.0", "units_per_mm"),
+        ("units_per_mm = 40.0", "units_per_mm = 1e9", "units_per_mm"),
+        ("margin_mm = 10.0", "margin_mm = -1.0", "margin_mm"),
+        ("margin_mm = 10.0", "margin_mm = nan", "margin_mm"),
+        ("baud = 9600", "baud = 9601", "baud"),
+        ("buffer_bytes = 1024", "buffer_bytes = 0", "buffer_bytes"),
+        (
+            "pen_up_speed_mm_s = 200.0",
+            "pen_up_speed_mm_s = 0.0",
+            "pen_up_speed_mm_s",
+        ),
+        ("clearance_mm = 1.0", "clearance_mm = inf", "clearance_mm"),
+        ("pen = 2", "pen = 99", "tools.mountain.pen"),
+        (
+            "speed_mm_s = 100.0",
+            "speed_mm_s = -5.0",
+            "tools.cut.speed_mm_s",
+        ),
+        ("force = 120.0", "force = 0.0", "tools.cut.force"),
+        (
+            "dash = [3.0, 1.5]",
+            "dash = [1e-5, 1e-5]",
+            "tools.mountain.dash",
+        ),
+        ("dash = [3.0, 1.5]", "dash = [3.0]", "line"),
+        ("dash = [3.0, 1.5]", "dash = [3.0, 1.5, 2.0]", "line"),
+        ("baud = 9600", "baud = \"fast\"", "key baud"),
+    ];
+    for (from, to, key) in cases {
+        assert!(text.contains(from), "{from}");
+        let bad = text.replacen(from, to, 1);
+        let err = Machine::parse(&bad).expect_err(to);
+        assert!(err.contains(key), "{to}: {err}");
+        assert!(!err.contains('\n'), "{to}: one line: {err}");
+    }
+}
+
+#[test]
+fn a_bad_profile_stops_fab_with_one_line_naming_the_file() {
+    let dir = std::env::temp_dir().join(format!("crease-machines-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let profile = dir.join("tiny-dash.toml");
+    std::fs::write(
+        &profile,
+        generic().replacen("dash = [3.0, 1.5]", "dash = [1e-5, 1e-5]", 1),
+    )
+    .unwrap();
+    let design = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura-bent.fold");
+    let out = dir.join("job");
+    let (code, _, err) = run_crease(&[
+        "fab",
+        design.to_str().unwrap(),
+        "--machine",
+        profile.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("tiny-dash.toml") && err.contains("dash"),
+        "{err}"
+    );
+    assert!(!out.exists(), "nothing written");
+    let _ = std::fs::remove_dir_all(dir);
+}
