@@ -236,3 +236,18 @@ fn machines_are_listed_and_found_in_the_working_folder() {
     assert!(dir.join("job/sheet.hpgl").is_file());
     let _ = std::fs::remove_dir_all(dir);
 }
+
+#[test]
+fn coordinates_beyond_any_sheet_are_refused() {
+    let simple = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/anchors/data/fold/simple.fold"),
+    )
+    .unwrap();
+    assert!(simple.contains("[0,1,0]"));
+    let far = simple.replacen("[0,1,0]", "[0,2e6,0]", 1);
+    assert_bad_input(&scratch("far.fold", &far), "within 1 km");
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">
+<line x1="0" y1="0" x2="1e12" y2="0" stroke="#000"/><line x1="1e12" y1="0" x2="0" y2="100" stroke="#000"/>
+<line x1="0" y1="100" x2="0" y2="0" stroke="#000"/></svg>"##;
+    assert_bad_input(&scratch("far.svg", svg), "within 1 km");
+}

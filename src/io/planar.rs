@@ -89,6 +89,12 @@ pub fn mesh_from_segments(segments: &[Segment]) -> Result<(MeshParts, PlanarRepo
             if !p.x.is_finite() || !p.y.is_finite() {
                 return Err("a line has a coordinate that is not a finite number".into());
             }
+            let far = p.x.abs().max(p.y.abs());
+            if far > crate::mesh::MAX_COORDINATE_MM {
+                return Err(format!(
+                    "a line reaches {far:.3e} mm, which is not a finite length within 1 km"
+                ));
+            }
             lo = lo.inf(&p);
             hi = hi.sup(&p);
         }

@@ -165,6 +165,10 @@ pub struct Mesh {
     pub coordinate_precision: f64,
 }
 
+/// Largest coordinate a design may have, mm: a kilometre is beyond any sheet of paper,
+/// and past it the geometry's tolerances mean nothing.
+pub const MAX_COORDINATE_MM: f64 = 1e6;
+
 /// Raw parts of a mesh before validation.
 #[derive(Clone, Debug, Default)]
 pub struct MeshParts {
@@ -202,6 +206,21 @@ impl Mesh {
                     flat: f.len(),
                     folded: positions.len(),
                 });
+            }
+        }
+        let coords = positions
+            .iter()
+            .enumerate()
+            .flat_map(|(v, p)| p.iter().map(move |&c| (v, c)))
+            .chain(
+                flat.iter()
+                    .flatten()
+                    .enumerate()
+                    .flat_map(|(v, p)| p.iter().map(move |&c| (v, c))),
+            );
+        for (vertex, value) in coords {
+            if !(value.is_finite() && value.abs() <= MAX_COORDINATE_MM) {
+                return Err(MeshError::CoordinateOutOfRange { vertex, value });
             }
         }
         let (faces, edges, topology) = topology::build(&positions, flat.as_deref(), faces, edges)?;

@@ -11,6 +11,14 @@ pub enum MeshError {
     /// Neither 3D nor flat positions were given.
     #[error("no vertex positions")]
     NoPositions,
+    /// A coordinate is not a number or lies beyond any physical sheet.
+    #[error("vertex {vertex} has a coordinate of {value:.3e} mm, which is not a finite length within 1 km")]
+    CoordinateOutOfRange {
+        /// The vertex.
+        vertex: usize,
+        /// The coordinate.
+        value: f64,
+    },
     /// No faces at all.
     #[error("no faces: the mesh is empty")]
     Empty,
