@@ -406,31 +406,10 @@ fn run(cli: Cli) -> Result<u8, String> {
             }
             Ok(0)
         }
-        Command::Machines => {
-            let mut table = String::new();
-            for name in crease::plotter::machine::known_machines() {
-                match crease::plotter::Machine::load(&name) {
-                    Ok(m) => table.push_str(&format!(
-                        "{name:<18} {:<6} {:<8} {}\n",
-                        m.protocol, m.media, m.name
-                    )),
-                    Err(e) => table.push_str(&format!("{name:<18} (unusable: {e})\n")),
-                }
-            }
-            out(&table);
-            Ok(0)
-        }
+        Command::Machines => cli::machines(),
         Command::Plot(args) => cli::plot::plot(args),
         Command::Studio(args) => cli::studio::studio(args),
         Command::Emulate(args) => cli::plot::emulate(args),
-        Command::Convert { input, output } => {
-            let imported = io::read_with_notes(&input).map_err(|e| e.to_string())?;
-            for note in &imported.notes {
-                eprintln!("note: {note}");
-            }
-            io::write(&imported.mesh, &output).map_err(|e| e.to_string())?;
-            eprintln!("wrote {}", output.display());
-            Ok(0)
-        }
+        Command::Convert { input, output } => cli::convert(&input, &output),
     }
 }

@@ -251,3 +251,72 @@ fn coordinates_beyond_any_sheet_are_refused() {
 <line x1="0" y1="100" x2="0" y2="0" stroke="#000"/></svg>"##;
     assert_bad_input(&scratch("far.svg", svg), "within 1 km");
 }
+
+#[test]
+fn svg_roots_that_scale_nothing_and_cut_short_files_are_refused() {
+    let body = r##"<line x1="0" y1="0" x2="100" y2="0" stroke="#000"/><line x1="100" y1="0" x2="100" y2="100" stroke="#000"/><line x1="100" y1="100" x2="0" y2="0" stroke="#000"/>"##;
+    let svg = |width: &str| {
+        format!(
+            r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="100mm" viewBox="0 0 100 100">{body}</svg>"#
+        )
+    };
+    assert_bad_input(&scratch("negative.svg", &svg("-100mm")), "positive length");
+    assert_bad_input(&scratch("zero.svg", &svg("0mm")), "positive length");
+    assert_bad_input(&scratch("nan.svg", &svg("NaN")), "not a length");
+    assert_bad_input(
+        &scratch("furlongs.svg", &svg("100furlongs")),
+        "not a length",
+    );
+    let unclosed = svg("100mm").replace("</svg>", "");
+    assert_bad_input(&scratch("unclosed.svg", &unclosed), "cut short");
+    let colour = svg("100mm").replacen("#000", "#0\n00", 1);
+    assert_bad_input(&scratch("colour.svg", &colour), "#0\\n00");
+    // A percentage is relative to a page: stated, and read as px.
+    let (code, info, err) = run_crease(&[
+        "info",
+        scratch("percent.svg", &svg("100%")).to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("100%"), "{err}");
+    assert!(info.contains("26.458"), "{info}");
+}
+
+#[test]
+fn a_3d_only_design_converts_to_svg_as_its_unfolding() {
+    let simple =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/anchors/data/fold/simple.fold");
+    let out = std::env::temp_dir().join(format!("crease-cli-3d-{}.svg", std::process::id()));
+    let (code, _, err) = run_crease(&["convert", simple.to_str().unwrap(), out.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("simple.fold"),
+        "the note names the input: {err}"
+    );
+    let design = crease::io::read(&simple).unwrap();
+    let cp = crease::io::read(&out).unwrap();
+    // Isometric: the written crease pattern has the 3D form's edge lengths (the SVG
+    // numbers its vertices anew, so lengths are compared as sorted lists).
+    let flat = cp.flat().unwrap();
+    let sorted = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v
+    };
+    let l3 = sorted(
+        design
+            .edges()
+            .iter()
+            .map(|e| (design.positions()[e.vertices[0]] - design.positions()[e.vertices[1]]).norm())
+            .collect(),
+    );
+    let l2 = sorted(
+        cp.edges()
+            .iter()
+            .map(|e| (flat[e.vertices[0]] - flat[e.vertices[1]]).norm())
+            .collect(),
+    );
+    assert_eq!(l3.len(), l2.len());
+    for (a, b) in l3.iter().zip(&l2) {
+        assert!((a - b).abs() < 1e-3 * a, "{l3:?} vs {l2:?}");
+    }
+    let _ = std::fs::remove_file(out);
+}

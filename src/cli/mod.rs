@@ -5,10 +5,11 @@ pub mod plot;
 pub mod studio;
 
 use crease::generate;
+use crease::io;
 use crease::pipeline::PipelineError;
 use crease::solver::Move;
 use indicatif::{ProgressBar, ProgressStyle};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
 pub struct GenerateArgs {
@@ -177,4 +178,49 @@ pub fn design_failure(e: PipelineError) -> Result<u8, String> {
         }
         Ok(1)
     }
+}
+
+/// `crease convert`: any format to any other; a 3D-only design written to a flat format
+/// (SVG, .cp) gets its isometric unfolding as crease pattern.
+pub fn convert(input: &Path, output: &Path) -> Result<u8, String> {
+    let mut imported = io::read_with_notes(input).map_err(|e| e.to_string())?;
+    for note in &imported.notes {
+        eprintln!("note: {note}");
+    }
+    let flat_format = matches!(
+        io::Format::from_path(output).map_err(|e| e.to_string())?,
+        io::Format::Svg | io::Format::Cp
+    );
+    if flat_format && imported.mesh.flat().is_none() {
+        let flat = crease::fab::unfold(&imported.mesh).map_err(|e| {
+            format!(
+                "{}: a 3D-only design with no crease pattern, and it cannot be unfolded: {e}",
+                input.display()
+            )
+        })?;
+        imported.mesh.set_flat(flat);
+        eprintln!(
+            "note: {} has only a 3D form; its crease pattern is the form unfolded",
+            input.display()
+        );
+    }
+    io::write(&imported.mesh, output).map_err(|e| e.to_string())?;
+    eprintln!("wrote {}", output.display());
+    Ok(0)
+}
+
+/// `crease machines`: the profiles `--machine` can name, with protocol and media.
+pub fn machines() -> Result<u8, String> {
+    let mut table = String::new();
+    for name in crease::plotter::machine::known_machines() {
+        match crease::plotter::Machine::load(&name) {
+            Ok(m) => table.push_str(&format!(
+                "{name:<18} {:<6} {:<8} {}\n",
+                m.protocol, m.media, m.name
+            )),
+            Err(e) => table.push_str(&format!("{name:<18} (unusable: {e})\n")),
+        }
+    }
+    out(&table);
+    Ok(0)
 }

@@ -106,6 +106,30 @@ fn length_mm(text: &str) -> Option<f64> {
     Some(value * unit)
 }
 
+/// The root's `width` in mm: absent or a percentage (the page decides) is `None`, with a
+/// note for the percentage; a negative, zero, non-numeric or unknown-unit width is an error,
+/// since every length of the pattern is scaled by it.
+fn root_width(text: Option<&str>, notes: &mut Vec<String>) -> Result<Option<f64>, String> {
+    let Some(text) = text else { return Ok(None) };
+    if text.trim().ends_with('%') {
+        notes.push(format!(
+            "the root width is \"{text}\", relative to a page: user units are read as px (96 per inch)"
+        ));
+        return Ok(None);
+    }
+    match length_mm(text) {
+        Some(w) if w.is_finite() && w > 0.0 => Ok(Some(w)),
+        Some(_) => Err(format!(
+            "the root width \"{}\" must be a positive length",
+            text.escape_debug()
+        )),
+        None => Err(format!(
+            "the root width \"{}\" is not a length (a number with mm, cm, in, pt, pc or px)",
+            text.escape_debug()
+        )),
+    }
+}
+
 fn style_property(style: &str, name: &str) -> Option<String> {
     style.split(';').find_map(|decl| {
         let (k, v) = decl.split_once(':')?;
@@ -190,11 +214,18 @@ pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, String> {
                     .filter_map(|s| s.parse().ok())
                     .collect()
             });
-            let width = get("width").and_then(|w| length_mm(&w));
+            let width = root_width(get("width").as_deref(), notes)?;
+            if let Some(&[_, _, w, h]) = view.as_deref() {
+                if !(w > 0.0 && h > 0.0 && w.is_finite() && h.is_finite()) {
+                    return Err(format!(
+                        "the root viewBox has a width of {w} and a height of {h}: both must be positive"
+                    ));
+                }
+            }
             // The viewBox origin only frames the picture; coordinates keep their origin so
             // a pattern written by crease reads back in place.
             let scale = match (view.as_deref(), width) {
-                (Some([_, _, w, _]), Some(wmm)) if *w > 0.0 => wmm / w,
+                (Some([_, _, w, _]), Some(wmm)) => wmm / w,
                 _ => MM_PER_PX,
             };
             style.transform = Affine([scale, 0.0, 0.0, -scale, 0.0, 0.0]);
@@ -216,7 +247,8 @@ pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, String> {
         };
         let rgb = parse_colour(stroke).ok_or_else(|| {
             format!(
-                "<{name}> (element {element_index}) has an unreadable stroke colour \"{stroke}\""
+                "<{name}> (element {element_index}) has an unreadable stroke colour \"{}\"",
+                stroke.escape_debug()
             )
         })?;
         let assignment = assignment_of_colour(rgb).ok_or_else(|| {
@@ -292,6 +324,12 @@ pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, String> {
     }
     if !saw_svg {
         return Err("no <svg> element: not an SVG file".into());
+    }
+    if !stack.is_empty() {
+        return Err(format!(
+            "the file ends inside {} open element(s): it was cut short",
+            stack.len()
+        ));
     }
     let (mut parts, report) = mesh_from_segments(&segments)?;
     report_notes(&report, notes);
