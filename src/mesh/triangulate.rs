@@ -30,37 +30,43 @@ pub fn triangulate_polygon(corners: &[Vec2], clearance: f64) -> Option<Vec<[usiz
     };
     let eps = 1e-12 * scale;
     let mut triangles = Vec::with_capacity(n - 2);
+    // Each corner's ear is cached, so a cut re-examines only what it changed: the two
+    // corners beside the cut one (their triangles changed) and the ears that the cut corner
+    // blocked (its witness is gone). A blocked ear keeps a witness corner; while that corner
+    // is in the ring the ear stays blocked, since removing corners only removes blockers.
+    // The result is the same as testing every ear every time, in O(n²) typical time
+    // instead of O(n³) (a 2,000-corner face: 20 s before).
+    let mut ears: Vec<Ear> = vec![Ear::Stale; n];
+    let mut blocked_by: Vec<Vec<usize>> = vec![Vec::new(); n];
     while ring.len() > 3 {
         let m = ring.len();
         let mut best: Option<(usize, f64)> = None;
         for i in 0..m {
             let (a, b, c) = (ring[(i + m - 1) % m], ring[i], ring[(i + 1) % m]);
-            let (pa, pb, pc) = (corners[a], corners[b], corners[c]);
-            if (pb - pa).perp(&(pc - pa)) <= eps {
-                continue;
+            if ears[b] == Ear::Stale {
+                ears[b] = examine_ear(corners, &ring, a, b, c, eps, clearance);
+                if let Ear::Blocked(w) = ears[b] {
+                    blocked_by[w].push(b);
+                }
             }
-            let blocked = ring.iter().any(|&k| {
-                k != a
-                    && k != b
-                    && k != c
-                    && corners[k] != pa
-                    && corners[k] != pb
-                    && corners[k] != pc
-                    && (in_triangle(corners[k], pa, pb, pc, eps)
-                        || distance_to_segment(corners[k], pa, pc) < clearance)
-            });
-            if blocked {
-                continue;
-            }
-            let q = min_angle(pa, pb, pc);
-            if best.is_none_or(|(_, bq)| q > bq) {
-                best = Some((i, q));
+            if let Ear::Open(q) = ears[b] {
+                if best.is_none_or(|(_, bq)| q > bq) {
+                    best = Some((i, q));
+                }
             }
         }
         let (i, _) = best?;
         let m = ring.len();
-        triangles.push([ring[(i + m - 1) % m], ring[i], ring[(i + 1) % m]]);
+        let (prev, tip, next) = (ring[(i + m - 1) % m], ring[i], ring[(i + 1) % m]);
+        triangles.push([prev, tip, next]);
         ring.remove(i);
+        ears[prev] = Ear::Stale;
+        ears[next] = Ear::Stale;
+        for t in std::mem::take(&mut blocked_by[tip]) {
+            if ears[t] == Ear::Blocked(tip) {
+                ears[t] = Ear::Stale;
+            }
+        }
     }
     let (a, b, c) = (corners[ring[0]], corners[ring[1]], corners[ring[2]]);
     if (b - a).perp(&(c - a)) <= eps {
@@ -68,6 +74,49 @@ pub fn triangulate_polygon(corners: &[Vec2], clearance: f64) -> Option<Vec<[usiz
     }
     triangles.push([ring[0], ring[1], ring[2]]);
     Some(triangles)
+}
+
+/// What is known of the ear at a corner.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Ear {
+    /// Not examined since its neighbours or its witness changed.
+    Stale,
+    /// Reflex or flat: no ear.
+    Reflex,
+    /// Another corner lies in the ear or too close to its diagonal.
+    Blocked(usize),
+    /// A valid ear with this quality (its smallest angle).
+    Open(f64),
+}
+
+/// The ear a → b → c: reflex, blocked (with the first corner that blocks it), or open.
+fn examine_ear(
+    corners: &[Vec2],
+    ring: &[usize],
+    a: usize,
+    b: usize,
+    c: usize,
+    eps: f64,
+    clearance: f64,
+) -> Ear {
+    let (pa, pb, pc) = (corners[a], corners[b], corners[c]);
+    if (pb - pa).perp(&(pc - pa)) <= eps {
+        return Ear::Reflex;
+    }
+    let witness = ring.iter().copied().find(|&k| {
+        k != a
+            && k != b
+            && k != c
+            && corners[k] != pa
+            && corners[k] != pb
+            && corners[k] != pc
+            && (in_triangle(corners[k], pa, pb, pc, eps)
+                || distance_to_segment(corners[k], pa, pc) < clearance)
+    });
+    match witness {
+        Some(w) => Ear::Blocked(w),
+        None => Ear::Open(min_angle(pa, pb, pc)),
+    }
 }
 
 /// Inside or on the boundary of counter-clockwise triangle abc.
@@ -119,6 +168,84 @@ mod tests {
         let t = triangulate_polygon(&c, 0.0).unwrap();
         assert_eq!(t.len(), 4);
         assert!(t.iter().all(|&t| area(&c, t) > 1e-9));
+    }
+
+    /// Every ear tested at every cut: the O(n³) definition the cached version must match.
+    fn reference(corners: &[Vec2], clearance: f64) -> Option<Vec<[usize; 3]>> {
+        let n = corners.len();
+        let area2: f64 = (0..n).map(|i| corners[i].perp(&corners[(i + 1) % n])).sum();
+        let scale = corners
+            .iter()
+            .map(|p| (p - corners[0]).norm_squared())
+            .fold(0.0, f64::max);
+        let mut ring: Vec<usize> = if area2 > 0.0 {
+            (0..n).collect()
+        } else {
+            (0..n).rev().collect()
+        };
+        let eps = 1e-12 * scale;
+        let mut out = Vec::new();
+        while ring.len() > 3 {
+            let m = ring.len();
+            let mut best: Option<(usize, f64)> = None;
+            for i in 0..m {
+                let (a, b, c) = (ring[(i + m - 1) % m], ring[i], ring[(i + 1) % m]);
+                if let Ear::Open(q) = examine_ear(corners, &ring, a, b, c, eps, clearance) {
+                    if best.is_none_or(|(_, bq)| q > bq) {
+                        best = Some((i, q));
+                    }
+                }
+            }
+            let (i, _) = best?;
+            out.push([ring[(i + m - 1) % m], ring[i], ring[(i + 1) % m]]);
+            ring.remove(i);
+        }
+        out.push([ring[0], ring[1], ring[2]]);
+        Some(out)
+    }
+
+    /// A star with `n` corners whose radii wobble (seeded), so many ears are blocked.
+    fn star(n: usize, seed: u64) -> Vec<Vec2> {
+        let mut x = seed;
+        (0..n)
+            .map(|k| {
+                x = x
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                let r = if k % 2 == 0 {
+                    100.0
+                } else {
+                    40.0 + (x >> 40) as f64 % 50.0
+                };
+                let t = std::f64::consts::TAU * k as f64 / n as f64;
+                Vec2::new(r * t.cos(), r * t.sin())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn cached_ears_cut_exactly_what_testing_every_ear_cuts() {
+        for (n, seed) in [(12, 1), (40, 2), (61, 3), (90, 4)] {
+            let c = star(n, seed);
+            assert_eq!(triangulate_polygon(&c, 0.5), reference(&c, 0.5), "n = {n}");
+        }
+    }
+
+    #[test]
+    fn a_two_thousand_corner_face_is_covered_exactly() {
+        let c = star(2000, 7);
+        let t = triangulate_polygon(&c, 0.0).unwrap();
+        assert_eq!(t.len(), 1998);
+        assert!(t.iter().all(|&t| area(&c, t) > 0.0));
+        let total: f64 = t.iter().map(|&t| area(&c, t)).sum();
+        let polygon: f64 = 0.5
+            * (0..c.len())
+                .map(|i| c[i].perp(&c[(i + 1) % c.len()]))
+                .sum::<f64>();
+        assert!(
+            (total - polygon).abs() < 1e-9 * polygon,
+            "{total} vs {polygon}"
+        );
     }
 
     #[test]
