@@ -320,3 +320,22 @@ fn a_3d_only_design_converts_to_svg_as_its_unfolding() {
     }
     let _ = std::fs::remove_file(out);
 }
+
+#[test]
+fn a_shape_drawn_four_thousand_times_imports_as_one() {
+    let square = r##"<rect x="0" y="0" width="100" height="100" stroke="#000" fill="none"/>"##;
+    let svg = format!(
+        r##"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">{}<line x1="0" y1="0" x2="100" y2="100" stroke="#f00"/><line x1="0" y1="0" x2="100" y2="100" stroke="#ff0"/></svg>"##,
+        square.repeat(4000)
+    );
+    let path = scratch("squares.svg", &svg);
+    let mesh = crease::io::read(&path).unwrap();
+    assert_eq!(mesh.vertex_count(), 4);
+    assert_eq!(mesh.faces().len(), 2);
+    let count =
+        |a: crease::mesh::Assignment| mesh.edges().iter().filter(|e| e.assignment == a).count();
+    assert_eq!(count(crease::mesh::Assignment::Boundary), 4);
+    // The diagonal drawn as mountain and as facet line: the mountain wins.
+    assert_eq!(count(crease::mesh::Assignment::Mountain), 1);
+    assert_eq!(mesh.edges().len(), 5);
+}

@@ -113,10 +113,19 @@ pub fn mesh_from_segments(segments: &[Segment]) -> Result<(MeshParts, PlanarRepo
         grid: HashMap::new(),
         tol,
     };
+    // A line drawn again (a copied shape, a crease under a cut) joins the same two points:
+    // keep one per pair, the one that wins by priority, before the quadratic parts below.
+    let mut unique: HashMap<(usize, usize), &Segment> = HashMap::new();
     for s in &segs {
-        pool.insert(s.a);
-        pool.insert(s.b);
+        let (a, b) = (pool.insert(s.a), pool.insert(s.b));
+        let entry = unique.entry((a.min(b), a.max(b))).or_insert(s);
+        if (priority(s.assignment), s.assignment) > (priority(entry.assignment), entry.assignment) {
+            *entry = s;
+        }
     }
+    let mut pairs: Vec<((usize, usize), &Segment)> = unique.into_iter().collect();
+    pairs.sort_unstable_by_key(|(k, _)| *k);
+    let segs: Vec<&Segment> = pairs.into_iter().map(|(_, s)| s).collect();
     // Proper crossings; sweep by x so only overlapping spans are compared.
     let mut order: Vec<usize> = (0..segs.len()).collect();
     let min_x = |s: &Segment| s.a.x.min(s.b.x);
