@@ -444,6 +444,7 @@ fn an_oversized_sheet_is_tiled_over_media_pages_when_asked() {
 
 /// The router searched rings of grid cells around the pen, bounded by the grid's size, so
 /// a small design far from the pen's origin ran out of rings ("an undone stroke remains").
+/// Now it starts at the grid and visits only cells in it, in the order a full sweep would.
 #[test]
 fn routing_a_small_design_far_from_the_pen_keeps_every_stroke() {
     let mut strokes = Vec::new();
@@ -480,6 +481,13 @@ fn small_sheets_and_huge_media_fabricate_without_a_panic() {
             root.join("patterns/miura.fold").display().to_string(),
             "--width".into(),
             "60".into(),
+        ],
+        // A sheet a hundredth of a millimetre wide, thousands of grid cells from the pen:
+        // the router's ring search once swept every cell of every ring out to it.
+        vec![
+            root.join("patterns/miura.fold").display().to_string(),
+            "--width".into(),
+            "0.01".into(),
         ],
         vec![
             root.join("patterns/miura.fold").display().to_string(),

@@ -69,15 +69,23 @@ fn nearest_neighbour(group: &[Stroke], start: Vec2) -> Vec<Stroke> {
         let mut best: Option<(f64, usize, bool)> = None;
         // The pen may start far outside the grid (its origin beside a small design): the
         // rings nearer than the grid itself are empty, so the search starts at the grid.
-        let outside = |c: i64| (-c).max(c - (cells_per_side - 1)).max(0);
+        let outside = |c: i64| (-c).max(c - cells_per_side).max(0);
         let first_ring = outside(cx).max(outside(cy));
         let mut ring = first_ring;
+        // Grid keys lie in 0..=cells_per_side on both axes; only cells there are visited,
+        // in the same order as a full sweep of the ring, and only the ring's perimeter.
+        let span = |c: i64, ring: i64| (-ring).max(-c)..=ring.min(cells_per_side - c);
         loop {
-            for dx in -ring..=ring {
-                for dy in -ring..=ring {
-                    if dx.abs() != ring && dy.abs() != ring {
-                        continue;
-                    }
+            for dx in span(cx, ring) {
+                let column: Vec<i64> = if dx.abs() == ring {
+                    span(cy, ring).collect()
+                } else {
+                    [-ring, ring]
+                        .into_iter()
+                        .filter(|dy| span(cy, ring).contains(dy))
+                        .collect()
+                };
+                for dy in column {
                     let Some(list) = grid.get(&(cx + dx, cy + dy)) else {
                         continue;
                     };
