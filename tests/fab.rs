@@ -482,12 +482,12 @@ fn small_sheets_and_huge_media_fabricate_without_a_panic() {
             "--width".into(),
             "60".into(),
         ],
-        // A sheet a hundredth of a millimetre wide, thousands of grid cells from the pen:
-        // the router's ring search once swept every cell of every ring out to it.
+        // The smallest sheet allowed, thousands of the router's grid cells from the pen:
+        // its ring search once swept every cell of every ring out to it.
         vec![
             root.join("patterns/miura.fold").display().to_string(),
             "--width".into(),
-            "0.01".into(),
+            crease::pipeline::MIN_WIDTH_MM.to_string(),
         ],
         vec![
             root.join("patterns/miura.fold").display().to_string(),
@@ -548,4 +548,24 @@ fn a_folder_in_the_way_leaves_the_output_folder_untouched() {
         "only the folder stays"
     );
     let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn a_width_too_small_to_cut_is_refused() {
+    let miura = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura.fold");
+    let out = std::env::temp_dir().join(format!("crease-fab-tiny-{}", std::process::id()));
+    for w in ["0.01", "0", "NaN"] {
+        let (code, _, err) = run_crease(&[
+            "fab",
+            miura.to_str().unwrap(),
+            "--width",
+            w,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 2, "{w}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(err.contains("--width"), "{err}");
+        assert!(!out.exists());
+    }
 }

@@ -20,6 +20,10 @@ pub struct FabOptions {
     pub tile: bool,
 }
 
+/// Narrowest sheet `--width` may ask for, mm: a cutter's step is 0.025–0.05 mm, and a
+/// pattern much smaller than this leaves strokes that round to nothing.
+pub const MIN_WIDTH_MM: f64 = 5.0;
+
 /// Overlap between tiled PDF pages (mm).
 pub const TILE_OVERLAP_MM: f64 = 10.0;
 
@@ -57,6 +61,13 @@ pub fn fabricate(
         check_overlap, crease_lines, layout, route, score, verify, LayoutError, LineKind, Media,
         Tolerances, Toolpath,
     };
+    if let Some(w) = options.width {
+        if !(w.is_finite() && w >= MIN_WIDTH_MM) {
+            return Err(FabError::Input(format!(
+                "--width {w}: a sheet must be at least {MIN_WIDTH_MM} mm wide to be cut (below that every stroke is shorter than the machine's step)"
+            )));
+        }
+    }
     let verification = verify(mesh, None, Tolerances::default());
     if !verification.pass() && !options.force {
         return Err(FabError::Rejected(Rejected(format!(

@@ -4,7 +4,9 @@
 
 mod fabricate;
 
-pub use fabricate::{fabricate, FabError, FabOptions, FabOutput, Rejected, TILE_OVERLAP_MM};
+pub use fabricate::{
+    fabricate, FabError, FabOptions, FabOutput, Rejected, MIN_WIDTH_MM, TILE_OVERLAP_MM,
+};
 
 use crate::constraints::{tracked_fold_angle, ConstraintSet, Reference};
 use crate::fab::{unfold, UnfoldError};
