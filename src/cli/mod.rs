@@ -1,6 +1,8 @@
 //! Helpers of the `crease` binary: argument types, output, progress bars. (Part of the
 //! binary, not of the library.)
 
+pub mod deform;
+pub mod fab;
 pub mod plot;
 pub mod studio;
 

@@ -1,0 +1,132 @@
+//! `crease deform`: the paper's design method from the command line.
+
+use super::{design_failure, parse_drag, progress_bar, DragArg};
+use crease::constraints::ConstraintSet;
+use crease::io;
+use crease::pipeline::{run_design, DesignJob};
+use crease::solver::{Mode, Script, Stage};
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+pub struct DeformArgs {
+    /// Pattern file (may be omitted when the script names its base).
+    file: Option<PathBuf>,
+    /// Drag a vertex to a point, V=X,Y,Z (mm), or by an offset, V=+DX,+DY,+DZ (a `+`
+    /// on any component makes the move relative). Repeat for several vertices.
+    #[arg(long, value_parser = parse_drag)]
+    drag: Vec<DragArg>,
+    /// Vertices held still, separated by spaces or commas (default: the face farthest
+    /// from the dragged vertices, or nearest the middle when folding).
+    #[arg(long, num_args = 1.., value_delimiter = ',')]
+    fix: Vec<usize>,
+    /// A TOML script of drags (see patterns/*.toml).
+    #[arg(long)]
+    script: Option<PathBuf>,
+    /// Euler steps for the --drag moves.
+    #[arg(long, default_value_t = 20)]
+    steps: usize,
+    /// design (chosen conditions, lengths free) or simulation (lengths kept).
+    #[arg(long)]
+    mode: Option<String>,
+    /// Comma-separated conditions (design mode), as for verify.
+    #[arg(long)]
+    conditions: Option<String>,
+    /// Twist allowance α of flat creases (paper §2.4).
+    #[arg(long)]
+    alpha: Option<f64>,
+    /// Drag falloff radius in mm (default: a quarter of the design's diagonal).
+    #[arg(long)]
+    radius: Option<f64>,
+    /// Collapse degenerating edges (paper §4): edges shorter than this fraction of the
+    /// mean edge (0.25 when given without a value).
+    #[arg(long, num_args = 0..=1, default_missing_value = "0.25")]
+    remesh: Option<f64>,
+    /// Output FOLD file.
+    #[arg(short, long)]
+    output: PathBuf,
+}
+
+pub fn deform(args: DeformArgs) -> Result<u8, String> {
+    let DeformArgs {
+        file,
+        drag,
+        fix,
+        script,
+        steps,
+        mode,
+        conditions,
+        alpha,
+        radius,
+        remesh,
+        output,
+    } = args;
+    let mesh = file
+        .as_deref()
+        .map(io::read)
+        .transpose()
+        .map_err(|e| e.to_string())?;
+    let mut job = match &script {
+        Some(path) => {
+            let text =
+                std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+            let parsed = Script::parse(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+            let dir = path.parent().unwrap_or(std::path::Path::new("."));
+            DesignJob::from_script(&parsed, dir, mesh)
+                .map_err(|e| format!("{}: {e}", path.display()))?
+        }
+        None => DesignJob::new(mesh.ok_or("give a pattern file or a --script")?),
+    };
+    if !drag.is_empty() {
+        let moves = drag
+            .iter()
+            .map(|d| d.resolve(&job.mesh))
+            .collect::<Result<_, _>>()?;
+        job.stages.push(Stage { steps, moves });
+    }
+    if job.stages.is_empty() && job.fold.is_none() {
+        return Err(
+            "nothing to do: give --drag V=X,Y,Z or a --script with stages or a fold".into(),
+        );
+    }
+    if !fix.is_empty() {
+        job.fixed = Some(fix);
+    }
+    if let Some(mode) = mode.as_deref() {
+        job.mode = Mode::parse(mode)?;
+    }
+    if let Some(c) = conditions {
+        job.conditions = Some(ConstraintSet::parse(&c)?);
+    }
+    job.alpha = alpha.or(job.alpha);
+    job.radius = radius.or(job.radius);
+    job.remesh = remesh.or(job.remesh);
+    let job_remesh = job.remesh.is_some();
+    let outcome = match run_design(job, &mut progress_bar()) {
+        Ok(o) => o,
+        Err(e) => return design_failure(e),
+    };
+    io::write(&outcome.mesh, &output).map_err(|e| e.to_string())?;
+    let s = &outcome.stats;
+    eprintln!(
+        "{} steps, {} Newton iterations, {} halvings, largest residual {:.1e}; wrote {}",
+        s.steps,
+        s.newton_iterations,
+        s.halvings,
+        s.worst_residual,
+        output.display()
+    );
+    let (collapses, flips) = outcome
+        .drags
+        .iter()
+        .fold((0, 0), |(c, f), d| (c + d.collapses, f + d.flips));
+    if collapses + flips > 0 || job_remesh {
+        eprintln!("remeshing: {collapses} edge collapse(s), {flips} flip(s)");
+    }
+    for d in outcome.drags.iter().flat_map(|d| &d.distances) {
+        eprintln!(
+            "vertex {}: {:.2} mm from its target (was {:.2} mm)",
+            d.0, d.2, d.1
+        );
+    }
+    Ok(0)
+}

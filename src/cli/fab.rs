@@ -1,0 +1,92 @@
+//! `crease fab`: verify, unfold, lay out, score and write the sheet's files.
+
+use crease::io;
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+pub struct FabArgs {
+    /// Design file (.fold, .cp, .svg, .obj).
+    design: PathBuf,
+    /// Machine profile: a name from machines/ or a path to a .toml file.
+    #[arg(long, default_value = "generic-hpgl")]
+    machine: String,
+    /// Media: a4, a3, letter, 12x12in, WxHmm (default: the machine's).
+    #[arg(long)]
+    media: Option<String>,
+    /// Scale the pattern to this width in mm (default: design units are mm).
+    #[arg(long)]
+    width: Option<f64>,
+    /// Output folder (default: out/DESIGN-NAME).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Cut even if the design fails verification.
+    #[arg(long)]
+    force: bool,
+    /// Score mountains from the back: a second, mirrored job (sheet-back.hpgl).
+    #[arg(long)]
+    mountains_from_back: bool,
+    /// Split a sheet too large for the media over several PDF pages, with overlap and
+    /// registration marks, instead of refusing (no cutter job is written then).
+    #[arg(long)]
+    tile: bool,
+}
+
+pub fn fab(args: FabArgs) -> Result<u8, String> {
+    let FabArgs {
+        design,
+        machine,
+        media,
+        width,
+        out: out_dir,
+        force,
+        mountains_from_back,
+        tile,
+    } = args;
+    let machine = crease::plotter::Machine::load(&machine).map_err(|e| e.to_string())?;
+    let media = media
+        .as_deref()
+        .map(crease::fab::Media::parse)
+        .transpose()?;
+    let mesh = io::read(&design).map_err(|e| e.to_string())?;
+    let options = crease::pipeline::FabOptions {
+        media,
+        width,
+        force,
+        mountains_from_back,
+        tile,
+    };
+    let result = match crease::pipeline::fabricate(&mesh, &machine, &options) {
+        Ok(r) => r,
+        Err(crease::pipeline::FabError::Input(m)) => return Err(m),
+        Err(crease::pipeline::FabError::Rejected(r)) => {
+            eprintln!("error: {r}");
+            eprintln!("nothing was written");
+            return Ok(1);
+        }
+    };
+    let dir = out_dir
+        .unwrap_or_else(|| PathBuf::from("out").join(design.file_stem().unwrap_or_default()));
+    io::write_all_atomic(&dir, &result.files).map_err(|e| e.to_string())?;
+    let s = &result.report["sheet"];
+    if s["tiled"] == true {
+        eprintln!(
+            "{}: the sheet is larger than {}; sheet.pdf is tiled over pages with {} mm overlap and registration marks (no cutter job written)",
+            dir.display(),
+            machine.media,
+            crease::pipeline::TILE_OVERLAP_MM
+        );
+        return Ok(0);
+    }
+    eprintln!(
+        "{}: {} strokes, pen-up travel {:.0} mm, {} bytes of HP-GL, about {:.0} s to plot",
+        dir.display(),
+        s["strokes"],
+        s["pen_up_travel_mm"].as_f64().unwrap_or(0.0),
+        s["hpgl_bytes"],
+        s["estimated_plot_time_s"].as_f64().unwrap_or(0.0)
+    );
+    if !result.verification.pass() {
+        eprintln!("warning: the design fails verification; cut anyway because of --force");
+    }
+    Ok(0)
+}
