@@ -190,6 +190,20 @@ fn run(cli: Cli) -> Result<u8, String> {
                 Ok(o) => o,
                 Err(e) => return design_failure(e),
             };
+            // A fold that reached almost none of what was asked is a failure, not a file:
+            // a pattern without folded creases, or one held flat by its --fix vertices.
+            if let Some(f) = outcome
+                .fold
+                .as_ref()
+                .filter(|f| amount > 0.0 && f.mean_fraction < 0.01 * amount)
+            {
+                eprintln!(
+                    "error: the fold got nowhere: {:.1}% of the target angles where {:.0}% was asked (no crease with a target to fold, or --fix holds it flat); nothing was written",
+                    100.0 * f.mean_fraction,
+                    100.0 * amount
+                );
+                return Ok(1);
+            }
             io::write(&outcome.mesh, &output).map_err(|e| e.to_string())?;
             if let Some(f) = outcome.fold {
                 eprintln!(

@@ -339,3 +339,35 @@ fn a_shape_drawn_four_thousand_times_imports_as_one() {
     assert_eq!(count(crease::mesh::Assignment::Mountain), 1);
     assert_eq!(mesh.edges().len(), 5);
 }
+
+#[test]
+fn a_fold_that_gets_nowhere_fails_and_writes_nothing() {
+    let plane = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/plane.fold");
+    let out = std::env::temp_dir().join(format!("crease-cli-nowhere-{}.fold", std::process::id()));
+    let (code, _, err) = run_crease(&[
+        "fold",
+        plane.to_str().unwrap(),
+        "--amount",
+        "0.5",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("got nowhere") && err.contains("nothing was written"),
+        "{err}"
+    );
+    assert!(!out.exists());
+    // Asking for nothing and getting it is fine.
+    let miura = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura.fold");
+    let (code, _, err) = run_crease(&[
+        "fold",
+        miura.to_str().unwrap(),
+        "--amount",
+        "0",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let _ = std::fs::remove_file(out);
+}
