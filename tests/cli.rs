@@ -245,11 +245,11 @@ fn coordinates_beyond_any_sheet_are_refused() {
     .unwrap();
     assert!(simple.contains("[0,1,0]"));
     let far = simple.replacen("[0,1,0]", "[0,2e6,0]", 1);
-    assert_bad_input(&scratch("far.fold", &far), "within 1 km");
+    assert_bad_input(&scratch("coordinate-far.fold", &far), "within 1 km");
     let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">
 <line x1="0" y1="0" x2="1e12" y2="0" stroke="#000"/><line x1="1e12" y1="0" x2="0" y2="100" stroke="#000"/>
 <line x1="0" y1="100" x2="0" y2="0" stroke="#000"/></svg>"##;
-    assert_bad_input(&scratch("far.svg", svg), "within 1 km");
+    assert_bad_input(&scratch("coordinate-far.svg", svg), "within 1 km");
 }
 
 #[test]
@@ -260,21 +260,24 @@ fn svg_roots_that_scale_nothing_and_cut_short_files_are_refused() {
             r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="100mm" viewBox="0 0 100 100">{body}</svg>"#
         )
     };
-    assert_bad_input(&scratch("negative.svg", &svg("-100mm")), "positive length");
-    assert_bad_input(&scratch("zero.svg", &svg("0mm")), "positive length");
-    assert_bad_input(&scratch("nan.svg", &svg("NaN")), "not a length");
     assert_bad_input(
-        &scratch("furlongs.svg", &svg("100furlongs")),
+        &scratch("root-negative.svg", &svg("-100mm")),
+        "positive length",
+    );
+    assert_bad_input(&scratch("root-zero.svg", &svg("0mm")), "positive length");
+    assert_bad_input(&scratch("root-nan.svg", &svg("NaN")), "not a length");
+    assert_bad_input(
+        &scratch("root-furlongs.svg", &svg("100furlongs")),
         "not a length",
     );
     let unclosed = svg("100mm").replace("</svg>", "");
-    assert_bad_input(&scratch("unclosed.svg", &unclosed), "cut short");
+    assert_bad_input(&scratch("root-unclosed.svg", &unclosed), "cut short");
     let colour = svg("100mm").replacen("#000", "#0\n00", 1);
-    assert_bad_input(&scratch("colour.svg", &colour), "#0\\n00");
+    assert_bad_input(&scratch("root-colour-newline.svg", &colour), "#0\\n00");
     // A percentage is relative to a page: stated, and read as px.
     let (code, info, err) = run_crease(&[
         "info",
-        scratch("percent.svg", &svg("100%")).to_str().unwrap(),
+        scratch("root-percent.svg", &svg("100%")).to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("100%"), "{err}");
@@ -328,7 +331,7 @@ fn a_shape_drawn_four_thousand_times_imports_as_one() {
         r##"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">{}<line x1="0" y1="0" x2="100" y2="100" stroke="#f00"/><line x1="0" y1="0" x2="100" y2="100" stroke="#ff0"/></svg>"##,
         square.repeat(4000)
     );
-    let path = scratch("squares.svg", &svg);
+    let path = scratch("square-4000-times.svg", &svg);
     let mesh = crease::io::read(&path).unwrap();
     assert_eq!(mesh.vertex_count(), 4);
     assert_eq!(mesh.faces().len(), 2);
