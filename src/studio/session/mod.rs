@@ -148,6 +148,13 @@ impl Session {
         }
     }
 
+    /// The mesh whose topology is current: the solver's while it exists (remeshing changes
+    /// it there), else the design's. Its positions may lag the solver's; see
+    /// [`Session::positions`].
+    fn topology_mesh(&self) -> &Mesh {
+        self.solver.as_ref().map_or(&self.design.mesh, |s| s.mesh())
+    }
+
     fn positions(&self) -> &[Vec3] {
         match &self.solver {
             Some(s) => s.positions(),
@@ -408,13 +415,10 @@ impl Session {
     pub fn frame(&mut self, previous: Option<&Frame>) -> Frame {
         let conditions = self.condition_set();
         self.analyse();
-        let mesh_for_parts = previous
-            .is_none_or(|p| p.topology_version != self.versions.topology)
-            .then(|| self.current());
-        let topology = match (previous, &mesh_for_parts) {
-            (Some(p), _) if p.topology_version == self.versions.topology => p.topology.clone(),
-            (_, Some(m)) => Arc::new(frame::topology_json(m)),
-            (_, None) => unreachable!("a mesh is built when a part is stale"),
+        // Faces and creases need no positions: no copy of the mesh is made for them.
+        let topology = match previous {
+            Some(p) if p.topology_version == self.versions.topology => p.topology.clone(),
+            _ => Arc::new(frame::topology_json(self.topology_mesh())),
         };
         let pattern = Arc::clone(&self.pattern_json);
         Frame {
