@@ -63,11 +63,13 @@ enum Command {
     Fold {
         /// Pattern file.
         file: PathBuf,
-        /// Fraction of each crease's target angle, in [0, 1].
+        /// Fraction of each crease's target angle, in [0, 1]: every crease is driven
+        /// toward it and the rigid panels let them reach it on average (as `generate
+        /// --fold`).
         #[arg(long)]
         amount: f64,
-        /// Vertices held still, separated by spaces or commas (default: the face farthest
-        /// from the dragged vertices, or nearest the middle when folding).
+        /// Vertices held still, separated by spaces or commas (default: the face nearest
+        /// the middle).
         #[arg(long, num_args = 1.., value_delimiter = ',')]
         fix: Vec<usize>,
         /// Output FOLD file.

@@ -456,3 +456,77 @@ fn info_lists_vertex_ids_with_their_positions() {
         assert_eq!(place == "interior", mesh.is_interior(v), "{row}");
     }
 }
+
+#[test]
+fn a_fold_amount_means_the_same_in_generate_and_in_fold() {
+    // "t" is the mean fraction ρ/target over the creases, whether the closed form gives the
+    // state (generate --fold t) or the solver folds the flat sheet (fold --amount t). The
+    // Miura-ori has one rigid-folding mode, so both must land on the same state.
+    use crease::geometry::fold_angles;
+    use crease::solver::{fold_toward, Mode};
+    let t = 0.4;
+    let mean_fraction = |m: &crease::mesh::Mesh| {
+        let rho = fold_angles(m);
+        let folded: Vec<f64> = m
+            .edges()
+            .iter()
+            .zip(&rho)
+            .filter(|(e, _)| e.target != 0.0)
+            .map(|(e, r)| r / e.target)
+            .collect();
+        (folded.iter().sum::<f64>() / folded.len() as f64, folded)
+    };
+    let mut p = Params::defaults(PatternKind::Miura);
+    p.fold = Some(t);
+    let closed = generate(&p).unwrap();
+    let (closed_mean, closed_fractions) = mean_fraction(&closed);
+    assert!(
+        (closed_mean - t).abs() < 1e-9,
+        "generate: mean {closed_mean}"
+    );
+    p.fold = None;
+    let flat = generate(&p).unwrap();
+    let fixed = Solver::default_fixed(&flat, &[]);
+    let mut solver = Solver::new(flat, Mode::folding_set(), &fixed, Options::default()).unwrap();
+    let report = fold_toward(&mut solver, t, 4000, &mut |_| {}).unwrap();
+    let (solved_mean, solved_fractions) = mean_fraction(&solver.into_mesh());
+    assert!((solved_mean - t).abs() < 1e-3, "fold: mean {solved_mean}");
+    assert!((report.mean_fraction - t).abs() < 1e-3, "{report:?}");
+    for (a, b) in closed_fractions.iter().zip(&solved_fractions) {
+        assert!((a - b).abs() < 1e-3, "crease fractions {a} and {b} differ");
+    }
+}
+
+#[test]
+fn a_drag_from_the_flat_sheet_leaves_the_singular_point_first() {
+    use crease::pipeline::{is_flat_start, LEAVE_FLAT_AMOUNT};
+    let mut p = Params::defaults(PatternKind::Waterbomb);
+    p.fold = None;
+    let flat = generate(&p).unwrap();
+    assert!(is_flat_start(&flat));
+    let start = flat.positions()[40];
+    let mut job = DesignJob::new(flat);
+    job.stages.push(Stage {
+        steps: 20,
+        moves: vec![Move {
+            vertex: 40,
+            to: [start.x, start.y, start.z + 10.0],
+        }],
+    });
+    let outcome = run_design(job, &mut |_, _, _| {}).unwrap();
+    let fold = outcome
+        .fold
+        .expect("the flat sheet is folded a little first");
+    assert!(
+        (fold.mean_fraction - LEAVE_FLAT_AMOUNT).abs() < 0.01,
+        "{fold:?}"
+    );
+    assert!(!is_flat_start(&outcome.mesh));
+    let report = verify(&outcome.mesh, None, Tolerances::default());
+    assert!(report.pass(), "{report}");
+    let reached = outcome.drags[0].distances[0].2;
+    assert!(
+        reached < 1.0,
+        "vertex 40 is still {reached} mm from its target"
+    );
+}

@@ -514,3 +514,33 @@ fn ctrl_c_stops_the_studio_cleanly() {
         .unwrap();
     assert!(err.contains("stopped"), "{err}");
 }
+
+#[test]
+fn a_drag_on_the_flat_sheet_folds_it_a_little_first_and_can_be_undone() {
+    let mut p = Params::defaults(PatternKind::Waterbomb);
+    p.fold = None;
+    let hub = Hub::start(generate(&p).unwrap(), "waterbomb");
+    let before = state(&hub);
+    let start = position(&before, 40);
+    assert!(before["positions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|q| q[2].as_f64().unwrap() == 0.0));
+    let target = [start[0], start[1], start[2] + 10.0];
+    drag_to(&hub, 40, target);
+    let after = state(&hub);
+    assert!(
+        distance(position(&after, 40), target) < 1.5,
+        "vertex 40 is {:.2} mm from the pointer",
+        distance(position(&after, 40), target)
+    );
+    assert_eq!(after["pass"], true, "{}", after["residuals"]);
+    // Two changes: the small fold off the singular point, then the drag.
+    for _ in 0..2 {
+        let (status, r) = json_call(&hub, "POST", "/api/undo", json!({}));
+        assert_eq!(status, 200, "{r}");
+    }
+    let undone = state(&hub);
+    assert!(distance(position(&undone, 40), start) < 1e-12);
+}

@@ -37,6 +37,10 @@ pub struct DeformArgs {
     /// Drag falloff radius in mm (default: a quarter of the design's diagonal).
     #[arg(long)]
     radius: Option<f64>,
+    /// Fold toward this fraction of every crease's target angle before the drags (0 flat,
+    /// 1 fully folded; as `fold --amount`). A flat pattern is folded to 5% when not given.
+    #[arg(long)]
+    fold: Option<f64>,
     /// Collapse degenerating edges (paper §4): edges shorter than this fraction of the
     /// mean edge (0.25 when given without a value).
     #[arg(long, num_args = 0..=1, default_missing_value = "0.25")]
@@ -57,6 +61,7 @@ pub fn deform(args: DeformArgs) -> Result<u8, String> {
         conditions,
         alpha,
         radius,
+        fold,
         remesh,
         output,
     } = args;
@@ -100,7 +105,9 @@ pub fn deform(args: DeformArgs) -> Result<u8, String> {
     job.alpha = alpha.or(job.alpha);
     job.radius = radius.or(job.radius);
     job.remesh = remesh.or(job.remesh);
+    job.fold = fold.or(job.fold);
     let job_remesh = job.remesh.is_some();
+    let asked_fold = job.fold.is_some();
     let outcome = match run_design(job, &mut progress_bar()) {
         Ok(o) => o,
         Err(e) => return design_failure(e),
@@ -115,6 +122,12 @@ pub fn deform(args: DeformArgs) -> Result<u8, String> {
         s.worst_residual,
         output.display()
     );
+    if let (Some(f), false) = (&outcome.fold, asked_fold) {
+        eprintln!(
+            "note: the pattern was flat, a singular point no drag leaves; it was folded to {:.0}% of its target angles first (--fold sets another amount)",
+            100.0 * f.mean_fraction
+        );
+    }
     let (collapses, flips) = outcome
         .drags
         .iter()

@@ -30,8 +30,10 @@ pub struct GenerateArgs {
     #[arg(long, default_value_t = 60.0)]
     angle: f64,
     /// Fold amount in [0, 1] for the closed-form 3D state (Miura, Yoshimura, plane,
-    /// curved); default 0.5 for those. Resch: only 1, fully folded (tucks closed);
-    /// waterbomb: flat only (fold it with `crease fold`).
+    /// curved): the creases reach this fraction of their target angles on average, as
+    /// with `fold --amount` (the plane: this fraction of a half turn of bending). Default
+    /// 0.3 Miura, 0.065 Yoshimura, 0.5 plane and curved. Resch: only 1, fully folded
+    /// (tucks closed); waterbomb: flat only (fold it with `crease fold`).
     #[arg(long)]
     fold: Option<f64>,
     /// Write only the flat crease pattern.

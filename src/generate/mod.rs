@@ -73,8 +73,10 @@ pub struct Params {
     pub size: f64,
     /// Miura parallelogram angle γ in degrees (between the straight crease and the zigzag).
     pub angle_deg: f64,
-    /// Fold amount in [0, 1] for the closed-form 3D state; `None` writes the flat pattern
-    /// only. 0 is flat, 1 is flat-folded (or, for the plane, a half turn of bending).
+    /// Fold amount in [0, 1] for the closed-form 3D state: the creases reach this fraction
+    /// of their target angles on average, as with `crease fold --amount`; `None` writes the
+    /// flat pattern only. 0 is flat, 1 is flat-folded (for the plane, which has no
+    /// creases, 1 is a half turn of bending).
     pub fold: Option<f64>,
     /// Twist allowance α of triangulation creases (§2.4).
     pub alpha: f64,
@@ -101,8 +103,10 @@ impl Params {
             size: 20.0,
             angle_deg: 60.0,
             fold: match kind {
-                // A Yoshimura folds tightly: a tenth of the way already curls 8 cells into an arch.
-                PatternKind::Yoshimura => Some(0.1),
+                // A Yoshimura folds tightly: creases at 6.5% of their targets already curl
+                // 8 cells into an arch.
+                PatternKind::Yoshimura => Some(0.065),
+                PatternKind::Miura => Some(0.3),
                 _ => kind.has_closed_form_3d().then_some(0.5),
             },
             alpha: 0.0,
@@ -254,6 +258,18 @@ fn finish(
     faces: Vec<[usize; 3]>,
     folded_at: impl Fn(f64) -> Result<Vec<Vec3>, GenerateError>,
 ) -> Result<Mesh, GenerateError> {
+    finish_with(p, flat, faces, folded_at, true)
+}
+
+/// [`finish`], with the fold amount taken as the closed form's own parameter when
+/// `amount_is_crease_fraction` is false (the plane, whose bends are not creases).
+fn finish_with(
+    p: &Params,
+    flat: Vec<Vec2>,
+    faces: Vec<[usize; 3]>,
+    folded_at: impl Fn(f64) -> Result<Vec<Vec3>, GenerateError>,
+    amount_is_crease_fraction: bool,
+) -> Result<Mesh, GenerateError> {
     let mut parts = build(flat, faces, |_, _| Assignment::Unassigned, p.alpha);
     assign_by_fold(&mut parts, folded_at(0.5)?)?;
     for e in &mut parts.edges {
@@ -261,10 +277,57 @@ fn finish(
             e.alpha = p.alpha;
         }
     }
+    let mut mesh = Mesh::new(parts)?;
     if let Some(t) = p.fold {
-        parts.positions = Some(folded_at(t)?);
+        let u = if amount_is_crease_fraction {
+            parameter_for_fraction(&mut mesh, t, &folded_at)?
+        } else {
+            t
+        };
+        mesh.set_positions(folded_at(u)?);
     }
-    Ok(Mesh::new(parts)?)
+    Ok(mesh)
+}
+
+/// The closed form's own parameter u (0 flat, 1 flat-folded) at which the creases reach
+/// `fraction` of their targets on average, mean(ρ / target) = `fraction` — what
+/// `crease fold --amount` aims for, so a fold amount means one thing everywhere. The
+/// mean rises monotonically with u in every closed form, so bisection finds it; a
+/// pattern without targets (the plane) takes u = `fraction` itself.
+fn parameter_for_fraction(
+    mesh: &mut Mesh,
+    fraction: f64,
+    folded_at: &impl Fn(f64) -> Result<Vec<Vec3>, GenerateError>,
+) -> Result<f64, GenerateError> {
+    let creases: Vec<(usize, f64)> = mesh
+        .edges()
+        .iter()
+        .enumerate()
+        .filter(|(_, e)| e.target != 0.0)
+        .map(|(i, e)| (i, e.target))
+        .collect();
+    if creases.is_empty() || fraction == 0.0 || fraction == 1.0 {
+        return Ok(fraction);
+    }
+    let mut mean_at = |u: f64| -> Result<f64, GenerateError> {
+        mesh.set_positions(folded_at(u)?);
+        let rho = crate::geometry::fold_angles(mesh);
+        Ok(creases
+            .iter()
+            .map(|&(e, target)| rho[e] / target)
+            .sum::<f64>()
+            / creases.len() as f64)
+    };
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if mean_at(mid)? < fraction {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Ok(0.5 * (lo + hi))
 }
 
 fn waterbomb(p: &Params) -> Result<Mesh, GenerateError> {
@@ -374,7 +437,7 @@ fn plane(p: &Params) -> Result<Mesh, GenerateError> {
             })
             .collect())
     };
-    finish(p, flat, faces, folded_at).map(|mut m| {
+    finish_with(p, flat, faces, folded_at, false).map(|mut m| {
         // No creases in a plane: every interior line may bend either way.
         for e in m.edges_mut() {
             if !e.assignment.is_boundary() {

@@ -207,6 +207,14 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
     }
     let mut stats = Stats::default();
     let mut drags = Vec::new();
+    if fold_report.is_none() && !stages.is_empty() && is_flat_start(&mesh) {
+        let mut solver = Solver::new(mesh, Mode::folding_set(), &fold_anchor, options.clone())?;
+        let report = fold_toward(&mut solver, LEAVE_FLAT_AMOUNT, 4000, &mut |k| {
+            progress("leave flat", k, 4000)
+        })?;
+        mesh = solver.into_mesh();
+        fold_report = Some(report);
+    }
     if !stages.is_empty() {
         check_targets(&mesh, &stages, &fixed, mode)?;
         let set = match mode {
@@ -245,6 +253,28 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
         drags,
         fold: fold_report,
     })
+}
+
+/// The fold, as a fraction of each crease's target, a drag from the flat sheet starts
+/// from. The flat state is a singular point (see `solver::fold`): every crease's
+/// fold-angle range (§2.4) is at its end there and the constraints' second-order terms
+/// forbid most first-order motions, so a drag from it does not converge. 5% (9° on a ±180°
+/// crease) is enough to pick the assignment's own branch and small enough to leave the
+/// design's shape to the drag.
+pub const LEAVE_FLAT_AMOUNT: f64 = 0.05;
+
+/// A mesh lying in its flat state with creases that should fold: every crease with a
+/// target has fold angle below 1e-6 rad in the 3D form.
+pub fn is_flat_start(mesh: &Mesh) -> bool {
+    let reference = Reference::new(mesh);
+    let mut creases = (0..mesh.edges().len())
+        .filter(|&e| mesh.edges()[e].target != 0.0)
+        .peekable();
+    creases.peek().is_some()
+        && creases.all(|e| {
+            tracked_fold_angle(mesh, &reference, mesh.positions(), e)
+                .is_none_or(|(rho, _)| rho.abs() < 1e-6)
+        })
 }
 
 /// Gives every untwisted facet line (target 0, flat or join) the twist allowance α of

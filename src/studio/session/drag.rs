@@ -4,6 +4,7 @@
 use super::requests::{Refusal, Reply};
 use super::{ok, Session};
 use crate::mesh::{Mesh, Vec3};
+use crate::pipeline;
 use crate::solver::{pull, Mode, Options, Solver};
 use std::collections::BTreeSet;
 
@@ -32,11 +33,20 @@ impl Session {
     }
 
     pub(super) fn ensure_solver(&mut self, vertex: usize) -> Result<(), String> {
-        let anchor = self.anchor_for(vertex);
-        if self.solver.is_some() && anchor == self.anchor {
+        if self.solver.is_some() && self.anchor_for(vertex) == self.anchor {
             return Ok(());
         }
         self.settle();
+        if pipeline::is_flat_start(&self.design.mesh) {
+            // The flat sheet is a singular point no drag leaves (see `pipeline`).
+            self.fold_design(pipeline::LEAVE_FLAT_AMOUNT)
+                .map_err(|r| r.message)?;
+            self.message = format!(
+                "the sheet was flat, a singular point no drag leaves: folded to {:.0}% of its targets first (undo to go back)",
+                100.0 * pipeline::LEAVE_FLAT_AMOUNT
+            );
+        }
+        let anchor = self.anchor_for(vertex);
         let set = self.condition_set();
         let mut solver = Solver::new(self.design.mesh.clone(), set, &anchor, Options::default())
             .map_err(|e| e.to_string())?;

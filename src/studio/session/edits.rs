@@ -8,7 +8,7 @@ use crate::fab;
 use crate::generate::{self, Params, PatternKind};
 use crate::mesh::Mesh;
 use crate::pipeline::{self, FabError, FabOptions};
-use crate::solver::{fold_toward, Mode, Options, Solver};
+use crate::solver::{fold_toward, FoldReport, Mode, Options, Solver};
 use std::path::Path;
 
 /// Largest grid a request may generate (cells per side): 200 × 200 cells is over 40k
@@ -84,6 +84,20 @@ impl Session {
             ));
         }
         self.release();
+        let report = self.fold_design(amount)?;
+        self.message = format!(
+            "folded to {:.0}% of the targets on average",
+            100.0 * report.mean_fraction
+        );
+        Ok(Reply::Json(serde_json::json!({
+            "ok": true, "steps": report.steps, "meanFraction": report.mean_fraction,
+            "error": report.error
+        })))
+    }
+
+    /// Folds the design toward `amount` of its targets (simulation, rigid panels), one
+    /// undoable change.
+    pub(super) fn fold_design(&mut self, amount: f64) -> Result<FoldReport, Refusal> {
         self.settle();
         let centre = Solver::default_fixed(&self.design.mesh, &[]);
         let mut solver = Solver::new(
@@ -99,14 +113,7 @@ impl Session {
         self.design.mesh = solver.into_mesh();
         pipeline::record_fold_angles(&mut self.design.mesh);
         self.design_changed(false);
-        self.message = format!(
-            "folded to {:.0}% of the targets on average",
-            100.0 * report.mean_fraction
-        );
-        Ok(Reply::Json(serde_json::json!({
-            "ok": true, "steps": report.steps, "meanFraction": report.mean_fraction,
-            "error": report.error
-        })))
+        Ok(report)
     }
 
     fn replace_design(&mut self, mesh: Mesh, title: String) {
