@@ -374,3 +374,78 @@ fn a_fold_that_gets_nowhere_fails_and_writes_nothing() {
     assert_eq!(code, 0, "{err}");
     let _ = std::fs::remove_file(out);
 }
+
+/// The option blocks of `crease SUB --help`: (long name, its whole description).
+fn option_help(sub: &str) -> Vec<(String, String)> {
+    let (code, out, err) = run_crease(&[sub, "--help"]);
+    assert_eq!(code, 0, "{err}");
+    let mut blocks: Vec<(String, String)> = Vec::new();
+    for line in out.lines() {
+        let t = line.trim_start();
+        let starts = t.starts_with("--") || (t.starts_with('-') && t.get(2..4) == Some(", "));
+        if starts && line.starts_with("  ") {
+            let long = t
+                .split_whitespace()
+                .find(|w| w.starts_with("--"))
+                .unwrap()
+                .trim_end_matches(',')
+                .to_string();
+            blocks.push((long, t.to_string()));
+        } else if let Some(last) = blocks.last_mut() {
+            last.1.push(' ');
+            last.1.push_str(t);
+        }
+    }
+    blocks
+}
+
+#[test]
+fn every_option_that_takes_a_value_says_its_default_and_conditions_are_all_listed() {
+    // Options whose value is the job itself have no default to state.
+    let no_default = [
+        "generate --output",
+        "fold --output",
+        "fold --amount",
+        "deform --output",
+        "deform --drag",
+        "deform --script",
+        "plot --port",
+        "emulate --link",
+        "emulate --fail-after",
+        "emulate --reconnect-after",
+    ];
+    for sub in [
+        "generate", "info", "verify", "fold", "deform", "fab", "plot", "emulate", "convert",
+        "studio",
+    ] {
+        for (long, text) in option_help(sub) {
+            let takes_value = text
+                .split_whitespace()
+                .nth(1)
+                .is_some_and(|w| w.starts_with('<'))
+                || text.contains(&format!("{long} <"))
+                || text.contains(&format!("{long} [<"));
+            if !takes_value || no_default.contains(&format!("{sub} {long}").as_str()) {
+                continue;
+            }
+            assert!(
+                text.to_lowercase().contains("default"),
+                "crease {sub} {long} does not say its default: {text}"
+            );
+        }
+    }
+    for sub in ["verify", "deform"] {
+        let conditions = option_help(sub)
+            .into_iter()
+            .find(|(l, _)| l == "--conditions")
+            .unwrap()
+            .1;
+        for family in crease::constraints::Family::ALL {
+            assert!(
+                conditions.contains(family.name()),
+                "crease {sub} --conditions does not list {}",
+                family.name()
+            );
+        }
+    }
+}

@@ -25,24 +25,30 @@ pub struct DeformArgs {
     /// Euler steps for the --drag moves.
     #[arg(long, default_value_t = 20)]
     steps: usize,
-    /// design (chosen conditions, lengths free) or simulation (lengths kept).
+    /// design (chosen conditions, lengths free) or simulation (lengths kept); default
+    /// design, or the script's.
     #[arg(long)]
     mode: Option<String>,
-    /// Comma-separated conditions (design mode), as for verify.
+    /// Comma-separated conditions held in design mode: developability, boundary-angle,
+    /// boundary-length, convexity, flat-foldability, angular-inequality, fold-angle-range,
+    /// twist-range, edge-length, coincidence. Default: the script's, or what the design's
+    /// assignment calls for (as verify).
     #[arg(long)]
     conditions: Option<String>,
-    /// Twist allowance α of flat creases (paper §2.4).
+    /// Twist allowance α in [0, 1) of flat creases (paper §2.4); default: the script's,
+    /// or each crease's own from the file (0 for generated patterns).
     #[arg(long)]
     alpha: Option<f64>,
     /// Drag falloff radius in mm (default: a quarter of the design's diagonal).
     #[arg(long)]
     radius: Option<f64>,
     /// Fold toward this fraction of every crease's target angle before the drags (0 flat,
-    /// 1 fully folded; as `fold --amount`). A flat pattern is folded to 5% when not given.
+    /// 1 fully folded; as `fold --amount`). Default: the script's; a flat pattern is
+    /// folded to 5%, since no drag leaves the flat state.
     #[arg(long)]
     fold: Option<f64>,
     /// Collapse degenerating edges (paper §4): edges shorter than this fraction of the
-    /// mean edge (0.25 when given without a value).
+    /// mean edge, in (0, 1). Default: off (the script's); 0.25 when given without a value.
     #[arg(long, num_args = 0..=1, default_missing_value = "0.25")]
     remesh: Option<f64>,
     /// Output FOLD file.

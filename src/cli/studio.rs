@@ -17,7 +17,7 @@ pub struct StudioArgs {
     #[arg(long)]
     no_open: bool,
     /// Serve the page's files from this folder before the embedded ones (for editing
-    /// the page without rebuilding).
+    /// the page without rebuilding). Default: only the embedded ones.
     #[arg(long, value_name = "DIR")]
     assets: Option<PathBuf>,
 }
