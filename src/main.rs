@@ -190,7 +190,7 @@ fn run(cli: Cli) -> Result<u8, String> {
             job.mode = Mode::Simulation;
             let outcome = match run_design(job, &mut progress_bar()) {
                 Ok(o) => o,
-                Err(e) => return design_failure(e),
+                Err(e) => return design_failure(e, &file),
             };
             // A fold that reached almost none of what was asked is a failure, not a file:
             // a pattern without folded creases, or one held flat by its --fix vertices.

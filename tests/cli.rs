@@ -449,3 +449,29 @@ fn every_option_that_takes_a_value_says_its_default_and_conditions_are_all_liste
         }
     }
 }
+
+#[test]
+fn arcs_of_a_kilometre_radius_import_as_few_points_or_are_refused_by_name() {
+    let svg = |arc: &str| {
+        format!(
+            r##"<svg xmlns="http://www.w3.org/2000/svg" width="200mm" height="200mm" viewBox="0 0 200 200">
+<path d="M 0 0 L 200 0 L 200 200 L 0 200 Z" stroke="#000000" fill="none"/>
+<path d="M 0 100 {arc}" stroke="#ff0000" fill="none"/></svg>"##
+        )
+    };
+    // A gentle arc across the sheet: its sagitta (5 µm) is below the flattening tolerance,
+    // so it stays one straight crease, not 10,000 points.
+    let gentle = scratch("arc-gentle.svg", &svg("A 1000000 1000000 0 0 1 200 100"));
+    let (code, out, err) = run_crease(&["info", gentle.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("vertices:     6 "), "{out}");
+    // The large-arc branch of the same circle runs two kilometres out: refused, by name.
+    let huge = scratch("arc-huge.svg", &svg("A 1000000 1000000 0 1 1 200 100"));
+    let (code, _, err) = run_crease(&["info", huge.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("arc-huge.svg") && err.contains("1 km"),
+        "{err}"
+    );
+}

@@ -114,9 +114,10 @@ pub fn deform(args: DeformArgs) -> Result<u8, String> {
     job.fold = fold.or(job.fold);
     let job_remesh = job.remesh.is_some();
     let asked_fold = job.fold.is_some();
+    let source = script.as_deref().or(file.as_deref()).unwrap_or(&output);
     let outcome = match run_design(job, &mut progress_bar()) {
         Ok(o) => o,
-        Err(e) => return design_failure(e),
+        Err(e) => return design_failure(e, source),
     };
     io::write(&outcome.mesh, &output).map_err(|e| e.to_string())?;
     let s = &outcome.stats;

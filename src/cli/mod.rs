@@ -168,10 +168,11 @@ pub fn progress_bar() -> impl FnMut(&str, usize, usize) {
     }
 }
 
-/// Exit status for a failed design job: 2 for bad input, 1 for a solve that failed.
-pub fn design_failure(e: PipelineError) -> Result<u8, String> {
+/// Exit status for a failed design job: 2 for bad input (named after `input`, the file
+/// or script at fault), 1 for a solve that failed.
+pub fn design_failure(e: PipelineError, input: &Path) -> Result<u8, String> {
     if e.is_input_error() {
-        Err(e.to_string())
+        Err(format!("{}: {e}", input.display()))
     } else {
         eprintln!("error: {e}; nothing was written");
         if matches!(
