@@ -1,10 +1,11 @@
 //! The verification report that gates fabrication: every chosen condition family with its
 //! largest and RMS residual, the worst element, the violation count and a verdict; plus
-//! Maekawa's count |M − V| = 2 at flat-foldable vertices.
+//! Maekawa's count |M − V| = 2, judged where every crease at a vertex folds flat.
 
 use crate::constraints::{ConstraintSet, Element, Family, Reference};
 use crate::mesh::{Assignment, Mesh};
 use serde_json::{json, Value};
+use std::f64::consts::PI;
 use std::fmt;
 
 /// Pass thresholds.
@@ -241,7 +242,7 @@ pub fn verify(mesh: &Mesh, conditions: Option<&ConstraintSet>, tol: Tolerances) 
         families.push(summarise(family.name(), &values, t));
     }
     if set.families.contains(&Family::FlatFoldability) {
-        families.push(maekawa(mesh, &reference));
+        families.extend(maekawa(mesh));
     }
     let mut notes = Vec::new();
     if conditions.is_none() && !set.families.contains(&Family::FlatFoldability) {
@@ -289,25 +290,52 @@ fn rounding_tolerances(mesh: &Mesh, tol: Tolerances) -> Tolerances {
     }
 }
 
-/// |M − V| − 2 at every vertex where σ is defined (counts, so any nonzero value fails).
-fn maekawa(mesh: &Mesh, reference: &Reference) -> FamilyReport {
-    let mut values = Vec::new();
-    for (v, sigma) in reference.sigma.iter().enumerate() {
-        if sigma.is_none() {
+/// Maekawa's theorem at every interior vertex that folds flat as drawn: the fold
+/// angles of a flat-folded vertex sum to ±2π, |M − V| = 2 for simple creases (merged
+/// creases of §4 count by their multiple of π). Residual |Σ target| / π − 2, in creases.
+/// A vertex is judged when every crease at it targets an odd multiple of π (facet lines,
+/// target 0, do not count) and, in a file with only a crease pattern, is also drawn at that
+/// angle: a pattern that states partial folds (Origami Simulator's 90°) does not claim to
+/// fold flat, so its vertices are reported under `maekawa-partial`, not judged.
+fn maekawa(mesh: &Mesh) -> Vec<FamilyReport> {
+    let topo = mesh.topology();
+    let (mut judged, mut partial) = (Vec::new(), Vec::new());
+    for (v, fan) in topo.fans.iter().enumerate() {
+        if fan.boundary || fan.spokes.is_empty() {
             continue;
         }
-        let (mut m, mut val) = (0i64, 0i64);
-        for &e in &mesh.topology().fans[v].spokes {
-            match mesh.edges()[e].assignment {
-                Assignment::Mountain => m += 1,
-                Assignment::Valley => val += 1,
-                _ => {}
+        let (mut sum, mut creases, mut is_partial) = (0.0, 0, false);
+        for &e in &fan.spokes {
+            let edge = &mesh.edges()[e];
+            match edge.assignment {
+                Assignment::Mountain | Assignment::Valley => {
+                    let turns = edge.target / PI;
+                    let odd = (turns - turns.round()).abs() < 1e-9 && turns.round() as i64 % 2 != 0;
+                    let drawn = mesh.has_3d() || (edge.fold_angle - edge.target).abs() < 1e-6;
+                    is_partial |= !(odd && drawn);
+                    sum += edge.target;
+                    creases += 1;
+                }
+                Assignment::Flat | Assignment::Join if edge.target == 0.0 => {}
+                _ => is_partial = true,
             }
         }
-        values.push((((m - val).abs() - 2) as f64, Element::Vertex(v)));
+        if creases == 0 {
+            continue;
+        }
+        let value = ((sum.abs() / PI) - 2.0, Element::Vertex(v));
+        if is_partial {
+            partial.push(value);
+        } else {
+            judged.push(value);
+        }
     }
-    FamilyReport {
-        gating: false,
-        ..summarise("maekawa", &values, 0.5)
+    let mut out = vec![summarise("maekawa", &judged, 0.5)];
+    if !partial.is_empty() {
+        out.push(FamilyReport {
+            gating: false,
+            ..summarise("maekawa-partial", &partial, 0.5)
+        });
     }
+    out
 }
