@@ -48,8 +48,9 @@ enum Command {
         /// Print the report as JSON.
         #[arg(long)]
         json: bool,
-        /// Tolerance for every condition (radians for angles, relative for lengths);
-        /// default 1e-6.
+        /// Tolerance for every condition (radians for angles, relative for lengths), used
+        /// exactly as given. Default: 1e-6 plus, per vertex or edge, what the file's
+        /// coordinate rounding can explain there.
         #[arg(long)]
         tol: Option<f64>,
         /// Comma-separated conditions: developability, boundary-angle, boundary-length,
@@ -163,10 +164,7 @@ fn run(cli: Cli) -> Result<u8, String> {
                 if !(t.is_finite() && t > 0.0) {
                     return Err(format!("--tol must be a positive number (got {t})"));
                 }
-                tolerances = fab::Tolerances {
-                    angle: t,
-                    length: t,
-                };
+                tolerances = fab::Tolerances::exactly(t);
             }
             let mesh = io::read(&file).map_err(|e| e.to_string())?;
             let report = fab::verify(&mesh, set.as_ref(), tolerances);

@@ -15,6 +15,9 @@ pub struct Tolerances {
     pub angle: f64,
     /// Length conditions, relative.
     pub length: f64,
+    /// Add to each element's threshold what the file's coordinate rounding can explain
+    /// there ([`RoundingBounds`]); off when the user gave a tolerance.
+    pub rounding: bool,
 }
 
 impl Default for Tolerances {
@@ -22,6 +25,84 @@ impl Default for Tolerances {
         Tolerances {
             angle: 1e-6,
             length: 1e-6,
+            rounding: true,
+        }
+    }
+}
+
+impl Tolerances {
+    /// One tolerance for every condition, used exactly as given (`verify --tol`).
+    pub fn exactly(t: f64) -> Tolerances {
+        Tolerances {
+            angle: t,
+            length: t,
+            rounding: false,
+        }
+    }
+}
+
+/// What rounding every coordinate of a file to ±`precision` (mm) can do to each residual:
+/// a point moves up to √3·p, so the direction of an edge of length ℓ turns by up to
+/// δ = 2√3·p/ℓ (both ends move) and its relative length changes by up to δ. A sector
+/// angle between two creases changes by at most the sum of their δ, so a vertex sum over
+/// its sectors (developability, eq. 1; Kawasaki, eq. 5) changes by at most 2·Σ δ over
+/// the vertex's edges — a bound per vertex, not one worst case for the whole file. A fold
+/// angle turns with the normals of its two faces, by at most the δ of their edges.
+pub struct RoundingBounds {
+    precision: f64,
+    edge: Vec<f64>,
+    vertex: Vec<f64>,
+}
+
+impl RoundingBounds {
+    /// The bounds of `mesh`'s file rounding; `None` for a full-precision file.
+    pub fn new(mesh: &Mesh) -> Option<RoundingBounds> {
+        let p = mesh.coordinate_precision;
+        if p <= 0.0 {
+            return None;
+        }
+        let x = mesh.positions();
+        let flat = mesh.flat();
+        let edge: Vec<f64> = mesh
+            .edges()
+            .iter()
+            .map(|e| {
+                let [a, b] = e.vertices;
+                let mut l = (x[b] - x[a]).norm();
+                if let Some(f) = flat {
+                    l = l.min((f[b] - f[a]).norm());
+                }
+                2.0 * 3f64.sqrt() * p / l
+            })
+            .collect();
+        let vertex = mesh
+            .topology()
+            .fans
+            .iter()
+            .map(|fan| 2.0 * fan.spokes.iter().map(|&e| edge[e]).sum::<f64>())
+            .collect();
+        Some(RoundingBounds {
+            precision: p,
+            edge,
+            vertex,
+        })
+    }
+
+    /// The allowance for one residual row of `family` about `element`.
+    pub fn allowance(&self, mesh: &Mesh, family: Family, element: Element) -> f64 {
+        match (family, element) {
+            (Family::Coincidence, _) => 2.0 * 3f64.sqrt() * self.precision,
+            (_, Element::Vertex(v) | Element::Sector(v, _, _)) => self.vertex[v],
+            (f, Element::Edge(e)) if f.is_length() => 2.0 * self.edge[e],
+            (_, Element::Edge(e)) => {
+                let topo = mesh.topology();
+                topo.edge_faces[e]
+                    .iter()
+                    .flatten()
+                    .flat_map(|&f| topo.face_edges[f])
+                    .map(|k| self.edge[k])
+                    .sum()
+            }
         }
     }
 }
@@ -41,8 +122,15 @@ pub struct FamilyReport {
     pub worst_element: Option<Element>,
     /// Rows above tolerance.
     pub violations: usize,
-    /// The tolerance applied.
+    /// The tolerance applied to every row (radians, or relative for lengths).
     pub tolerance: f64,
+    /// The largest allowance for the file's coordinate rounding added to one row's
+    /// tolerance (zero for a full-precision file or a tolerance given by the user).
+    pub allowance: f64,
+    /// Why the tolerance is what it is, for the report.
+    pub basis: String,
+    /// The threshold at the worst element: the tolerance plus its allowance.
+    pub worst_tolerance: f64,
     /// Rows evaluated.
     pub rows: usize,
     /// Whether the family decides the verdict (Maekawa's count is reported only).
@@ -66,7 +154,8 @@ impl FamilyReport {
 pub struct Report {
     /// One entry per family checked.
     pub families: Vec<FamilyReport>,
-    /// Coordinate rounding of the source file (mm) that widened the tolerances, if any.
+    /// Coordinate rounding of the source file (mm) that the per-element allowances come
+    /// from, if any.
     pub precision: f64,
     /// What was not checked, and why.
     pub notes: Vec<String>,
@@ -95,7 +184,8 @@ impl Report {
                 (
                     f.name.to_string(),
                     json!({"max": f.max, "rms": f.rms, "worst": f.worst, "violations": f.violations,
-                           "tolerance": f.tolerance, "rows": f.rows, "judged": f.gating,
+                           "tolerance": f.tolerance, "rounding_allowance": f.allowance,
+                           "tolerance_basis": f.basis, "rows": f.rows, "judged": f.gating,
                            "violators": f.violators}),
                 )
             })
@@ -127,23 +217,27 @@ impl fmt::Display for Report {
         for note in &self.notes {
             writeln!(f, "note: {note}")?;
         }
-        if self.precision > 0.0 {
-            writeln!(
-                f,
-                "(tolerances widened to the file's coordinate rounding, {:.1e} mm)",
-                self.precision
-            )?;
+        // One line per distinct basis, naming the conditions it applies to.
+        let mut bases: Vec<(&str, Vec<&str>)> = Vec::new();
+        for r in self.families.iter().filter(|r| !r.basis.is_empty()) {
+            match bases.iter_mut().find(|(b, _)| *b == r.basis) {
+                Some((_, names)) => names.push(r.name),
+                None => bases.push((&r.basis, vec![r.name])),
+            }
+        }
+        for (basis, names) in bases {
+            writeln!(f, "tolerance ({}): {basis}", names.join(", "))?;
         }
         match self.first_failure() {
             None => writeln!(f, "verdict: PASS"),
             Some(r) => {
                 writeln!(
                     f,
-                    "verdict: FAIL — {} at {} ({:.3e} > {:.0e})",
+                    "verdict: FAIL — {} at {} ({:.3e} > {:.1e})",
                     r.name,
                     r.worst.as_deref().unwrap_or("?"),
                     r.max,
-                    r.tolerance
+                    r.worst_tolerance
                 )?;
                 for failing in self.families.iter().filter(|r| r.gating && !r.pass()) {
                     let more = failing.violations.saturating_sub(failing.violators.len());
@@ -166,6 +260,18 @@ impl fmt::Display for Report {
 }
 
 fn summarise(name: &'static str, values: &[(f64, Element)], tolerance: f64) -> FamilyReport {
+    summarise_with(name, values, tolerance, |_| 0.0)
+}
+
+/// [`summarise`] with an extra allowance per element.
+fn summarise_with(
+    name: &'static str,
+    values: &[(f64, Element)],
+    tolerance: f64,
+    allowance: impl Fn(Element) -> f64,
+) -> FamilyReport {
+    let mut widest: f64 = 0.0;
+    let mut worst_tolerance = tolerance;
     let mut max = 0.0;
     let mut worst = None;
     let mut sum2 = 0.0;
@@ -174,13 +280,16 @@ fn summarise(name: &'static str, values: &[(f64, Element)], tolerance: f64) -> F
     for (v, label) in values {
         let a = v.abs();
         sum2 += a * a;
-        if a > tolerance || a.is_nan() {
+        let extra = allowance(*label);
+        widest = widest.max(extra);
+        if a > tolerance + extra || a.is_nan() {
             violations += 1;
             over.push((if a.is_nan() { f64::INFINITY } else { a }, label));
         }
         if a > max || a.is_nan() {
             max = a;
             worst = Some(*label);
+            worst_tolerance = tolerance + extra;
         }
     }
     over.sort_by(|x, y| y.0.total_cmp(&x.0));
@@ -201,6 +310,9 @@ fn summarise(name: &'static str, values: &[(f64, Element)], tolerance: f64) -> F
         },
         violations,
         tolerance,
+        allowance: widest,
+        basis: String::new(),
+        worst_tolerance,
         rows: values.len(),
         gating: true,
     }
@@ -218,13 +330,8 @@ pub fn verify(mesh: &Mesh, conditions: Option<&ConstraintSet>, tol: Tolerances) 
         }
     };
     let rows = set.evaluate(mesh, &reference, mesh.positions());
-    let widened = rounding_tolerances(mesh, tol);
-    let precision = if widened != tol {
-        mesh.coordinate_precision
-    } else {
-        0.0
-    };
-    let tol = widened;
+    let bounds = tol.rounding.then(|| RoundingBounds::new(mesh)).flatten();
+    let precision = bounds.as_ref().map_or(0.0, |b| b.precision);
     let mut families = Vec::new();
     for &family in &set.families {
         let values: Vec<(f64, Element)> = rows
@@ -234,12 +341,31 @@ pub fn verify(mesh: &Mesh, conditions: Option<&ConstraintSet>, tol: Tolerances) 
             .filter(|(_, (f, _))| *f == family)
             .map(|(r, (_, el))| (*r, *el))
             .collect();
-        let t = if family.is_length() {
-            tol.length
-        } else {
-            tol.angle
+        let (t, unit) = match family {
+            Family::Coincidence => (tol.length, "mm"),
+            f if f.is_length() => (tol.length, "relative"),
+            _ => (tol.angle, "rad"),
         };
-        families.push(summarise(family.name(), &values, t));
+        let mut report = summarise_with(family.name(), &values, t, |el| {
+            bounds
+                .as_ref()
+                .map_or(0.0, |b| b.allowance(mesh, family, el))
+        });
+        report.basis = if !tol.rounding {
+            format!("{t:.0e} {unit}, as given")
+        } else if bounds.is_some() {
+            let widest = if report.rows > 0 {
+                format!(", up to {:.1e}", report.allowance)
+            } else {
+                String::new()
+            };
+            format!(
+                "{t:.0e} {unit} plus each element's bound from the file's rounding (±{precision:.1e} mm){widest}"
+            )
+        } else {
+            format!("{t:.0e} {unit} (full-precision coordinates)")
+        };
+        families.push(report);
     }
     if set.families.contains(&Family::FlatFoldability) {
         families.extend(maekawa(mesh));
@@ -258,35 +384,6 @@ pub fn verify(mesh: &Mesh, conditions: Option<&ConstraintSet>, tol: Tolerances) 
         families,
         precision,
         notes,
-    }
-}
-
-/// Widens the tolerances to what rounding the coordinates to the file's precision `p`
-/// can cause: each point moves up to √2·p, which turns an arm of length ℓ by up to
-/// √2·p/ℓ at each end; a vertex sum over d sectors, each bounded by two arms moved at
-/// both ends, changes by at most 4√2·d·p/ℓ_min. Lengths change by at most 2√2·p/ℓ_min.
-fn rounding_tolerances(mesh: &Mesh, tol: Tolerances) -> Tolerances {
-    let p = mesh.coordinate_precision;
-    if p <= 0.0 {
-        return tol;
-    }
-    let x = mesh.positions();
-    let shortest = mesh
-        .edges()
-        .iter()
-        .map(|e| (x[e.vertices[1]] - x[e.vertices[0]]).norm())
-        .fold(f64::INFINITY, f64::min);
-    let degree = mesh
-        .topology()
-        .fans
-        .iter()
-        .map(|f| f.spokes.len())
-        .max()
-        .unwrap_or(0) as f64;
-    let s = std::f64::consts::SQRT_2;
-    Tolerances {
-        angle: tol.angle.max(4.0 * s * degree * p / shortest),
-        length: tol.length.max(2.0 * s * p / shortest),
     }
 }
 

@@ -75,15 +75,19 @@ pub struct Imported {
     pub notes: Vec<String>,
 }
 
-/// Half the smallest decimal step written among the numbers of a text file: the rounding
-/// a drawing program applied to its coordinates (Illustrator writes 3 decimals). Zero when
-/// every number is an integer.
-pub fn decimal_quantum(text: &str) -> f64 {
+/// The decimals of every number with a decimal point in `text`, each with its count of
+/// significant digits: `12.50` gives (2, 4); an all-zero fraction (`20.0`) counts as 0
+/// decimals.
+fn number_decimals(text: &str) -> Vec<(i32, usize)> {
     let bytes = text.as_bytes();
-    let mut finest: i32 = i32::MIN;
+    let mut out = Vec::new();
     let mut i = 0;
     while i < bytes.len() {
         if bytes[i] == b'.' && i + 1 < bytes.len() && bytes[i + 1].is_ascii_digit() {
+            let mut int_start = i;
+            while int_start > 0 && bytes[int_start - 1].is_ascii_digit() {
+                int_start -= 1;
+            }
             let mut j = i + 1;
             while j < bytes.len() && bytes[j].is_ascii_digit() {
                 j += 1;
@@ -96,17 +100,65 @@ pub fn decimal_quantum(text: &str) -> f64 {
                     .collect();
                 decimals -= exp.parse::<i32>().unwrap_or(0);
             }
-            finest = finest.max(decimals);
+            if bytes[i + 1..j].iter().all(|&b| b == b'0') {
+                decimals = 0;
+            }
+            let digits: String = text[int_start..j]
+                .chars()
+                .filter(char::is_ascii_digit)
+                .collect();
+            let significant = digits.trim_start_matches('0').len();
+            out.push((decimals, significant));
             i = j;
         } else {
             i += 1;
         }
     }
-    if finest == i32::MIN {
-        0.0
-    } else {
-        0.5 * 10f64.powi(-finest)
+    out
+}
+
+/// The rounding a drawing program applied to its coordinates: half the decimal step it
+/// rounded to (Illustrator writes 3 decimals: ±0.0005), in the file's units, or zero for
+/// full precision. Inferred from what the numbers of `text` show, never from how short
+/// one of them happens to be:
+/// - a number with 15 or more significant digits is a double written in full, so the file
+///   keeps doubles (a shortest-decimal writer writes `20.8` for 20.8 and `17.320508075688775`
+///   for √300): full precision;
+/// - numbers whose fraction is all zeros (`20.0`) are integers and say nothing;
+/// - otherwise the finest count of decimals d is the rounding only if enough numbers use
+///   it (at least 3, and 5% of all numbers): one hand-edited `20.8` among integers is an
+///   exact value, not a file rounded to 0.1.
+pub fn decimal_quantum(text: &str) -> f64 {
+    let numbers = number_decimals(text);
+    if numbers.iter().any(|&(_, sig)| sig >= 15) {
+        return 0.0;
     }
+    let all = numbers.len() + integer_count(text);
+    let fractional: Vec<i32> = numbers
+        .iter()
+        .filter(|&&(d, _)| d > 0)
+        .map(|&(d, _)| d)
+        .collect();
+    let Some(&finest) = fractional.iter().max() else {
+        return 0.0;
+    };
+    let at_finest = fractional.iter().filter(|&&d| d == finest).count();
+    if at_finest >= 3 && at_finest * 20 >= all {
+        0.5 * 10f64.powi(-finest)
+    } else {
+        0.0
+    }
+}
+
+/// Numbers without a decimal point in `text` (runs of digits not next to a `.`, a letter
+/// or an exponent).
+fn integer_count(text: &str) -> usize {
+    text.split(|c: char| !(c.is_ascii_alphanumeric() || c == '.' || c == '-' || c == '+'))
+        .filter(|w| {
+            let w = w.trim_start_matches(['-', '+']);
+            !w.is_empty() && w.bytes().all(|b| b.is_ascii_digit())
+        })
+        .count()
 }
 
 /// A TOML error on one line: where it is (line, and the key when the parser names one)

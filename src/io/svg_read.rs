@@ -335,6 +335,8 @@ pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, String> {
     report_notes(&report, notes);
     split_along_cuts(&mut parts);
     let mut mesh = Mesh::new(parts).map_err(|e| e.to_string())?;
-    mesh.coordinate_precision = super::decimal_quantum(&geometry_text) * root_scale;
+    // A point of a relative path command adds a rounded offset to a rounded start: twice
+    // the rounding of one number.
+    mesh.coordinate_precision = 2.0 * super::decimal_quantum(&geometry_text) * root_scale;
     Ok(mesh)
 }

@@ -81,6 +81,30 @@ struct FoldFile {
     file_frames: Option<Vec<Frame>>,
 }
 
+/// The text of every `vertices_coords` array in a FOLD file (a file's rounding shows in
+/// its coordinates; fold angles and metadata are written with other precisions).
+fn coordinate_arrays(text: &str) -> String {
+    let mut out = String::new();
+    for (at, _) in text.match_indices("\"vertices_coords\"") {
+        let rest = &text[at..];
+        let Some(open) = rest.find('[') else { continue };
+        let mut depth = 0;
+        for (k, c) in rest[open..].char_indices() {
+            match c {
+                '[' => depth += 1,
+                ']' => depth -= 1,
+                _ => {}
+            }
+            if depth == 0 {
+                out.push_str(&rest[open..open + k + 1]);
+                out.push(' ');
+                break;
+            }
+        }
+    }
+    out
+}
+
 fn unit_scale(unit: Option<&str>) -> Result<f64, String> {
     Ok(match unit.unwrap_or("unit") {
         "unit" | "mm" => 1.0,
@@ -244,7 +268,7 @@ pub fn parse(text: &str) -> Result<Mesh, String> {
     split_along_cuts(&mut parts);
     let mut mesh = Mesh::new(parts).map_err(|e| e.to_string())?;
     mesh.coordinate_precision =
-        super::decimal_quantum(text) * unit_scale(top.frame_unit.as_deref())?;
+        super::decimal_quantum(&coordinate_arrays(text)) * unit_scale(top.frame_unit.as_deref())?;
     mesh.title = title;
     mesh.lock_topology = top.lock_topology.unwrap_or(false);
     let groups = top.coincident.clone().unwrap_or_default();
