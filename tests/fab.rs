@@ -406,12 +406,12 @@ fn an_oversized_sheet_is_tiled_over_media_pages_when_asked() {
         &Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/plane-crumpled.fold"),
     )
     .unwrap();
-    let a4 = crease::fab::Media::parse("a4").unwrap();
+    let a5 = crease::fab::Media::parse("148x210mm").unwrap();
     let refused = fabricate(
         &mesh,
         &machine,
         &FabOptions {
-            media: Some(a4.clone()),
+            media: Some(a5.clone()),
             ..Default::default()
         },
     );
@@ -420,7 +420,7 @@ fn an_oversized_sheet_is_tiled_over_media_pages_when_asked() {
         &mesh,
         &machine,
         &FabOptions {
-            media: Some(a4.clone()),
+            media: Some(a5.clone()),
             tile: true,
             ..Default::default()
         },
@@ -432,13 +432,13 @@ fn an_oversized_sheet_is_tiled_over_media_pages_when_asked() {
     );
     let pdf = &out.files.iter().find(|f| f.0 == "sheet.pdf").unwrap().1;
     let doc = printpdf::PdfDocument::parse(pdf, &Default::default(), &mut Vec::new()).unwrap();
-    // The sheet (with margins) is wider or taller than A4, so at least two pages, each A4.
-    assert!(out.sheet.media.width > 210.0 || out.sheet.media.height > 297.0);
+    // The sheet (with margins) is wider or taller than A5, so at least two pages, each A5.
+    assert!(out.sheet.media.width > 148.0 || out.sheet.media.height > 210.0);
     assert!(doc.pages.len() >= 2);
     for page in &doc.pages {
         let w = page.media_box.width.0 as f64 * 25.4 / 72.0;
         let h = page.media_box.height.0 as f64 * 25.4 / 72.0;
-        assert!((w - 210.0).abs() < 0.05 && (h - 297.0).abs() < 0.05);
+        assert!((w - 148.0).abs() < 0.05 && (h - 210.0).abs() < 0.05);
     }
 }
 

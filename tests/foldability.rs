@@ -260,3 +260,118 @@ fn no_anchor_svg_vertex_beyond_its_own_rounding_bound_passes() {
     // wavy_pleats.svg has them (an Illustrator file drawn by hand): the test bites.
     assert!(beyond_in_all > 100, "{beyond_in_all}");
 }
+
+/// Where segment p0–p1 passes through triangle t, strictly (ends on opposite sides of its
+/// plane, the point inside all three sides), computed here with barycentric coordinates.
+fn pierces(p0: [f64; 3], p1: [f64; 3], t: [[f64; 3]; 3]) -> Option<[f64; 3]> {
+    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let n = cross(sub(t[1], t[0]), sub(t[2], t[0]));
+    let (d0, d1) = (dot(sub(p0, t[0]), n), dot(sub(p1, t[0]), n));
+    if d0 * d1 >= 0.0 {
+        return None;
+    }
+    let s = d0 / (d0 - d1);
+    let q = [0, 1, 2].map(|k| p0[k] + s * (p1[k] - p0[k]));
+    let nn = dot(n, n);
+    let bary = [0, 1, 2].map(|k| {
+        dot(
+            cross(sub(t[(k + 2) % 3], t[(k + 1) % 3]), sub(q, t[(k + 1) % 3])),
+            n,
+        ) / nn
+    });
+    bary.iter().all(|&b| b > 1e-9).then_some(q)
+}
+
+#[test]
+fn a_design_whose_panels_pass_through_each_other_fails_and_is_not_cut() {
+    // The waterbomb rolled to 25% of its fold: rigid panels, every crease within its
+    // range, Kawasaki and developability held — and the rolled sheet closes through itself.
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let rolled = scratch("waterbomb-rolled.fold", "");
+    let (code, _, err) = run_crease(&[
+        "fold",
+        root.join("patterns/waterbomb.fold").to_str().unwrap(),
+        "--amount",
+        "0.25",
+        "-o",
+        rolled.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (code, report) = verify_json(&rolled);
+    assert_eq!(code, 1, "{report}");
+    for (name, family) in report["families"].as_object().unwrap() {
+        if name != "self-intersection" && family["judged"] == true {
+            assert_eq!(family["violations"], 0, "{name} holds locally");
+        }
+    }
+    let crossing = &report["families"]["self-intersection"];
+    assert!(crossing["violations"].as_u64().unwrap() > 0);
+    // The named pair really crosses: an edge of one passes through the other's interior.
+    let worst = crossing["worst"].as_str().unwrap();
+    let ids: Vec<usize> = worst
+        .trim_start_matches("faces ")
+        .split(" and ")
+        .map(|s| s.parse().unwrap())
+        .collect();
+    let mesh = crease::io::read(&rolled).unwrap();
+    let corner = |f: usize, k: usize| {
+        let p = mesh.positions()[mesh.faces()[f][k]];
+        [p.x, p.y, p.z]
+    };
+    let tri = |f: usize| [0, 1, 2].map(|k| corner(f, k));
+    let through = |a: usize, b: usize| {
+        (0..3).any(|k| pierces(corner(a, k), corner(a, (k + 1) % 3), tri(b)).is_some())
+    };
+    assert!(
+        through(ids[0], ids[1]) || through(ids[1], ids[0]),
+        "{worst}"
+    );
+    // fab refuses it, and cuts it only when forced.
+    let out = rolled.with_file_name("rolled-out");
+    let _ = std::fs::remove_dir_all(&out);
+    let (code, _, err) = run_crease(&[
+        "fab",
+        rolled.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("self-intersection"), "{err}");
+    assert!(!out.join("sheet.svg").exists());
+    let (code, _, err) = run_crease(&[
+        "fab",
+        rolled.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--force",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.join("sheet.svg").exists());
+}
+
+#[test]
+fn every_bundled_design_is_free_of_crossings() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns");
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "fold") {
+            continue;
+        }
+        let mesh = crease::io::read(&path).unwrap();
+        let crossings = crease::fab::self_intersections(&mesh);
+        assert!(
+            crossings.is_empty(),
+            "{}: faces {:?} cross",
+            path.display(),
+            crossings[0].faces
+        );
+    }
+}

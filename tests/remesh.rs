@@ -86,8 +86,13 @@ fn collapses_follow_maekawa_and_the_four_crease_rule() {
                 solver
                     .correct()
                     .unwrap_or_else(|err| panic!("edge {e}: {err}"));
+                // Only these two are restored: nothing keeps the panels from swinging
+                // through each other, which verify's self-intersection check may report.
                 let report = verify(&solver.into_mesh(), Some(&set), Tolerances::default());
-                assert!(report.pass(), "edge {e}: {report}");
+                for f in &set.families {
+                    let family = report.families.iter().find(|r| r.name == f.name()).unwrap();
+                    assert!(family.pass(), "edge {e}: {report}");
+                }
             }
             Err(Refusal::Maekawa(_)) => {
                 assert!(!expect_ok);

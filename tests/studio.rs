@@ -544,3 +544,39 @@ fn a_drag_on_the_flat_sheet_folds_it_a_little_first_and_can_be_undone() {
     let undone = state(&hub);
     assert!(distance(position(&undone, 40), start) < 1e-12);
 }
+
+#[test]
+fn panels_that_pass_through_each_other_are_reported_and_marked() {
+    // The waterbomb rolled to 25%: every local condition holds, the sheet closes through
+    // itself.
+    use crease::solver::{fold_toward, Mode, Options, Solver};
+    let mut p = Params::defaults(PatternKind::Waterbomb);
+    p.fold = None;
+    let flat = generate(&p).unwrap();
+    let fixed = Solver::default_fixed(&flat, &[]);
+    let mut solver = Solver::new(flat, Mode::folding_set(), &fixed, Options::default()).unwrap();
+    fold_toward(&mut solver, 0.25, 4000, &mut |_| {}).unwrap();
+    let hub = Hub::start(solver.into_mesh(), "rolled");
+    let s = state(&hub);
+    assert_eq!(s["pass"], false);
+    assert!(s["residuals"]["self-intersection"].as_f64().unwrap() > 0.0);
+    // The analysis thread reports beside the solver: wait for its verdict.
+    let start = Instant::now();
+    let worst = loop {
+        let f: Value =
+            serde_json::from_slice(&call(&hub, "GET", "/api/frame?after=0", b"").body).unwrap();
+        if !f["live"]["worst"].is_null() {
+            break f["live"]["worst"].clone();
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(30),
+            "the analysis reports"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    assert_eq!(worst["family"], "self-intersection", "{worst}");
+    let faces = worst["element"]["faces"]
+        .as_array()
+        .expect("two faces to mark");
+    assert_eq!(faces.len(), 2);
+}

@@ -119,6 +119,8 @@ pub enum Element {
     Edge(usize),
     /// A pair of consecutive creases at a vertex (angular inequalities): vertex, edges.
     Sector(usize, usize, usize),
+    /// Two faces (self-intersection: they pass through each other).
+    Faces(usize, usize),
 }
 
 impl std::fmt::Display for Element {
@@ -127,6 +129,7 @@ impl std::fmt::Display for Element {
             Element::Vertex(v) => write!(f, "vertex {v}"),
             Element::Edge(e) => write!(f, "edge {e}"),
             Element::Sector(v, a, b) => write!(f, "vertex {v} between edges {a} and {b}"),
+            Element::Faces(a, b) => write!(f, "faces {a} and {b}"),
         }
     }
 }

@@ -2,6 +2,7 @@
 //! score it with dash codes and order the cuts.
 
 pub mod flat_fold;
+pub mod intersect;
 pub mod layout;
 pub mod lines;
 pub mod route;
@@ -10,6 +11,7 @@ pub mod unfold;
 pub mod verify;
 
 pub use flat_fold::{flat_folded, FlatFolded, NotFlatFoldable, PlaneMotion};
+pub use intersect::{self_intersections, Crossing};
 pub use layout::{layout, LayoutError, Media, Sheet};
 pub use lines::{crease_lines, CreaseLine, LineKind};
 pub use route::route;

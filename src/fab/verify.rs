@@ -93,6 +93,7 @@ impl RoundingBounds {
         match (family, element) {
             (Family::Coincidence, _) => 2.0 * 3f64.sqrt() * self.precision,
             (_, Element::Vertex(v) | Element::Sector(v, _, _)) => self.vertex[v],
+            (_, Element::Faces(..)) => 0.0,
             (f, Element::Edge(e)) if f.is_length() => 2.0 * self.edge[e],
             (_, Element::Edge(e)) => {
                 let topo = mesh.topology();
@@ -370,6 +371,9 @@ pub fn verify(mesh: &Mesh, conditions: Option<&ConstraintSet>, tol: Tolerances) 
     if set.families.contains(&Family::FlatFoldability) {
         families.extend(maekawa(mesh));
     }
+    if mesh.has_3d() {
+        families.push(self_intersection(mesh));
+    }
     let mut notes = Vec::new();
     if conditions.is_none() && !set.families.contains(&Family::FlatFoldability) {
         notes.push(match reference.odd_vertex {
@@ -385,6 +389,24 @@ pub fn verify(mesh: &Mesh, conditions: Option<&ConstraintSet>, tol: Tolerances) 
         precision,
         notes,
     }
+}
+
+/// Faces of the 3D form that pass through each other ([`super::intersect`]): one row per
+/// crossing pair, its residual how deep the piercing edge reaches through (mm). Any
+/// crossing fails; contact does not count.
+fn self_intersection(mesh: &Mesh) -> FamilyReport {
+    let values: Vec<(f64, Element)> = super::self_intersections(mesh)
+        .into_iter()
+        .map(|c| (c.depth, Element::Faces(c.faces.0, c.faces.1)))
+        .collect();
+    let mut report = summarise("self-intersection", &values, 0.0);
+    // Rows are the crossings found, not the pairs examined.
+    report.rows = mesh.faces().len();
+    report.basis = format!(
+        "any crossing deeper than {:.0e} of the design's size (contact is not a crossing)",
+        super::intersect::CONTACT_FRACTION
+    );
+    report
 }
 
 /// Maekawa's theorem at every interior vertex that folds flat as drawn: the fold

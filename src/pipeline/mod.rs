@@ -202,6 +202,8 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
         let report = fold_toward(&mut solver, amount, 4000, &mut |k| {
             progress("fold", k, 4000)
         })?;
+        // As after a drag: a saved state is unfolded for cutting, isometric to ~1e-12.
+        solver.polish(1e-12);
         mesh = solver.into_mesh();
         fold_report = Some(report);
     }

@@ -214,6 +214,7 @@ fn element_json(element: Element) -> Value {
     match element {
         Element::Vertex(v) | Element::Sector(v, _, _) => json!({"vertex": v}),
         Element::Edge(e) => json!({"edge": e}),
+        Element::Faces(a, b) => json!({"faces": [a, b]}),
     }
 }
 

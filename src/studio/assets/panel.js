@@ -151,7 +151,14 @@ export class Panel {
       tr.insertCell().textContent = !f.judged ? 'reported' : f.pass ? '✓' : '✗ ' + (f.worst || '');
     }
     $('worst').textContent = live.worst && !live.worst.pass
-      ? `worst: ${live.worst.family} at ${live.worst.element.vertex !== undefined ? 'vertex ' + live.worst.element.vertex : 'edge ' + live.worst.element.edge} (marked magenta)`
+      ? `worst: ${live.worst.family} at ${describeElement(live.worst.element)} (marked magenta)`
       : '';
   }
+}
+
+/** A report element in words: a vertex, an edge, or two faces that cross. */
+function describeElement(el) {
+  if (el.vertex !== undefined) return `vertex ${el.vertex}`;
+  if (el.faces !== undefined) return `faces ${el.faces[0]} and ${el.faces[1]}`;
+  return `edge ${el.edge}`;
 }

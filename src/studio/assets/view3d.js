@@ -100,7 +100,11 @@ export class View3D {
     let worst = [];
     if (live.worst && !live.worst.pass) {
       const el = live.worst.element;
-      worst = el.vertex !== undefined ? [el.vertex] : (topo.edges[el.edge] || []).slice(0, 2);
+      if (el.vertex !== undefined) worst = [el.vertex];
+      else if (el.faces !== undefined) {
+        // Two faces that pass through each other: mark all their corners.
+        worst = el.faces.flatMap((f) => Array.from(topo.faces.slice(3 * f, 3 * f + 3)));
+      } else worst = (topo.edges[el.edge] || []).slice(0, 2);
     }
     this.setMarkers(this.worst, worst);
     if (topologyChanged || !this.framed) this.frame();

@@ -1,0 +1,291 @@
+//! Self-intersection of a 3D design: panels that pass through each other. The paper's
+//! fold-angle ranges (§2.4) only keep neighbouring panels from swinging through one
+//! another; a sheet rolled or bent far enough can close through itself elsewhere, and the
+//! maker finds out only after cutting. This finds every pair of faces that cross other
+//! than along a shared edge or vertex.
+//!
+//! A crossing is *transversal*: an edge of one triangle passes through the interior of
+//! the other, its ends strictly on opposite sides of that triangle's plane. Faces that
+//! only touch — layers stacked in a plane, as in a flat-folded state, or a vertex resting
+//! on a panel — are not crossings (that is the layer order's business). "Strictly" means
+//! by more than [`CONTACT_FRACTION`] of the design's size, so rounding never decides.
+//! Candidate pairs come from a bounding-volume hierarchy of axis-aligned boxes (median
+//! split), so the check is O(n log n) in the number of faces.
+
+use crate::mesh::{Mesh, Vec3};
+
+/// Distances below this fraction of the design's bounding-box diagonal count as contact,
+/// not crossing.
+pub const CONTACT_FRACTION: f64 = 1e-9;
+
+/// Two faces that pass through each other.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Crossing {
+    /// The face whose edge passes through the other (the smaller index first overall).
+    pub faces: (usize, usize),
+    /// Where that edge pierces the other face.
+    pub at: Vec3,
+    /// How far the pierced edge reaches through the face: the smaller of its two ends'
+    /// distances from the face's plane (mm).
+    pub depth: f64,
+}
+
+/// Every pair of faces of `mesh`'s 3D form that cross, ordered by face indices.
+pub fn self_intersections(mesh: &Mesh) -> Vec<Crossing> {
+    let x = mesh.positions();
+    let faces = mesh.faces();
+    let (lo, hi) = mesh.bounding_box();
+    let eps = CONTACT_FRACTION * (hi - lo).norm().max(1e-300);
+    let boxes: Vec<Aabb> = faces
+        .iter()
+        .map(|f| Aabb::around(f.iter().map(|&v| x[v]), eps))
+        .collect();
+    let tree = Bvh::build(&boxes);
+    let mut found = Vec::new();
+    let mut candidates = Vec::new();
+    for (a, fa) in faces.iter().enumerate() {
+        candidates.clear();
+        tree.overlapping(&boxes[a], &mut candidates);
+        for &b in candidates.iter().filter(|&&b| b > a) {
+            let fb = &faces[b];
+            let shared = fa.iter().filter(|v| fb.contains(v)).count();
+            if shared >= 2 {
+                continue; // neighbours across an edge: the fold-angle ranges' concern
+            }
+            let ta = fa.map(|v| x[v]);
+            let tb = fb.map(|v| x[v]);
+            // With a shared vertex, only the edges opposite it can pierce the other face.
+            let hit = piercing(fa, &ta, fb, &tb, eps).or_else(|| piercing(fb, &tb, fa, &ta, eps));
+            if let Some((at, depth)) = hit {
+                found.push(Crossing {
+                    faces: (a, b),
+                    at,
+                    depth,
+                });
+            }
+        }
+    }
+    found
+}
+
+/// The first edge of triangle `p` (not touching `q`'s vertices) that passes through
+/// triangle `q`'s interior: where, and how deep.
+fn piercing(
+    p_ids: &[usize; 3],
+    p: &[Vec3; 3],
+    q_ids: &[usize; 3],
+    q: &[Vec3; 3],
+    eps: f64,
+) -> Option<(Vec3, f64)> {
+    let n = (q[1] - q[0]).cross(&(q[2] - q[0]));
+    let area2 = n.norm();
+    if area2 <= eps * eps {
+        return None; // a degenerate face has no interior
+    }
+    let n = n / area2;
+    for k in 0..3 {
+        let (i, j) = (k, (k + 1) % 3);
+        if q_ids.contains(&p_ids[i]) || q_ids.contains(&p_ids[j]) {
+            continue;
+        }
+        let (di, dj) = ((p[i] - q[0]).dot(&n), (p[j] - q[0]).dot(&n));
+        if di * dj >= 0.0 || di.abs() <= eps || dj.abs() <= eps {
+            continue;
+        }
+        let at = p[i] + (p[j] - p[i]) * (di / (di - dj));
+        // Strictly inside q: at least eps from each of its sides.
+        let inside = (0..3).all(|s| {
+            let (a, b) = (q[s], q[(s + 1) % 3]);
+            let side = (b - a).cross(&(at - a)).dot(&n) / (b - a).norm();
+            side > eps
+        });
+        if inside {
+            return Some((at, di.abs().min(dj.abs())));
+        }
+    }
+    None
+}
+
+/// An axis-aligned box.
+#[derive(Clone, Copy, Debug)]
+struct Aabb {
+    lo: Vec3,
+    hi: Vec3,
+}
+
+impl Aabb {
+    fn around(points: impl Iterator<Item = Vec3>, pad: f64) -> Aabb {
+        let mut b = Aabb {
+            lo: Vec3::repeat(f64::INFINITY),
+            hi: Vec3::repeat(f64::NEG_INFINITY),
+        };
+        for p in points {
+            b.lo = b.lo.inf(&p);
+            b.hi = b.hi.sup(&p);
+        }
+        b.lo -= Vec3::repeat(pad);
+        b.hi += Vec3::repeat(pad);
+        b
+    }
+
+    fn union(&self, o: &Aabb) -> Aabb {
+        Aabb {
+            lo: self.lo.inf(&o.lo),
+            hi: self.hi.sup(&o.hi),
+        }
+    }
+
+    fn overlaps(&self, o: &Aabb) -> bool {
+        (0..3).all(|k| self.lo[k] <= o.hi[k] && o.lo[k] <= self.hi[k])
+    }
+
+    fn centre(&self, axis: usize) -> f64 {
+        0.5 * (self.lo[axis] + self.hi[axis])
+    }
+}
+
+/// A bounding-volume hierarchy over boxes: each node splits its items at the median
+/// centre along its box's longest axis; leaves hold a few items.
+struct Bvh {
+    nodes: Vec<Node>,
+    items: Vec<usize>,
+    boxes: Vec<Aabb>,
+}
+
+struct Node {
+    bounds: Aabb,
+    /// Leaf: range in `items`; inner: children's node indices.
+    kind: NodeKind,
+}
+
+enum NodeKind {
+    Leaf(usize, usize),
+    Inner(usize, usize),
+}
+
+/// Items per leaf.
+const LEAF: usize = 4;
+
+impl Bvh {
+    fn build(boxes: &[Aabb]) -> Bvh {
+        let mut bvh = Bvh {
+            nodes: Vec::new(),
+            items: (0..boxes.len()).collect(),
+            boxes: boxes.to_vec(),
+        };
+        if !boxes.is_empty() {
+            bvh.split(0, boxes.len());
+        }
+        bvh
+    }
+
+    fn split(&mut self, from: usize, to: usize) -> usize {
+        let bounds = self.items[from..to]
+            .iter()
+            .map(|&i| self.boxes[i])
+            .reduce(|a, b| a.union(&b))
+            .expect("a node holds items");
+        let id = self.nodes.len();
+        self.nodes.push(Node {
+            bounds,
+            kind: NodeKind::Leaf(from, to),
+        });
+        if to - from > LEAF {
+            let extent = bounds.hi - bounds.lo;
+            let axis = (0..3)
+                .max_by(|&a, &b| extent[a].total_cmp(&extent[b]))
+                .unwrap();
+            let mid = (from + to) / 2;
+            let boxes = &self.boxes;
+            self.items[from..to].select_nth_unstable_by(mid - from, |&a, &b| {
+                boxes[a].centre(axis).total_cmp(&boxes[b].centre(axis))
+            });
+            let left = self.split(from, mid);
+            let right = self.split(mid, to);
+            self.nodes[id].kind = NodeKind::Inner(left, right);
+        }
+        id
+    }
+
+    /// Items whose boxes overlap `query`, appended to `out`.
+    fn overlapping(&self, query: &Aabb, out: &mut Vec<usize>) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let mut stack = vec![0];
+        while let Some(n) = stack.pop() {
+            let node = &self.nodes[n];
+            if !node.bounds.overlaps(query) {
+                continue;
+            }
+            match node.kind {
+                NodeKind::Leaf(a, b) => out.extend(
+                    self.items[a..b]
+                        .iter()
+                        .copied()
+                        .filter(|&i| self.boxes[i].overlaps(query)),
+                ),
+                NodeKind::Inner(l, r) => stack.extend([l, r]),
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tri(p: [[f64; 3]; 3]) -> [Vec3; 3] {
+        p.map(|c| Vec3::new(c[0], c[1], c[2]))
+    }
+
+    #[test]
+    fn an_edge_through_the_interior_pierces_and_a_touch_does_not() {
+        let q = tri([[0., 0., 0.], [4., 0., 0.], [0., 4., 0.]]);
+        let through = tri([[1., 1., -1.], [1., 1., 1.], [5., 5., 5.]]);
+        let (at, depth) = piercing(&[3, 4, 5], &through, &[0, 1, 2], &q, 1e-9).unwrap();
+        assert!((at - Vec3::new(1., 1., 0.)).norm() < 1e-12);
+        assert!((depth - 1.0).abs() < 1e-12);
+        // Resting on the plane (one end in it) or lying in it: contact, not a crossing.
+        let resting = tri([[1., 1., 0.], [1., 1., 1.], [2., 1., 1.]]);
+        assert!(piercing(&[3, 4, 5], &resting, &[0, 1, 2], &q, 1e-9).is_none());
+        let coplanar = tri([[1., 1., 0.], [3., 0.5, 0.], [0.5, 3., 0.]]);
+        assert!(piercing(&[3, 4, 5], &coplanar, &[0, 1, 2], &q, 1e-9).is_none());
+        // Through the plane but outside the triangle.
+        let beside = tri([[5., 5., -1.], [5., 5., 1.], [6., 6., 0.]]);
+        assert!(piercing(&[3, 4, 5], &beside, &[0, 1, 2], &q, 1e-9).is_none());
+    }
+
+    #[test]
+    fn the_hierarchy_finds_exactly_the_overlapping_boxes() {
+        // Boxes on a 10 × 10 × 10 grid of unit cells, queried with random boxes; compared
+        // with testing every box.
+        let mut boxes = Vec::new();
+        for i in 0..1000 {
+            let c = Vec3::new((i % 10) as f64, ((i / 10) % 10) as f64, (i / 100) as f64);
+            boxes.push(Aabb::around([c, c + Vec3::repeat(0.7)].into_iter(), 0.0));
+        }
+        let bvh = Bvh::build(&boxes);
+        let mut seed = 7u64;
+        let mut rand = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 10.0
+        };
+        for _ in 0..200 {
+            let a = Vec3::new(rand(), rand(), rand());
+            let q = Aabb::around(
+                [a, a + Vec3::new(rand(), rand(), rand()) * 0.3].into_iter(),
+                0.0,
+            );
+            let mut got = Vec::new();
+            bvh.overlapping(&q, &mut got);
+            got.sort_unstable();
+            let want: Vec<usize> = (0..boxes.len())
+                .filter(|&i| boxes[i].overlaps(&q))
+                .collect();
+            assert_eq!(got, want);
+        }
+    }
+}
