@@ -104,35 +104,32 @@ fn svg_units_become_millimetres() {
 }
 
 /// Compares two meshes' crease graphs, vertices matched by index (FOLD keeps their order).
+/// The flat lines crease adds to triangulate a polygon are its own, not the file's, and a
+/// polygon may be triangulated along other diagonals after a round trip: they are left out.
 fn same_graph(a: &Mesh, b: &Mesh) -> Result<(), String> {
-    if a.vertex_count() != b.vertex_count() || a.edges().len() != b.edges().len() {
+    let listed = |m: &Mesh| -> Vec<(usize, usize, Assignment)> {
+        let mut v: Vec<_> = m
+            .edges()
+            .iter()
+            .filter(|e| !e.synthetic)
+            .map(|e| {
+                let (x, y) = edge_key(e.vertices[0], e.vertices[1]);
+                (x, y, e.assignment)
+            })
+            .collect();
+        v.sort();
+        v
+    };
+    let (ea, eb) = (listed(a), listed(b));
+    if a.vertex_count() != b.vertex_count() || ea.len() != eb.len() {
         return Err(format!(
             "counts differ: {} v / {} e vs {} v / {} e",
             a.vertex_count(),
-            a.edges().len(),
+            ea.len(),
             b.vertex_count(),
-            b.edges().len()
+            eb.len()
         ));
     }
-    let map: Vec<usize> = (0..a.vertex_count()).collect();
-    let mut ea: Vec<(usize, usize, Assignment)> = a
-        .edges()
-        .iter()
-        .map(|e| {
-            let (x, y) = edge_key(map[e.vertices[0]], map[e.vertices[1]]);
-            (x, y, e.assignment)
-        })
-        .collect();
-    let mut eb: Vec<(usize, usize, Assignment)> = b
-        .edges()
-        .iter()
-        .map(|e| {
-            let (x, y) = e.key();
-            (x, y, e.assignment)
-        })
-        .collect();
-    ea.sort();
-    eb.sort();
     if ea != eb {
         return Err("edges or assignments differ".into());
     }
@@ -157,11 +154,14 @@ fn fold_round_trip_keeps_vertices_edges_and_assignments() {
     }
 }
 
+/// The lines a drawing shows: crease's own triangulation lines are left out of SVG and
+/// `.cp` (reading the drawing back triangulates again, maybe along other diagonals).
 fn drawn_edges(m: &Mesh) -> Vec<(String, Assignment)> {
     let f = m.flat().unwrap();
     let mut out: Vec<(String, Assignment)> = m
         .edges()
         .iter()
+        .filter(|e| !e.is_triangulation_line())
         .map(|e| {
             let mut ends = e.vertices.map(|v| format!("{:.4},{:.4}", f[v].x, f[v].y));
             ends.sort();
@@ -203,5 +203,125 @@ fn svg_round_trip_keeps_the_crease_graph() {
             "{}: lost {lost:?}, gained {gained:?}",
             p.display()
         );
+    }
+}
+
+/// Coordinates of two FOLD `vertices_coords` arrays agree to 1e-9 of the larger (a 2D
+/// point is the 3D point at z = 0: a flat file labelled 3D comes back as the 2D pattern).
+fn same_coordinates(a: &serde_json::Value, b: &serde_json::Value) -> bool {
+    let flat = |v: &serde_json::Value| -> Vec<f64> {
+        v.as_array()
+            .unwrap()
+            .iter()
+            .flat_map(|p| {
+                let c = p.as_array().unwrap();
+                (0..3).map(move |k| c.get(k).map_or(0.0, |x| x.as_f64().unwrap()))
+            })
+            .collect()
+    };
+    let (x, y) = (flat(a), flat(b));
+    x.len() == y.len()
+        && x.iter()
+            .zip(&y)
+            .all(|(p, q)| (p - q).abs() <= 1e-9 * p.abs().max(q.abs()).max(1.0))
+}
+
+/// A FOLD file's edges: ends in order, assignment, and fold angle (clamped into FOLD's
+/// range, to 1e-9°), sorted. A file without angles means each assignment's full fold
+/// (M −180°, V 180°, others 0), which crease writes out.
+fn edge_set(fold: &serde_json::Value) -> Vec<(u64, u64, String, i64)> {
+    let ends = fold["edges_vertices"].as_array().unwrap();
+    let mut out: Vec<_> = ends
+        .iter()
+        .enumerate()
+        .map(|(i, e)| {
+            let (a, b) = (e[0].as_u64().unwrap(), e[1].as_u64().unwrap());
+            let assignment = fold["edges_assignment"][i]
+                .as_str()
+                .unwrap_or("U")
+                .to_string();
+            let default = match assignment.as_str() {
+                "M" => -180.0,
+                "V" => 180.0,
+                _ => 0.0,
+            };
+            let angle = fold["edges_foldAngle"][i].as_f64().unwrap_or(default);
+            let angle = (angle.clamp(-180.0, 180.0) * 1e9).round() as i64;
+            (a.min(b), a.max(b), assignment, angle)
+        })
+        .collect();
+    out.sort();
+    out
+}
+
+#[test]
+fn converting_a_fold_file_to_fold_keeps_everything_it_had() {
+    // Every field of the file comes back: its polygon faces (not crease's triangles), its
+    // edges in order with assignments and angles, its unit as given (or none), its
+    // metadata and its other fields (faceOrders, vertices_flatUnfoldCoords, …).
+    for path in anchor_files() {
+        if path.extension().unwrap() != "fold" {
+            continue;
+        }
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let original: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let mesh = io::read(&path).unwrap();
+        let written: serde_json::Value =
+            serde_json::from_str(&io::to_string(&mesh, Format::Fold).unwrap()).unwrap();
+        for (key, value) in original.as_object().unwrap() {
+            let back = &written[key];
+            match key.as_str() {
+                // crease writes its own; the spec version it writes is 1.1.
+                "file_spec" | "file_creator" | "file_classes" | "frame_classes" => {}
+                "frame_attributes" => {}
+                "vertices_coords" => assert!(same_coordinates(value, back), "{name}: {key}"),
+                // Edges as a set of (ends, assignment, angle): an edges-only file has its
+                // faces found by crease, which lists the same edges in its own order.
+                "edges_vertices" | "edges_assignment" | "edges_foldAngle" => {
+                    assert_eq!(edge_set(&original), edge_set(&written), "{name}: {key}");
+                }
+                "faces_vertices" if value.as_array().unwrap().is_empty() => {}
+                _ => assert_eq!(value, back, "{name}: {key}"),
+            }
+        }
+        if original.get("frame_unit").is_none() {
+            assert!(
+                written.get("frame_unit").is_none(),
+                "{name}: a unit was invented"
+            );
+        }
+        // Every angle written is within FOLD's range.
+        for a in written["edges_foldAngle"].as_array().unwrap() {
+            assert!(a.as_f64().unwrap().abs() <= 180.0, "{name}: {a}");
+        }
+    }
+}
+
+#[test]
+fn fold_written_by_crease_is_within_range_and_stable() {
+    // Every bundled design and every anchor, written twice through FOLD: the second
+    // writing equals the first (nothing drifts), and no angle leaves [−180°, 180°].
+    let mut files = anchor_files();
+    for entry in
+        std::fs::read_dir(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("patterns")).unwrap()
+    {
+        let p = entry.unwrap().path();
+        if p.extension().is_some_and(|e| e == "fold") {
+            files.push(p);
+        }
+    }
+    for path in files {
+        let first = io::to_string(&io::read(&path).unwrap(), Format::Fold).unwrap();
+        let again = io::to_string(&io::fold::parse(&first).unwrap(), Format::Fold).unwrap();
+        assert!(first == again, "{}: FOLD output drifts", path.display());
+        let json: serde_json::Value = serde_json::from_str(&first).unwrap();
+        for a in json["edges_foldAngle"].as_array().unwrap() {
+            assert!(
+                a.as_f64().unwrap().abs() <= 180.0,
+                "{}: {a}",
+                path.display()
+            );
+        }
     }
 }

@@ -59,7 +59,7 @@ pub fn to_string(mesh: &Mesh) -> Result<String, String> {
         .flat()
         .ok_or("an ORIPA file needs the flat crease pattern, and this design has none yet")?;
     let mut out = String::new();
-    for e in mesh.edges() {
+    for e in mesh.edges().iter().filter(|e| !e.is_triangulation_line()) {
         let t = match e.assignment {
             Assignment::Boundary | Assignment::Cut => 1,
             Assignment::Mountain => 2,

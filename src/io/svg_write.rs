@@ -48,7 +48,11 @@ pub fn to_string(mesh: &Mesh) -> Result<String, String> {
             .set("stroke-width", 0.25)
             .set("fill", "none");
         let mut any = false;
-        for e in mesh.edges().iter().filter(|e| e.assignment == kind) {
+        for e in mesh
+            .edges()
+            .iter()
+            .filter(|e| e.assignment == kind && !e.is_triangulation_line())
+        {
             let (a, b) = (flat[e.vertices[0]], flat[e.vertices[1]]);
             let mut line = Line::new()
                 .set("x1", a.x)

@@ -6,11 +6,13 @@
 
 mod cuts;
 mod info;
+mod source;
 mod topology;
 mod triangulate;
 
 pub use cuts::split_along_cuts;
 pub use info::MeshInfo;
+pub use source::{polygon_faces, Fingerprint, SourceRecord};
 pub use topology::{MeshError, Topology, TopologySummary, VertexFan};
 pub use triangulate::triangulate_polygon;
 
@@ -115,6 +117,13 @@ pub struct Edge {
 }
 
 impl Edge {
+    /// A flat line crease added to triangulate a polygon face of the source: the file did
+    /// not have it, and formats of lines (SVG, `.cp`) leave it out so that converting does
+    /// not add lines (reading the file back triangulates the polygon again).
+    pub fn is_triangulation_line(&self) -> bool {
+        self.synthetic && self.assignment == Assignment::Flat
+    }
+
     /// A crease with the default target, fold angle equal to the target and α = 0.
     pub fn new(a: usize, b: usize, assignment: Assignment) -> Self {
         let target = assignment.default_target();
@@ -163,6 +172,8 @@ pub struct Mesh {
     /// Rounding step of the source file's coordinates in mm (half its last decimal place),
     /// 0 when exact. Verification does not count rounding as a design error.
     pub coordinate_precision: f64,
+    /// What the source file had beyond the mesh, kept for lossless conversion.
+    pub source: Option<std::sync::Arc<SourceRecord>>,
 }
 
 /// Largest coordinate a design may have, mm: a kilometre is beyond any sheet of paper,
@@ -235,6 +246,7 @@ impl Mesh {
             lock_topology: false,
             coincident: Vec::new(),
             coordinate_precision: 0.0,
+            source: None,
         })
     }
 

@@ -234,6 +234,7 @@ pub fn collapse_edge(
     new.title = mesh.title.clone();
     new.lock_topology = mesh.lock_topology;
     new.coordinate_precision = mesh.coordinate_precision;
+    new.source = mesh.source.clone();
     Ok(Change {
         mesh: new,
         positions,
@@ -315,6 +316,7 @@ pub fn flip_edge(mesh: &Mesh, x: &[Vec3], e: usize) -> Result<Change, Refusal> {
     .map_err(|err| Refusal::Invalid(err.to_string()))?;
     new.title = mesh.title.clone();
     new.coordinate_precision = mesh.coordinate_precision;
+    new.source = mesh.source.clone();
     Ok(Change {
         mesh: new,
         positions: x.to_vec(),

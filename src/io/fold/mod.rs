@@ -4,7 +4,8 @@
 
 use super::planar::{mesh_from_segments, Segment};
 use crate::mesh::{
-    split_along_cuts, triangulate_polygon, Assignment, Edge, Mesh, MeshParts, Vec2, Vec3,
+    split_along_cuts, triangulate_polygon, Assignment, Edge, Fingerprint, Mesh, MeshParts,
+    SourceRecord, Vec2, Vec3,
 };
 use serde::Deserialize;
 
@@ -105,7 +106,7 @@ fn coordinate_arrays(text: &str) -> String {
     out
 }
 
-fn unit_scale(unit: Option<&str>) -> Result<f64, String> {
+pub(crate) fn unit_scale(unit: Option<&str>) -> Result<f64, String> {
     Ok(match unit.unwrap_or("unit") {
         "unit" | "mm" => 1.0,
         "cm" => 10.0,
@@ -247,7 +248,7 @@ pub fn parse(text: &str) -> Result<Mesh, String> {
                 fold_angle: e.fold_angle,
             })
             .collect();
-        mesh_from_segments(&segments)?.0
+        keep_file_numbering(mesh_from_segments(&segments)?.0, &flat)
     } else {
         let mut faces = Vec::with_capacity(face_lists.len());
         for (i, poly) in face_lists.iter().enumerate() {
@@ -277,7 +278,127 @@ pub fn parse(text: &str) -> Result<Mesh, String> {
         return Err("crease:coincidentVertices needs faces_vertices".into());
     }
     mesh.coincident = read_groups(groups, n)?;
+    mesh.source = Some(std::sync::Arc::new(source_record(
+        text,
+        &mesh,
+        face_lists,
+        top.frame_unit.clone(),
+    )));
     Ok(mesh)
+}
+
+/// Gives the vertices of a mesh rebuilt from a file's edges (an edges-only FOLD) the
+/// file's own numbers: FOLD identifies vertices by index, so a vertex found at a file
+/// vertex's position takes its index, and points the rebuild added (crossings) follow.
+fn keep_file_numbering(mut parts: MeshParts, file: &[Vec2]) -> MeshParts {
+    let Some(points) = parts.flat.take() else {
+        return parts;
+    };
+    let key = |p: &Vec2| (p.x.to_bits(), p.y.to_bits());
+    let by_position: std::collections::HashMap<_, usize> =
+        file.iter().enumerate().map(|(i, p)| (key(p), i)).collect();
+    let mut next = file.len();
+    let mut taken = vec![false; file.len()];
+    let map: Vec<usize> = points
+        .iter()
+        .map(|p| match by_position.get(&key(p)) {
+            Some(&i) if !taken[i] => {
+                taken[i] = true;
+                i
+            }
+            _ => {
+                next += 1;
+                next - 1
+            }
+        })
+        .collect();
+    // File vertices no edge uses do not exist in the rebuilt mesh: close the gaps.
+    let mut order: Vec<usize> = (0..points.len()).collect();
+    order.sort_by_key(|&k| map[k]);
+    let mut compact = vec![0; points.len()];
+    for (new, &k) in order.iter().enumerate() {
+        compact[k] = new;
+    }
+    let mut flat = vec![Vec2::zeros(); points.len()];
+    for (k, p) in points.into_iter().enumerate() {
+        flat[compact[k]] = p;
+    }
+    for f in &mut parts.faces {
+        *f = f.map(|v| compact[v]);
+    }
+    for e in &mut parts.edges {
+        e.vertices = e.vertices.map(|v| compact[v]);
+    }
+    parts.flat = Some(flat);
+    parts
+}
+
+/// Top-level fields crease reads itself; everything else is carried through.
+const MODELLED: [&str; 17] = [
+    "file_spec",
+    "file_creator",
+    "file_classes",
+    "file_frames",
+    "frame_title",
+    "frame_classes",
+    "frame_attributes",
+    "frame_unit",
+    "vertices_coords",
+    "edges_vertices",
+    "edges_assignment",
+    "edges_foldAngle",
+    "faces_vertices",
+    "crease:targetAngle",
+    "crease:alpha",
+    "crease:lockTopology",
+    "crease:coincidentVertices",
+];
+
+/// What the file has beyond the mesh: its polygons, its descriptive `file_*`/`frame_*`
+/// fields, its other fields (kept while the geometry is unchanged) and its unit.
+fn source_record(
+    text: &str,
+    mesh: &Mesh,
+    polygons: Vec<Vec<usize>>,
+    unit: Option<String>,
+) -> SourceRecord {
+    let mut record = SourceRecord {
+        polygons,
+        unit,
+        imported: Fingerprint::of(mesh),
+        ..Default::default()
+    };
+    if let Ok(serde_json::Value::Object(fields)) = serde_json::from_str(text) {
+        for (name, value) in fields {
+            if matches!(
+                name.as_str(),
+                "vertices_coords" | "frame_classes" | "frame_attributes"
+            ) {
+                record.frame.push((name, value));
+                continue;
+            }
+            if MODELLED.contains(&name.as_str()) {
+                continue;
+            }
+            if name.starts_with("file_") || name.starts_with("frame_") {
+                record.metadata.push((name, value));
+            } else {
+                record.extras.push((name, value));
+            }
+        }
+    }
+    // Vertices renumbered on import (cut lines split, unused vertices dropped): the file's
+    // per-vertex fields and coordinates no longer line up with the mesh.
+    let listed = record
+        .frame
+        .iter()
+        .find(|(n, _)| n == "vertices_coords")
+        .and_then(|(_, v)| v.as_array().map(Vec::len));
+    if listed != Some(mesh.vertex_count()) {
+        record.frame.clear();
+        record.extras.clear();
+    }
+    record
 }
 
 /// `crease:coincidentVertices`: disjoint groups of at least two existing vertices.

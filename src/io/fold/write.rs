@@ -1,12 +1,44 @@
 //! Writing FOLD 1.1: the 3D form in frame 0, the crease pattern in a `creasePattern`
 //! frame, crease's own fields (`crease:targetAngle`, `crease:alpha`, …) beside FOLD's.
+//!
+//! A mesh read from a file gives back what the file had ([`SourceRecord`]): its
+//! descriptive fields, its unit, its polygon faces (the flat creases crease added to
+//! triangulate them are left out again while they lie flat) and, while the geometry is
+//! unchanged, its other fields such as `faceOrders`.
 
-use super::angle_to_fold;
-use crate::mesh::{Edge, Mesh};
+use super::{angle_to_fold, unit_scale};
+use crate::mesh::{polygon_faces, Assignment, Mesh, SourceRecord};
 use std::fmt::Write as _;
+
+/// A synthetic edge folded less than this (radians), plus what the file's coordinate
+/// rounding can turn its faces by, still joins one flat polygon.
+const FLAT_POLYGON: f64 = 1e-9;
+
+/// How far edge `e` may fold and still lie flat: [`FLAT_POLYGON`] plus the rounding
+/// bound of its dihedral angle (each edge of its two faces turns by up to 2√3·p/ℓ when
+/// coordinates are rounded to ±p, as verify's bound).
+fn flat_tolerance(mesh: &Mesh, e: usize) -> f64 {
+    let p = mesh.coordinate_precision;
+    if p <= 0.0 {
+        return FLAT_POLYGON;
+    }
+    let topo = mesh.topology();
+    let x = mesh.positions();
+    let turn: f64 = topo.edge_faces[e]
+        .iter()
+        .flatten()
+        .flat_map(|&f| topo.face_edges[f])
+        .map(|k| {
+            let [a, b] = mesh.edges()[k].vertices;
+            2.0 * 3f64.sqrt() * p / (x[b] - x[a]).norm()
+        })
+        .sum();
+    FLAT_POLYGON + turn
+}
 
 /// Serialises a mesh as FOLD 1.1 text. Deterministic: the same mesh gives the same bytes.
 pub fn to_string(mesh: &Mesh) -> String {
+    let source: Option<&SourceRecord> = mesh.source.as_deref();
     let num = |x: f64| {
         let x = if x == 0.0 { 0.0 } else { x };
         serde_json::to_string(&x).expect("finite number")
@@ -24,6 +56,9 @@ pub fn to_string(mesh: &Mesh) -> String {
     field("file_spec", "1.1".into());
     field("file_creator", "\"crease\"".into());
     field("file_classes", "[\"singleModel\"]".into());
+    for (name, value) in source.iter().flat_map(|s| &s.metadata) {
+        field(name, serde_json::to_string(value).expect("JSON value"));
+    }
     if !mesh.title.is_empty() {
         field("frame_title", serde_json::to_string(&mesh.title).unwrap());
     }
@@ -32,66 +67,111 @@ pub fn to_string(mesh: &Mesh) -> String {
     } else {
         ("creasePattern", "2D")
     };
-    field("frame_classes", format!("[\"{class}\"]"));
-    field("frame_attributes", format!("[\"{attr}\"]"));
-    field("frame_unit", "\"mm\"".into());
+    // An unchanged mesh keeps the file's own frame description and coordinates.
+    let verbatim = source.filter(|s| s.describes(mesh) && !s.frame.is_empty());
+    let given = |name: &str| {
+        verbatim
+            .and_then(|s| s.frame.iter().find(|(n, _)| n == name))
+            .map(|(_, v)| serde_json::to_string(v).expect("JSON value"))
+    };
+    field(
+        "frame_classes",
+        given("frame_classes").unwrap_or(format!("[\"{class}\"]")),
+    );
+    field(
+        "frame_attributes",
+        given("frame_attributes").unwrap_or(format!("[\"{attr}\"]")),
+    );
+    // Millimetres inside; a file's own unit (or none) is given back as it was.
+    let unit = match source {
+        Some(s) => s.unit.clone(),
+        None => Some("mm".to_string()),
+    };
+    if let Some(u) = &unit {
+        field("frame_unit", serde_json::to_string(u).unwrap());
+    }
+    let scale = unit_scale(unit.as_deref()).unwrap_or(1.0);
     let coords: Vec<String> = if mesh.has_3d() {
         mesh.positions()
             .iter()
-            .map(|p| format!("[{}, {}, {}]", num(p.x), num(p.y), num(p.z)))
+            .map(|p| {
+                format!(
+                    "[{}, {}, {}]",
+                    num(p.x / scale),
+                    num(p.y / scale),
+                    num(p.z / scale)
+                )
+            })
             .collect()
     } else {
         mesh.flat()
             .expect("a mesh without 3D data has a crease pattern")
             .iter()
-            .map(|p| format!("[{}, {}]", num(p.x), num(p.y)))
+            .map(|p| format!("[{}, {}]", num(p.x / scale), num(p.y / scale)))
             .collect()
     };
-    field("vertices_coords", list(coords));
-    let edges = mesh.edges();
+    // The file's coordinates when they say something ours do not (other axes or
+    // dimension); ours, in crease's layout, when they are the same numbers.
+    let ours = format!("[{}]", coords.join(","));
+    let same = |text: &str| {
+        serde_json::from_str::<serde_json::Value>(text).ok()
+            == serde_json::from_str::<serde_json::Value>(&ours).ok()
+    };
+    match given("vertices_coords").filter(|t| !same(t)) {
+        Some(text) => field("vertices_coords", text),
+        None => field("vertices_coords", list(coords)),
+    }
+
+    let faces = Faces::of(mesh);
+    let edges: Vec<usize> = (0..mesh.edges().len())
+        .filter(|&e| faces.keeps_edge(mesh, e))
+        .collect();
+    let per_edge = |value: &dyn Fn(usize) -> String| {
+        format!(
+            "[{}]",
+            edges
+                .iter()
+                .map(|&e| value(e))
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    };
     field(
         "edges_vertices",
         list(
             edges
                 .iter()
-                .map(|e| format!("[{}, {}]", e.vertices[0], e.vertices[1]))
+                .map(|&e| {
+                    let [a, b] = mesh.edges()[e].vertices;
+                    format!("[{a}, {b}]")
+                })
                 .collect(),
         ),
     );
     field(
         "edges_assignment",
-        format!(
-            "[{}]",
-            edges
-                .iter()
-                .map(|e| format!("\"{}\"", e.assignment.fold_letter()))
-                .collect::<Vec<_>>()
-                .join(", ")
-        ),
+        per_edge(&|e| format!("\"{}\"", mesh.edges()[e].assignment.fold_letter())),
     );
-    let angles = |f: &dyn Fn(&Edge) -> f64| {
-        format!(
-            "[{}]",
-            edges
-                .iter()
-                .map(|e| num(angle_to_fold(f(e))))
-                .collect::<Vec<_>>()
-                .join(", ")
-        )
-    };
-    field("edges_foldAngle", angles(&|e| e.fold_angle));
-    field("crease:targetAngle", angles(&|e| e.target));
+    // FOLD's range is [−180°, 180°], and lines that do not fold carry 0 (twist of a
+    // facet line is in the coordinates, and its allowance in crease:alpha).
     field(
-        "crease:alpha",
-        format!(
-            "[{}]",
-            edges
-                .iter()
-                .map(|e| num(e.alpha))
-                .collect::<Vec<_>>()
-                .join(", ")
-        ),
+        "edges_foldAngle",
+        per_edge(&|e| {
+            let edge = &mesh.edges()[e];
+            let degrees = match edge.assignment {
+                Assignment::Mountain | Assignment::Valley | Assignment::Unassigned => {
+                    angle_to_fold(edge.fold_angle).clamp(-180.0, 180.0)
+                }
+                _ => 0.0,
+            };
+            num(degrees)
+        }),
     );
+    field(
+        "crease:targetAngle",
+        per_edge(&|e| num(angle_to_fold(mesh.edges()[e].target))),
+    );
+    field("crease:alpha", per_edge(&|e| num(mesh.edges()[e].alpha)));
     if mesh.lock_topology {
         field("crease:lockTopology", "true".into());
     }
@@ -112,17 +192,26 @@ pub fn to_string(mesh: &Mesh) -> String {
     field(
         "faces_vertices",
         list(
-            mesh.faces()
+            faces
+                .polygons
                 .iter()
-                .map(|f| format!("[{}, {}, {}]", f[0], f[1], f[2]))
+                .map(|p| {
+                    let ids: Vec<String> = p.iter().map(|v| v.to_string()).collect();
+                    format!("[{}]", ids.join(", "))
+                })
                 .collect(),
         ),
     );
+    if let Some(s) = source.filter(|s| faces.as_in_source && s.describes(mesh)) {
+        for (name, value) in &s.extras {
+            field(name, serde_json::to_string(value).expect("JSON value"));
+        }
+    }
     let frames = match (mesh.has_3d(), mesh.flat()) {
         (true, Some(flat)) => format!(
             "[\n    {{\n      \"frame_classes\": [\"creasePattern\"],\n      \"frame_attributes\": [\"2D\"],\n      \"frame_inherit\": true,\n      \"frame_parent\": 0,\n      \"vertices_coords\": [\n        {}\n      ]\n    }}\n  ]",
             flat.iter()
-                .map(|p| format!("[{}, {}]", num(p.x), num(p.y)))
+                .map(|p| format!("[{}, {}]", num(p.x / scale), num(p.y / scale)))
                 .collect::<Vec<_>>()
                 .join(",\n        ")
         ),
@@ -130,4 +219,73 @@ pub fn to_string(mesh: &Mesh) -> String {
     };
     let _ = write!(out, "  \"file_frames\": {frames}\n}}\n");
     out
+}
+
+/// The faces written: polygons merged back across flat synthetic edges.
+struct Faces {
+    polygons: Vec<Vec<usize>>,
+    /// Per mesh face, the polygon it belongs to.
+    polygon_of: Vec<usize>,
+    /// The polygons are exactly the source file's, in its order and vertex order.
+    as_in_source: bool,
+}
+
+impl Faces {
+    fn of(mesh: &Mesh) -> Faces {
+        let fold = if mesh.has_3d() {
+            crate::geometry::fold_angles(mesh)
+        } else {
+            vec![0.0; mesh.edges().len()]
+        };
+        let merged = polygon_faces(mesh, &fold, |e| flat_tolerance(mesh, e));
+        let mut polygon_of = vec![0; mesh.faces().len()];
+        for (k, (_, group)) in merged.iter().enumerate() {
+            for &f in group {
+                polygon_of[f] = k;
+            }
+        }
+        let mut polygons: Vec<Vec<usize>> = merged.into_iter().map(|(p, _)| p).collect();
+        // Give back the file's own vertex order where the polygon is the file's.
+        let source = mesh.source.as_deref().map(|s| &s.polygons);
+        let mut as_in_source = source.is_some_and(|s| s.len() == polygons.len());
+        if let Some(src) = source.filter(|_| as_in_source) {
+            for (p, s) in polygons.iter_mut().zip(src) {
+                if same_cycle(p, s) {
+                    p.clone_from(s);
+                } else {
+                    as_in_source = false;
+                }
+            }
+        }
+        Faces {
+            polygons,
+            polygon_of,
+            as_in_source,
+        }
+    }
+
+    /// An edge is written unless it is a synthetic edge inside one written polygon.
+    fn keeps_edge(&self, mesh: &Mesh, e: usize) -> bool {
+        if !mesh.edges()[e].synthetic {
+            return true;
+        }
+        match mesh.topology().edge_faces[e] {
+            [Some(a), Some(b)] => self.polygon_of[a] != self.polygon_of[b],
+            _ => true,
+        }
+    }
+}
+
+/// The same cyclic sequence of vertices, in either direction.
+fn same_cycle(a: &[usize], b: &[usize]) -> bool {
+    if a.len() != b.len() {
+        return false;
+    }
+    let Some(start) = b.iter().position(|&v| v == a[0]) else {
+        return false;
+    };
+    let n = a.len();
+    let forward = (0..n).all(|k| a[k] == b[(start + k) % n]);
+    let backward = (0..n).all(|k| a[k] == b[(start + n - k) % n]);
+    forward || backward
 }
