@@ -61,4 +61,16 @@ fn main() {
         mesh.faces().len(),
         time
     );
+    // Layer order of the flat-folded BoxPleatPyramid (every crease ±180°).
+    let pyramid = root.join("../shared/anchors/data/origamisimulator/BoxPleatPyramid.fold");
+    let mesh = crease::io::read(&pyramid).expect("bench input reads");
+    let mut pairs = 0;
+    let time = median(
+        || match crease::fab::layer_order(&mesh) {
+            Ok(crease::fab::LayerOrder::Found(o)) => pairs = o.len(),
+            other => panic!("BoxPleatPyramid has an order: {other:?}"),
+        },
+        5,
+    );
+    println!("layer order: BoxPleatPyramid, {pairs} overlapping pairs ordered in {time:.1?}");
 }

@@ -3,6 +3,7 @@
 
 pub mod flat_fold;
 pub mod intersect;
+pub mod layers;
 pub mod layout;
 pub mod lines;
 pub mod route;
@@ -12,6 +13,7 @@ pub mod verify;
 
 pub use flat_fold::{flat_folded, FlatFolded, NotFlatFoldable, PlaneMotion};
 pub use intersect::{self_intersections, Crossing};
+pub use layers::{layer_order, LayerError, LayerOrder};
 pub use layout::{layout, LayoutError, Media, Sheet};
 pub use lines::{crease_lines, CreaseLine, LineKind};
 pub use route::route;

@@ -374,6 +374,13 @@ pub fn verify(mesh: &Mesh, conditions: Option<&ConstraintSet>, tol: Tolerances) 
     if mesh.has_3d() {
         families.push(self_intersection(mesh));
     }
+    // The layer order is the crease pattern's: whether it folds flat. A 3D design is
+    // judged on its 3D form (its flat-folded state's near-coincident lines, moved apart by
+    // the design's variations, would need a contact model the solver does not have).
+    let wants_flat = conditions.is_none() || set.families.contains(&Family::FlatFoldability);
+    if wants_flat && !mesh.has_3d() {
+        families.extend(layer_order_report(mesh));
+    }
     let mut notes = Vec::new();
     if conditions.is_none() && !set.families.contains(&Family::FlatFoldability) {
         notes.push(match reference.odd_vertex {
@@ -407,6 +414,60 @@ fn self_intersection(mesh: &Mesh) -> FamilyReport {
         super::intersect::CONTACT_FRACTION
     );
     report
+}
+
+/// Layer order of the flat-folded state ([`super::layers`]), judged when every crease
+/// folds to ±π and the faces close up around every vertex (else the local conditions
+/// already say why it cannot fold flat): one row, failing with the faces in conflict.
+fn layer_order_report(mesh: &Mesh) -> Option<FamilyReport> {
+    use super::layers::{layer_order, LayerOrder};
+    let folded = super::flat_folded(mesh, None).ok()?;
+    let (lo, hi) = crate::mesh::bounds(mesh.flat()?);
+    let closes = folded.mismatch <= 1e-6 * (hi - lo).norm() + 8.0 * mesh.coordinate_precision;
+    let creases = mesh.edges().iter().any(|e| e.assignment.is_folded());
+    if !closes || !creases {
+        return None;
+    }
+    // A pattern drawn at partial folds (Origami Simulator's 90°) does not claim to fold
+    // flat: reported, not judged, as Maekawa there.
+    if let Some((e, edge)) = mesh
+        .edges()
+        .iter()
+        .enumerate()
+        .find(|(_, e)| e.assignment.is_folded() && (e.fold_angle - e.target).abs() > 1e-6)
+    {
+        return Some(FamilyReport {
+            gating: false,
+            basis: format!(
+                "not judged: crease {e} is drawn at {:.0}°, a partial fold",
+                super::super::io::fold::angle_to_fold(edge.fold_angle)
+            ),
+            ..summarise("layer-order", &[], 0.0)
+        });
+    }
+    let mut report = match layer_order(mesh) {
+        Ok(LayerOrder::Found(orders)) => FamilyReport {
+            rows: orders.len(),
+            ..summarise("layer-order", &[], 0.0)
+        },
+        Ok(LayerOrder::Conflict(faces)) => {
+            let element = Element::Faces(faces[0], *faces.get(1).unwrap_or(&faces[0]));
+            let mut r = summarise("layer-order", &[(1.0, element)], 0.0);
+            let names: Vec<String> = faces.iter().map(|f| f.to_string()).collect();
+            r.worst = Some(format!("faces {}", names.join(", ")));
+            r.violators = vec![format!("no order among faces {}", names.join(", "))];
+            r
+        }
+        Err(e) => FamilyReport {
+            gating: false,
+            basis: format!("not decided: {e}"),
+            ..summarise("layer-order", &[], 0.0)
+        },
+    };
+    if report.basis.is_empty() {
+        report.basis = "one order of every overlapping pair of faces once folded flat, or the faces that admit none".into();
+    }
+    Some(report)
 }
 
 /// Maekawa's theorem at every interior vertex that folds flat as drawn: the fold

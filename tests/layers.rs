@@ -1,0 +1,146 @@
+//! Layer order (issue #15): a pattern that folds flat at every vertex but has no layer
+//! order is caught with the faces named; patterns that fold flat get an order, and the
+//! order agrees with a physical fold.
+
+use crease::fab::{layer_order, LayerOrder};
+use crease::generate::{generate, Params, PatternKind};
+use crease::mesh::Mesh;
+use std::path::Path;
+
+/// A strip 10 mm high folded at x = 15 and x = 25; `left` and `right` are the two
+/// creases' assignments. Folded, the left flap [0, 15] covers [15, 30] and the right
+/// flap [25, 45] covers [5, 25]: each covers the other's hinge.
+fn strip(left: &str, right: &str) -> Mesh {
+    let angle = |a: &str| if a == "V" { 180 } else { -180 };
+    let text = format!(
+        r#"{{"file_spec": 1.1, "frame_classes": ["creasePattern"],
+ "vertices_coords": [[0,0],[15,0],[25,0],[45,0],[45,10],[25,10],[15,10],[0,10]],
+ "edges_vertices": [[0,1],[1,2],[2,3],[3,4],[4,5],[5,6],[6,7],[7,0],[1,6],[2,5]],
+ "edges_assignment": ["B","B","B","B","B","B","B","B","{left}","{right}"],
+ "edges_foldAngle": [0,0,0,0,0,0,0,0,{},{}],
+ "faces_vertices": [[0,1,6,7],[1,2,5,6],[2,3,4,5]]}}"#,
+        angle(left),
+        angle(right)
+    );
+    crease::io::fold::parse(&text).unwrap()
+}
+
+#[test]
+fn two_flaps_that_cover_each_others_hinge_have_no_order() {
+    // Both valley: both flaps on the front of the middle panel, each over the other's
+    // hinge — no vertex to break Kawasaki or Maekawa, and still no way to fold it flat.
+    let mesh = strip("V", "V");
+    let report = crease::fab::verify(&mesh, None, Default::default());
+    let judged_locally: Vec<_> = report
+        .families
+        .iter()
+        .filter(|f| f.gating && f.name != "layer-order")
+        .collect();
+    assert!(judged_locally.iter().all(|f| f.pass()), "{report}");
+    let LayerOrder::Conflict(faces) = layer_order(&mesh).unwrap() else {
+        panic!("an order was found for crossing flaps");
+    };
+    // The named faces lie in both flaps (every triangle of the strip is in x ranges).
+    let centre_x = |f: usize| {
+        mesh.faces()[f]
+            .iter()
+            .map(|&v| mesh.flat().unwrap()[v].x)
+            .sum::<f64>()
+            / 3.0
+    };
+    assert!(faces.iter().any(|&f| centre_x(f) < 15.0), "{faces:?}");
+    assert!(faces.iter().any(|&f| centre_x(f) > 25.0), "{faces:?}");
+    assert!(!report.pass(), "verify fails on the layer order: {report}");
+    let layer = report
+        .families
+        .iter()
+        .find(|f| f.name == "layer-order")
+        .unwrap();
+    assert_eq!(layer.violations, 1);
+    // Mountain and valley: the flaps go to opposite sides, and an order exists.
+    assert!(matches!(
+        layer_order(&strip("M", "V")).unwrap(),
+        LayerOrder::Found(_)
+    ));
+}
+
+#[test]
+fn flat_foldable_patterns_and_anchors_get_an_order() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let anchors = root.join("../shared/anchors/data/origamisimulator");
+    let mut files = vec![
+        anchors.join("simpleVertex.svg"),
+        anchors.join("singlesquaretwist.svg"),
+        anchors.join("waterbomb.svg"),
+        anchors.join("BoxPleatPyramid.fold"),
+        root.join("../shared/anchors/data/fold/diagonal-cp.fold"),
+    ];
+    for name in ["miura", "waterbomb"] {
+        files.push(root.join(format!("patterns/{name}.fold")));
+    }
+    for path in files {
+        let mesh = crease::io::read(&path).unwrap();
+        match layer_order(&mesh).unwrap() {
+            LayerOrder::Found(orders) => assert!(!orders.is_empty() || mesh.faces().len() < 3),
+            LayerOrder::Conflict(faces) => panic!("{}: no order, faces {faces:?}", path.display()),
+        }
+    }
+}
+
+/// Barycentric coordinates of p in triangle t.
+fn barycentric(p: [f64; 2], t: [[f64; 2]; 3]) -> [f64; 3] {
+    let d = (t[1][1] - t[2][1]) * (t[0][0] - t[2][0]) + (t[2][0] - t[1][0]) * (t[0][1] - t[2][1]);
+    let a = ((t[1][1] - t[2][1]) * (p[0] - t[2][0]) + (t[2][0] - t[1][0]) * (p[1] - t[2][1])) / d;
+    let b = ((t[2][1] - t[0][1]) * (p[0] - t[2][0]) + (t[0][0] - t[2][0]) * (p[1] - t[2][1])) / d;
+    [a, b, 1.0 - a - b]
+}
+
+#[test]
+fn the_order_agrees_with_a_physical_fold() {
+    // A Miura-ori folded to 99% in closed form is the flat-folded state, opened a
+    // little: wherever two faces overlap, the one the order puts above a face on that
+    // face's front side is the one found on that side in 3D.
+    let mut p = Params::defaults(PatternKind::Miura);
+    p.nx = 4;
+    p.ny = 4;
+    p.fold = Some(0.99);
+    let folded3d = generate(&p).unwrap();
+    let LayerOrder::Found(orders) = layer_order(&folded3d).unwrap() else {
+        panic!("the Miura-ori has an order");
+    };
+    let flat = crease::fab::flat_folded(&folded3d, None).unwrap();
+    let x = folded3d.positions();
+    let mut checked = 0;
+    for [f, g, s] in orders {
+        let (f, g) = (f as usize, g as usize);
+        // A point inside both folded triangles: the centroid of f's corners pulled
+        // toward g's until it lies in g (the overlap is convex).
+        let tf = flat.triangles[f].map(|q| [q.x, q.y]);
+        let tg = flat.triangles[g].map(|q| [q.x, q.y]);
+        let cf = [0, 1].map(|k| (tf[0][k] + tf[1][k] + tf[2][k]) / 3.0);
+        let cg = [0, 1].map(|k| (tg[0][k] + tg[1][k] + tg[2][k]) / 3.0);
+        let Some(point) = (0..=20).map(|i| i as f64 / 20.0).find_map(|w| {
+            let q = [0, 1].map(|k| cf[k] * (1.0 - w) + cg[k] * w);
+            let inside = |t| barycentric(q, t).iter().all(|&b| b > 0.02);
+            (inside(tf) && inside(tg)).then_some(q)
+        }) else {
+            continue;
+        };
+        let lift = |face: usize, t: [[f64; 2]; 3]| {
+            let b = barycentric(point, t);
+            let c = folded3d.faces()[face].map(|v| x[v]);
+            c[0] * b[0] + c[1] * b[1] + c[2] * b[2]
+        };
+        let (pf, pg) = (lift(f, tf), lift(g, tg));
+        let c = folded3d.faces()[f].map(|v| x[v]);
+        let normal = (c[1] - c[0]).cross(&(c[2] - c[0])).normalize();
+        let side = (pg - pf).dot(&normal);
+        // s = +1: f above g along f's normal, so g is behind f: (pg − pf)·n < 0.
+        assert!(
+            side * s as f64 <= 0.0,
+            "faces {f} and {g}: s = {s}, 3D says {side}"
+        );
+        checked += 1;
+    }
+    assert!(checked > 50, "only {checked} pairs checked");
+}
