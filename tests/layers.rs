@@ -105,9 +105,26 @@ fn the_order_agrees_with_a_physical_fold() {
     p.ny = 4;
     p.fold = Some(0.99);
     let folded3d = generate(&p).unwrap();
-    let LayerOrder::Found(orders) = layer_order(&folded3d).unwrap() else {
-        panic!("the Miura-ori has an order");
-    };
+    // The order as `crease convert` writes it for the flat crease pattern (faceOrders of
+    // the same faces, numbered alike).
+    p.fold = None;
+    let dir = std::env::temp_dir().join(format!("crease-layers-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (cp, written) = (dir.join("miura-cp.fold"), dir.join("miura-ordered.fold"));
+    crease::io::write(&generate(&p).unwrap(), &cp).unwrap();
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_crease"))
+        .args(["convert", cp.to_str().unwrap(), written.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(status.status.success(), "{status:?}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&written).unwrap()).unwrap();
+    assert_eq!(
+        json["faces_vertices"].as_array().unwrap().len(),
+        folded3d.faces().len()
+    );
+    let orders: Vec<[i64; 3]> = serde_json::from_value(json["faceOrders"].clone()).unwrap();
+    assert!(!orders.is_empty());
     let flat = crease::fab::flat_folded(&folded3d, None).unwrap();
     let x = folded3d.positions();
     let mut checked = 0;

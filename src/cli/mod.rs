@@ -209,6 +209,21 @@ pub fn convert(input: &Path, output: &Path) -> Result<u8, String> {
             input.display()
         );
     }
+    let format = io::Format::from_path(output).map_err(|e| e.to_string())?;
+    let claims_flat = crease::fab::layers::partial_crease(&imported.mesh).is_none();
+    if format == io::Format::Fold && !imported.mesh.has_3d() && claims_flat {
+        // A crease pattern that folds flat gets its layer order as faceOrders.
+        if let Ok(crease::fab::LayerOrder::Found(orders)) = crease::fab::layer_order(&imported.mesh)
+        {
+            let text = io::fold::to_string_with_orders(&imported.mesh, Some(&orders));
+            io::write_atomic(output, text.as_bytes()).map_err(|e| e.to_string())?;
+            eprintln!(
+                "wrote {} (with the layer order as faceOrders)",
+                output.display()
+            );
+            return Ok(0);
+        }
+    }
     io::write(&imported.mesh, output).map_err(|e| e.to_string())?;
     eprintln!("wrote {}", output.display());
     Ok(0)

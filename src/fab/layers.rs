@@ -47,6 +47,14 @@ pub enum LayerError {
 /// Decisions the search may take before giving up (a bound on time, not a verdict).
 pub const SEARCH_BUDGET: usize = 2_000_000;
 
+/// The first mountain or valley crease drawn at a fold other than its target: a pattern
+/// drawn at partial folds (Origami Simulator's 90°) does not claim to fold flat.
+pub fn partial_crease(mesh: &Mesh) -> Option<usize> {
+    mesh.edges()
+        .iter()
+        .position(|e| e.assignment.is_folded() && (e.fold_angle - e.target).abs() > 1e-6)
+}
+
 /// Finds a layer order of `mesh`'s flat-folded state, or a smallest set of faces that
 /// has none.
 pub fn layer_order(mesh: &Mesh) -> Result<LayerOrder, LayerError> {

@@ -430,12 +430,8 @@ fn layer_order_report(mesh: &Mesh) -> Option<FamilyReport> {
     }
     // A pattern drawn at partial folds (Origami Simulator's 90°) does not claim to fold
     // flat: reported, not judged, as Maekawa there.
-    if let Some((e, edge)) = mesh
-        .edges()
-        .iter()
-        .enumerate()
-        .find(|(_, e)| e.assignment.is_folded() && (e.fold_angle - e.target).abs() > 1e-6)
-    {
+    if let Some(e) = super::layers::partial_crease(mesh) {
+        let edge = &mesh.edges()[e];
         return Some(FamilyReport {
             gating: false,
             basis: format!(

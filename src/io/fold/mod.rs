@@ -10,7 +10,7 @@ use crate::mesh::{
 use serde::Deserialize;
 
 mod write;
-pub use write::to_string;
+pub use write::{to_string, to_string_with_orders};
 
 /// FOLD degrees (valley positive) to paper radians (mountain positive).
 pub fn angle_from_fold(degrees: f64) -> f64 {

@@ -38,6 +38,14 @@ fn flat_tolerance(mesh: &Mesh, e: usize) -> f64 {
 
 /// Serialises a mesh as FOLD 1.1 text. Deterministic: the same mesh gives the same bytes.
 pub fn to_string(mesh: &Mesh) -> String {
+    to_string_with_orders(mesh, None)
+}
+
+/// [`to_string`], with a layer order of the mesh's faces (triangles, as
+/// [`crate::fab::layer_order`] gives them) written as FOLD `faceOrders` of the faces the
+/// file lists: triangles merged into one polygon share their order, so each pair of
+/// written faces takes its first triangle pair's.
+pub fn to_string_with_orders(mesh: &Mesh, orders: Option<&[[i64; 3]]>) -> String {
     let source: Option<&SourceRecord> = mesh.source.as_deref();
     let num = |x: f64| {
         let x = if x == 0.0 { 0.0 } else { x };
@@ -202,8 +210,22 @@ pub fn to_string(mesh: &Mesh) -> String {
                 .collect(),
         ),
     );
+    if let Some(orders) = orders {
+        let mut seen = std::collections::HashSet::new();
+        let written: Vec<String> = orders
+            .iter()
+            .filter_map(|&[f, g, s]| {
+                let (p, q) = (faces.polygon_of[f as usize], faces.polygon_of[g as usize]);
+                (p != q && seen.insert((p.min(q), p.max(q)))).then(|| format!("[{p}, {q}, {s}]"))
+            })
+            .collect();
+        field("faceOrders", list(written));
+    }
     if let Some(s) = source.filter(|s| faces.as_in_source && s.describes(mesh)) {
         for (name, value) in &s.extras {
+            if orders.is_some() && name == "faceOrders" {
+                continue;
+            }
             field(name, serde_json::to_string(value).expect("JSON value"));
         }
     }
