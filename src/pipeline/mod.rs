@@ -174,19 +174,14 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
         }
     }
     let n = mesh.vertex_count();
-    if let Some(&bad) = fixed.iter().flatten().find(|&&v| v >= n) {
-        return Err(SolverError::UnknownVertex {
-            vertex: bad,
-            count: n,
+    for list in [&fixed, &fold_fixed] {
+        if let Some(&bad) = list.iter().flatten().find(|&&v| v >= n) {
+            return Err(SolverError::UnknownVertex {
+                vertex: bad,
+                count: n,
+            }
+            .into());
         }
-        .into());
-    }
-    if let Some(&bad) = fold_fixed.iter().flatten().find(|&&v| v >= n) {
-        return Err(SolverError::UnknownVertex {
-            vertex: bad,
-            count: n,
-        }
-        .into());
     }
     // Folding shrinks the sheet: unless told otherwise, a face in the middle is held.
     let fold_anchor = fold_fixed.unwrap_or_else(|| Solver::default_fixed(&mesh, &[]));
@@ -198,25 +193,21 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
                 "fold amount must be in [0, 1] (got {amount})"
             )));
         }
-        let mut solver = Solver::new(mesh, Mode::folding_set(), &fold_anchor, options.clone())?;
-        let report = fold_toward(&mut solver, amount, 4000, &mut |k| {
-            progress("fold", k, 4000)
-        })?;
-        // As after a drag: a saved state is unfolded for cutting, isometric to ~1e-12.
-        solver.polish(1e-12);
-        mesh = solver.into_mesh();
-        fold_report = Some(report);
+        let (folded, report) = fold_phase(mesh, amount, &fold_anchor, &options, "fold", progress)?;
+        (mesh, fold_report) = (folded, Some(report));
+    } else if !stages.is_empty() && is_flat_start(&mesh) {
+        let (folded, report) = fold_phase(
+            mesh,
+            LEAVE_FLAT_AMOUNT,
+            &fold_anchor,
+            &options,
+            "leave flat",
+            progress,
+        )?;
+        (mesh, fold_report) = (folded, Some(report));
     }
     let mut stats = Stats::default();
     let mut drags = Vec::new();
-    if fold_report.is_none() && !stages.is_empty() && is_flat_start(&mesh) {
-        let mut solver = Solver::new(mesh, Mode::folding_set(), &fold_anchor, options.clone())?;
-        let report = fold_toward(&mut solver, LEAVE_FLAT_AMOUNT, 4000, &mut |k| {
-            progress("leave flat", k, 4000)
-        })?;
-        mesh = solver.into_mesh();
-        fold_report = Some(report);
-    }
     if !stages.is_empty() {
         check_targets(&mesh, &stages, &fixed, mode)?;
         let set = match mode {
@@ -226,25 +217,7 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
             }
         };
         let mut solver = Solver::new(mesh, set, &fixed, options)?;
-        solver.correct()?;
-        let (lo, hi) = solver.mesh().bounding_box();
-        let radius = radius.unwrap_or(0.25 * (hi - lo).norm());
-        if !(radius.is_finite() && radius > 0.0) {
-            return Err(PipelineError::Input(format!(
-                "radius must be a positive length (got {radius})"
-            )));
-        }
-        let total: usize = stages.iter().map(|s| s.steps).sum();
-        let mut done = 0;
-        for stage in &stages {
-            drags.push(run_stage(&mut solver, stage, radius, remesh, &mut || {
-                done += 1;
-                progress("drag", done, total)
-            })?);
-        }
-        // Saved designs are unfolded for cutting; polishing the residual from the solver's
-        // working 1e-8 to 1e-12 makes that unfolding isometric to well under 1e-9.
-        solver.polish(1e-12);
+        drags = drag_phase(&mut solver, &stages, radius, remesh, progress)?;
         stats = solver.stats.clone();
         mesh = solver.into_mesh();
     }
@@ -255,6 +228,53 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
         drags,
         fold: fold_report,
     })
+}
+
+/// Folds `mesh` in simulation mode toward `amount` of its targets, holding `anchor`, and
+/// polishes the result: a saved state is unfolded for cutting, isometric to ~1e-12.
+fn fold_phase(
+    mesh: Mesh,
+    amount: f64,
+    anchor: &[usize],
+    options: &Options,
+    phase: &str,
+    progress: Progress,
+) -> Result<(Mesh, FoldReport), PipelineError> {
+    let mut solver = Solver::new(mesh, Mode::folding_set(), anchor, options.clone())?;
+    let report = fold_toward(&mut solver, amount, 4000, &mut |k| progress(phase, k, 4000))?;
+    solver.polish(1e-12);
+    Ok((solver.into_mesh(), report))
+}
+
+/// The drags of a job, stage by stage (§3, §5), from a state corrected onto the
+/// conditions; the result polished from the solver's working 1e-8 to 1e-12, so that the
+/// design's unfolding is isometric to well under 1e-9.
+fn drag_phase(
+    solver: &mut Solver,
+    stages: &[Stage],
+    radius: Option<f64>,
+    remesh: Option<f64>,
+    progress: Progress,
+) -> Result<Vec<DragReport>, PipelineError> {
+    solver.correct()?;
+    let (lo, hi) = solver.mesh().bounding_box();
+    let radius = radius.unwrap_or(0.25 * (hi - lo).norm());
+    if !(radius.is_finite() && radius > 0.0) {
+        return Err(PipelineError::Input(format!(
+            "radius must be a positive length (got {radius})"
+        )));
+    }
+    let total: usize = stages.iter().map(|s| s.steps).sum();
+    let mut done = 0;
+    let mut drags = Vec::new();
+    for stage in stages {
+        drags.push(run_stage(solver, stage, radius, remesh, &mut || {
+            done += 1;
+            progress("drag", done, total)
+        })?);
+    }
+    solver.polish(1e-12);
+    Ok(drags)
 }
 
 /// The fold, as a fraction of each crease's target, a drag from the flat sheet starts
