@@ -10,9 +10,7 @@ mod cli;
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 use clap::{Parser, Subcommand};
-use cli::{design_failure, out, progress_bar, GenerateArgs};
-use crease::pipeline::{run_design, DesignJob};
-use crease::solver::Mode;
+use cli::{out, GenerateArgs};
 use crease::{constraints::ConstraintSet, fab, generate, io};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -60,23 +58,8 @@ enum Command {
         conditions: Option<String>,
     },
     /// Fold a pattern in simulation mode (rigid panels), driving every crease toward a
-    /// fraction of its target angle.
-    Fold {
-        /// Pattern file.
-        file: PathBuf,
-        /// Fraction of each crease's target angle, in [0, 1]: every crease is driven
-        /// toward it and the rigid panels let them reach it on average (as `generate
-        /// --fold`).
-        #[arg(long)]
-        amount: f64,
-        /// Vertices held still, separated by spaces or commas (default: the face nearest
-        /// the middle).
-        #[arg(long, num_args = 1.., value_delimiter = ',')]
-        fix: Vec<usize>,
-        /// Output FOLD file.
-        #[arg(short, long)]
-        output: PathBuf,
-    },
+    /// fraction of its target angle; or, with --flat, write its flat-folded state.
+    Fold(cli::fold::FoldArgs),
     /// Vary a pattern by dragging vertices while the chosen conditions keep holding.
     Deform(cli::deform::DeformArgs),
     /// Fabricate a design: verify, unfold, lay out on the media, score folds with the
@@ -175,47 +158,7 @@ fn run(cli: Cli) -> Result<u8, String> {
             }
             Ok(if report.pass() { 0 } else { 1 })
         }
-        Command::Fold {
-            file,
-            amount,
-            fix,
-            output,
-        } => {
-            let mesh = io::read(&file).map_err(|e| e.to_string())?;
-            let mut job = DesignJob::new(mesh);
-            job.fold = Some(amount);
-            job.fold_fixed = (!fix.is_empty()).then_some(fix);
-            job.mode = Mode::Simulation;
-            let outcome = match run_design(job, &mut progress_bar()) {
-                Ok(o) => o,
-                Err(e) => return design_failure(e, &file),
-            };
-            // A fold that reached almost none of what was asked is a failure, not a file:
-            // a pattern without folded creases, or one held flat by its --fix vertices.
-            if let Some(f) = outcome
-                .fold
-                .as_ref()
-                .filter(|f| amount > 0.0 && f.mean_fraction < 0.01 * amount)
-            {
-                eprintln!(
-                    "error: the fold got nowhere: {:.1}% of the target angles where {:.0}% was asked (no crease with a target to fold, or --fix holds it flat); nothing was written",
-                    100.0 * f.mean_fraction,
-                    100.0 * amount
-                );
-                return Ok(1);
-            }
-            io::write(&outcome.mesh, &output).map_err(|e| e.to_string())?;
-            if let Some(f) = outcome.fold {
-                eprintln!(
-                    "folded in {} steps to {:.1}% of the target angles on average (largest miss {:.3} rad); wrote {}",
-                    f.steps,
-                    100.0 * f.mean_fraction,
-                    f.error,
-                    output.display()
-                );
-            }
-            Ok(0)
-        }
+        Command::Fold(args) => cli::fold::fold(args),
         Command::Deform(args) => cli::deform::deform(args),
         Command::Fab(args) => cli::fab::fab(args),
         Command::Machines => cli::machines(),

@@ -161,3 +161,59 @@ fn the_order_agrees_with_a_physical_fold() {
     }
     assert!(checked > 50, "only {checked} pairs checked");
 }
+
+#[test]
+fn fold_flat_writes_the_flat_folded_state_with_its_order_or_names_the_conflict() {
+    let dir = std::env::temp_dir().join(format!("crease-layers-flat-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = |input: &Path, output: &Path| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_crease"))
+            .args([
+                "fold",
+                input.to_str().unwrap(),
+                "--flat",
+                "-o",
+                output.to_str().unwrap(),
+            ])
+            .output()
+            .unwrap()
+    };
+    // The Miura-ori: every vertex in the plane z = 0, each face an isometric copy of its
+    // crease-pattern triangle, and an order for every overlapping pair.
+    let miura = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura.fold");
+    let out = dir.join("miura-flat.fold");
+    let o = run(&miura, &out);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let folded = crease::io::read(&out).unwrap();
+    assert!(folded.positions().iter().all(|p| p.z == 0.0));
+    let cp = folded.flat().unwrap();
+    for f in folded.faces() {
+        for k in 0..3 {
+            let (a, b) = (f[k], f[(k + 1) % 3]);
+            let l3 = (folded.positions()[a] - folded.positions()[b]).norm();
+            let l2 = (cp[a] - cp[b]).norm();
+            assert!(
+                (l3 - l2).abs() < 1e-9 * l2.max(1.0),
+                "edge {a}-{b}: {l3} vs {l2}"
+            );
+        }
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let LayerOrder::Found(orders) = layer_order(&crease::io::read(&miura).unwrap()).unwrap() else {
+        panic!("the Miura-ori has an order");
+    };
+    assert_eq!(json["faceOrders"].as_array().unwrap().len(), orders.len());
+    // Crossing flaps: exit 1, the faces named, nothing written.
+    let strip_file = dir.join("strip.fold");
+    crease::io::write(&strip("V", "V"), &strip_file).unwrap();
+    let out = dir.join("strip-flat.fold");
+    let o = run(&strip_file, &out);
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("no layer order") && err.contains("faces"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}

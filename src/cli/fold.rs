@@ -1,0 +1,125 @@
+//! `crease fold`: a pattern folded in simulation mode toward a fraction of its targets,
+//! or (`--flat`) its flat-folded state with the layer order.
+
+use super::{design_failure, progress_bar};
+use crease::fab::{flat_folded, layer_order, LayerOrder};
+use crease::io;
+use crease::mesh::{Mesh, Vec3};
+use crease::pipeline::{run_design, DesignJob};
+use crease::solver::Mode;
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+pub struct FoldArgs {
+    /// Pattern file.
+    file: PathBuf,
+    /// Fraction of each crease's target angle, in [0, 1]: every crease is driven toward
+    /// it and the rigid panels let them reach it on average (as `generate --fold`).
+    #[arg(long, required_unless_present = "flat", conflicts_with = "flat")]
+    amount: Option<f64>,
+    /// Write the flat-folded state instead: every ±180° crease folded completely, faces
+    /// reflected through the creases into the plane, with the layer order as FOLD
+    /// `faceOrders` (exit 1, naming the faces, when there is none).
+    #[arg(long)]
+    flat: bool,
+    /// Vertices held still, separated by spaces or commas (default: the face nearest the
+    /// middle).
+    #[arg(long, num_args = 1.., value_delimiter = ',')]
+    fix: Vec<usize>,
+    /// Output FOLD file.
+    #[arg(short, long)]
+    output: PathBuf,
+}
+
+pub fn fold(args: FoldArgs) -> Result<u8, String> {
+    let FoldArgs {
+        file,
+        amount,
+        flat,
+        fix,
+        output,
+    } = args;
+    let mesh = io::read(&file).map_err(|e| e.to_string())?;
+    if flat {
+        return fold_flat(mesh, &file, &output);
+    }
+    let amount = amount.expect("clap requires --amount without --flat");
+    let mut job = DesignJob::new(mesh);
+    job.fold = Some(amount);
+    job.fold_fixed = (!fix.is_empty()).then_some(fix);
+    job.mode = Mode::Simulation;
+    let outcome = match run_design(job, &mut progress_bar()) {
+        Ok(o) => o,
+        Err(e) => return design_failure(e, &file),
+    };
+    // A fold that reached almost none of what was asked is a failure, not a file: a
+    // pattern without folded creases, or one held flat by its --fix vertices.
+    if let Some(f) = outcome
+        .fold
+        .as_ref()
+        .filter(|f| amount > 0.0 && f.mean_fraction < 0.01 * amount)
+    {
+        eprintln!(
+            "error: the fold got nowhere: {:.1}% of the target angles where {:.0}% was asked (no crease with a target to fold, or --fix holds it flat); nothing was written",
+            100.0 * f.mean_fraction,
+            100.0 * amount
+        );
+        return Ok(1);
+    }
+    io::write(&outcome.mesh, &output).map_err(|e| e.to_string())?;
+    if let Some(f) = outcome.fold {
+        eprintln!(
+            "folded in {} steps to {:.1}% of the target angles on average (largest miss {:.3} rad); wrote {}",
+            f.steps,
+            100.0 * f.mean_fraction,
+            f.error,
+            output.display()
+        );
+    }
+    Ok(0)
+}
+
+/// The flat-folded state as a FOLD folded form (z = 0, layers in `faceOrders`) beside
+/// the crease pattern.
+fn fold_flat(
+    mut mesh: Mesh,
+    file: &std::path::Path,
+    output: &std::path::Path,
+) -> Result<u8, String> {
+    let name = file.display();
+    let folded = flat_folded(&mesh, None).map_err(|e| format!("{name}: {e}"))?;
+    let orders = match layer_order(&mesh).map_err(|e| format!("{name}: {e}"))? {
+        LayerOrder::Found(orders) => orders,
+        LayerOrder::Conflict(faces) => {
+            let list: Vec<String> = faces.iter().map(|f| f.to_string()).collect();
+            eprintln!(
+                "error: {name} has no layer order: faces {} cannot be stacked; nothing was written",
+                list.join(", ")
+            );
+            return Ok(1);
+        }
+    };
+    let cp = mesh
+        .flat()
+        .ok_or(format!("{name}: no crease pattern"))?
+        .to_vec();
+    // Every vertex takes its place in the folded image of one face that holds it.
+    let mut positions = vec![Vec3::zeros(); mesh.vertex_count()];
+    for (f, face) in mesh.faces().iter().enumerate() {
+        for &v in face {
+            let p = folded.motions[f].apply(cp[v]);
+            positions[v] = Vec3::new(p.x, p.y, 0.0);
+        }
+    }
+    mesh.set_positions(positions);
+    mesh.source = None;
+    let text = io::fold::to_string_with_orders(&mesh, Some(&orders));
+    io::write_atomic(output, text.as_bytes()).map_err(|e| e.to_string())?;
+    eprintln!(
+        "folded flat: {} faces, {} overlapping pairs ordered; wrote {}",
+        mesh.faces().len(),
+        orders.len(),
+        output.display()
+    );
+    Ok(0)
+}
