@@ -569,3 +569,61 @@ fn a_width_too_small_to_cut_is_refused() {
         assert!(!out.exists());
     }
 }
+
+#[test]
+fn sheet_dxf_read_by_an_independent_parser_carries_exactly_the_toolpath() {
+    // The dxf crate (ixmilia) reads sheet.dxf back: one LINE per stroke, on the layer of
+    // its operation, ends within a micrometre of the toolpath's (y flipped: DXF y grows
+    // upward), in millimetres.
+    let machine = Machine::load("generic-hpgl").unwrap();
+    for path in patterns() {
+        let mesh = crease::io::read(&path).unwrap();
+        let out = fabricate(&mesh, &machine, &a3()).unwrap();
+        let bytes = &out.files.iter().find(|f| f.0 == "sheet.dxf").unwrap().1;
+        let drawing = dxf::Drawing::load(&mut bytes.as_slice())
+            .unwrap_or_else(|e| panic!("{}: sheet.dxf does not parse: {e}", path.display()));
+        assert_eq!(drawing.header.version, dxf::enums::AcadVersion::R12);
+        let lines: Vec<(String, [f64; 4])> = drawing
+            .entities()
+            .map(|e| match &e.specific {
+                dxf::entities::EntityType::Line(l) => {
+                    (e.common.layer.clone(), [l.p1.x, l.p1.y, l.p2.x, l.p2.y])
+                }
+                other => panic!("{}: unexpected entity {other:?}", path.display()),
+            })
+            .collect();
+        let strokes = &out.toolpath.strokes;
+        assert_eq!(lines.len(), strokes.len(), "{}", path.display());
+        let h = out.toolpath.media.height;
+        for ((layer, [x1, y1, x2, y2]), s) in lines.iter().zip(strokes) {
+            let expected = match s.kind {
+                LineKind::Cut => "CUT",
+                LineKind::Mountain => "MOUNTAIN",
+                LineKind::Valley => "VALLEY",
+                LineKind::Flat => "FLAT",
+            };
+            assert_eq!(layer, expected);
+            for (got, want) in [
+                (*x1, s.from.x),
+                (*y1, h - s.from.y),
+                (*x2, s.to.x),
+                (*y2, h - s.to.y),
+            ] {
+                assert!(
+                    (got - want).abs() <= 1e-4,
+                    "{}: {got} vs {want}",
+                    path.display()
+                );
+            }
+        }
+        // Every layer is declared, with distinct colours.
+        let colours: Vec<_> = drawing.layers().map(|l| l.color.index()).collect();
+        let mut unique = colours.clone();
+        unique.sort();
+        unique.dedup();
+        assert!(
+            colours.len() >= 3 && unique.len() == colours.len(),
+            "{colours:?}"
+        );
+    }
+}

@@ -1,7 +1,8 @@
 //! Writers for a laid-out sheet: SVG (Inkscape layers per fold type), PDF (a 1:1 printable
-//! template), HPGL (for plotters and cutters). They format bytes; geometry is decided
-//! upstream in [`crate::fab`].
+//! template), HPGL (for plotters and cutters), DXF (for laser cutters and CAD). They format
+//! bytes; geometry is decided upstream in [`crate::fab`].
 
+pub mod dxf;
 pub mod hpgl;
 pub mod pdf;
 pub mod svg;

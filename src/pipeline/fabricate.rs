@@ -149,6 +149,10 @@ pub fn fabricate(
             crate::output::svg::sheet_to_string(&toolpath).into_bytes(),
         ),
         ("sheet.hpgl".to_string(), hpgl.clone().into_bytes()),
+        (
+            "sheet.dxf".to_string(),
+            crate::output::dxf::to_string(&toolpath).into_bytes(),
+        ),
     ];
     let mut back_bytes = 0;
     if let Some(b) = &back {

@@ -1,0 +1,87 @@
+//! DXF for laser cutters and CAD: AutoCAD R12 ASCII, the dialect every program reads.
+//! Millimetres, one LINE entity per stroke of the toolpath (a dash is its own segment:
+//! laser software draws a dashed line style solid), on layers CUT, MOUNTAIN and VALLEY
+//! with distinct colours, so each operation gets its own power and speed.
+
+use crate::fab::{LineKind, Toolpath};
+use std::fmt::Write as _;
+
+/// Layer name and AutoCAD colour index (1 red, 5 blue, 3 green) of a stroke kind.
+pub fn layer_of(kind: LineKind) -> (&'static str, u8) {
+    match kind {
+        LineKind::Cut => ("CUT", 1),
+        LineKind::Mountain => ("MOUNTAIN", 5),
+        LineKind::Valley => ("VALLEY", 3),
+        LineKind::Flat => ("FLAT", 8),
+    }
+}
+
+/// The toolpath as DXF R12 text. y grows upward in DXF, downward on the media: the sheet
+/// is flipped so that it reads the same way round as the SVG.
+pub fn to_string(toolpath: &Toolpath) -> String {
+    let mut out = String::new();
+    let mut pair = |code: u16, value: &str| {
+        let _ = writeln!(out, "{code:>3}\n{value}");
+    };
+    pair(0, "SECTION");
+    pair(2, "HEADER");
+    pair(9, "$ACADVER");
+    pair(1, "AC1009");
+    pair(9, "$INSUNITS");
+    pair(70, "4"); // millimetres
+    pair(9, "$EXTMIN");
+    pair(10, "0.0");
+    pair(20, "0.0");
+    pair(9, "$EXTMAX");
+    pair(10, &num(toolpath.media.width));
+    pair(20, &num(toolpath.media.height));
+    pair(0, "ENDSEC");
+    pair(0, "SECTION");
+    pair(2, "TABLES");
+    pair(0, "TABLE");
+    pair(2, "LAYER");
+    let kinds = [
+        LineKind::Cut,
+        LineKind::Mountain,
+        LineKind::Valley,
+        LineKind::Flat,
+    ];
+    pair(70, &kinds.len().to_string());
+    for kind in kinds {
+        let (name, colour) = layer_of(kind);
+        pair(0, "LAYER");
+        pair(2, name);
+        pair(70, "0");
+        pair(62, &colour.to_string());
+        pair(6, "CONTINUOUS");
+    }
+    pair(0, "ENDTAB");
+    pair(0, "ENDSEC");
+    pair(0, "SECTION");
+    pair(2, "ENTITIES");
+    let h = toolpath.media.height;
+    for s in &toolpath.strokes {
+        let (layer, _) = layer_of(s.kind);
+        pair(0, "LINE");
+        pair(8, layer);
+        pair(10, &num(s.from.x));
+        pair(20, &num(h - s.from.y));
+        pair(30, "0.0");
+        pair(11, &num(s.to.x));
+        pair(21, &num(h - s.to.y));
+        pair(31, "0.0");
+    }
+    pair(0, "ENDSEC");
+    pair(0, "EOF");
+    out
+}
+
+/// Micrometre resolution, no exponent (R12 readers expect plain decimals).
+fn num(x: f64) -> String {
+    let s = format!("{x:.4}");
+    if s == "-0.0000" {
+        "0.0000".into()
+    } else {
+        s
+    }
+}
