@@ -6,6 +6,7 @@ pub mod intersect;
 pub mod layers;
 pub mod layout;
 pub mod lines;
+pub mod rounding;
 pub mod route;
 pub mod score;
 pub mod unfold;

@@ -16,8 +16,13 @@
 //! independent group of variables at a time. An unsatisfiable group is shrunk to a
 //! smallest set of faces that still has no order, which the report names.
 
+mod geometry;
+mod search;
+
 use super::flat_fold::FlatFolded;
 use crate::mesh::{Assignment, Mesh, Vec2};
+use geometry::{bounds, collinear_overlap, common_overlap, crosses, overlap};
+use search::Search;
 use std::collections::HashMap;
 
 /// Overlaps thinner than this fraction of the pattern's size are contact, not overlap.
@@ -68,24 +73,24 @@ pub fn layer_order(mesh: &Mesh) -> Result<LayerOrder, LayerError> {
 
 /// `above[(i, j)]` with i < j: true when face i lies higher (toward +z of the folded
 /// state) than face j.
-struct Problem {
+pub(super) struct Problem {
     faces: usize,
     pairs: Vec<(usize, usize)>,
     index: HashMap<(usize, usize), usize>,
     /// Values the creases force: (variable, value).
     fixed: Vec<(usize, bool)>,
-    constraints: Vec<Constraint>,
+    pub(super) constraints: Vec<Constraint>,
 }
 
 /// A literal: variable `var` equals `value`.
 #[derive(Clone, Copy, Debug)]
-struct Lit {
-    var: usize,
-    value: bool,
+pub(super) struct Lit {
+    pub(super) var: usize,
+    pub(super) value: bool,
 }
 
 #[derive(Clone, Debug)]
-enum Constraint {
+pub(super) enum Constraint {
     /// x == y (both literals true or both false).
     Same(Lit, Lit),
     /// x ⊕ y ⊕ z ⊕ w == false.
@@ -329,140 +334,6 @@ impl Problem {
     }
 }
 
-/// Depth-first search with propagation and an undo trail.
-struct Search<'a> {
-    problem: &'a Problem,
-    watching: Vec<Vec<usize>>,
-    value: Vec<Option<bool>>,
-    trail: Vec<usize>,
-    decisions: usize,
-}
-
-impl Search<'_> {
-    fn lit(&self, l: Lit) -> Option<bool> {
-        self.value[l.var].map(|v| v == l.value)
-    }
-
-    /// Sets a variable and everything it forces; false on a contradiction (the trail
-    /// keeps what was set, for undoing).
-    fn assign(&mut self, var: usize, v: bool) -> bool {
-        let mut queue = vec![(var, v)];
-        while let Some((x, v)) = queue.pop() {
-            match self.value[x] {
-                Some(old) if old == v => continue,
-                Some(_) => return false,
-                None => {
-                    self.value[x] = Some(v);
-                    self.trail.push(x);
-                }
-            }
-            for &k in &self.watching[x] {
-                match self.problem.constraints[k] {
-                    Constraint::Same(a, b) => {
-                        for (p, q) in [(a, b), (b, a)] {
-                            if let Some(t) = self.lit(p) {
-                                // q must have the same truth.
-                                queue.push((q.var, t == q.value));
-                            }
-                        }
-                    }
-                    Constraint::Parity(l) => {
-                        let unknown: Vec<Lit> = l
-                            .iter()
-                            .copied()
-                            .filter(|x| self.lit(*x).is_none())
-                            .collect();
-                        let ones = l.iter().filter(|x| self.lit(**x) == Some(true)).count();
-                        match unknown.len() {
-                            0 if ones % 2 == 1 => return false,
-                            1 => {
-                                let need_true = ones % 2 == 1;
-                                let u = unknown[0];
-                                queue.push((u.var, need_true == u.value));
-                            }
-                            _ => {}
-                        }
-                    }
-                    Constraint::NotAll(l) => {
-                        let trues = l.iter().filter(|x| self.lit(**x) == Some(true)).count();
-                        let unknown: Vec<Lit> = l
-                            .iter()
-                            .copied()
-                            .filter(|x| self.lit(*x).is_none())
-                            .collect();
-                        if trues == 3 {
-                            return false;
-                        }
-                        if trues == 2 && unknown.len() == 1 {
-                            let u = unknown[0];
-                            queue.push((u.var, !u.value));
-                        }
-                    }
-                }
-            }
-        }
-        true
-    }
-
-    fn undo_to(&mut self, mark: usize) {
-        for x in self.trail.drain(mark..) {
-            self.value[x] = None;
-        }
-    }
-
-    /// Decides the variables in `order` not yet set: true when all could be. Depth
-    /// first: each decision tries "above" then "below"; a contradiction undoes back to the
-    /// latest decision with a branch left.
-    fn run(&mut self, order: &[usize]) -> Result<bool, LayerError> {
-        let mut stack: Vec<(usize, usize, bool)> = Vec::new();
-        let mut pos = 0;
-        loop {
-            while pos < order.len() && self.value[order[pos]].is_some() {
-                pos += 1;
-            }
-            if pos == order.len() {
-                return Ok(true);
-            }
-            self.decisions += 1;
-            if self.decisions > SEARCH_BUDGET {
-                return Err(LayerError::GaveUp(SEARCH_BUDGET));
-            }
-            let mark = self.trail.len();
-            if self.assign(order[pos], true) {
-                stack.push((pos, mark, false));
-                continue;
-            }
-            self.undo_to(mark);
-            if self.assign(order[pos], false) {
-                stack.push((pos, mark, true));
-                continue;
-            }
-            self.undo_to(mark);
-            loop {
-                let Some((p, m, tried_both)) = stack.pop() else {
-                    return Ok(false);
-                };
-                self.undo_to(m);
-                if !tried_both {
-                    if self.assign(order[p], false) {
-                        stack.push((p, m, true));
-                        pos = p;
-                        break;
-                    }
-                    self.undo_to(m);
-                }
-            }
-        }
-    }
-}
-
-fn bounds(points: impl Iterator<Item = Vec2>) -> (Vec2, Vec2) {
-    points.fold(
-        (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY)),
-        |(lo, hi), p| (lo.inf(&p), hi.sup(&p)),
-    )
-}
-
 /// Where edge `e` lies in the folded state, seen from face `a`.
 fn edge_image(mesh: &Mesh, folded: &FlatFolded, a: usize, e: usize) -> (Vec2, Vec2) {
     let cp = mesh
@@ -471,109 +342,4 @@ fn edge_image(mesh: &Mesh, folded: &FlatFolded, a: usize, e: usize) -> (Vec2, Ve
     let [u, v] = mesh.edges()[e].vertices;
     let m = &folded.motions[a];
     (m.apply(cp[u]), m.apply(cp[v]))
-}
-
-/// Two triangles overlap with positive area: no separating axis among their sides, by
-/// more than `eps`.
-fn overlap(s: &[Vec2; 3], t: &[Vec2; 3], eps: f64) -> bool {
-    for poly in [s, t] {
-        for k in 0..3 {
-            let d = poly[(k + 1) % 3] - poly[k];
-            let n = Vec2::new(-d.y, d.x) / d.norm().max(1e-300);
-            let span = |p: &[Vec2; 3]| {
-                p.iter()
-                    .map(|q| n.dot(q))
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
-                        (lo.min(x), hi.max(x))
-                    })
-            };
-            let (a, b) = (span(s), span(t));
-            if a.1 <= b.0 + eps || b.1 <= a.0 + eps {
-                return false;
-            }
-        }
-    }
-    true
-}
-
-/// Segment p–q passes through the interior of triangle t for a length above `eps`.
-fn crosses(p: Vec2, q: Vec2, t: &[Vec2; 3], eps: f64) -> bool {
-    let d = q - p;
-    let len = d.norm();
-    if len <= eps {
-        return false;
-    }
-    let area = (t[1] - t[0]).perp(&(t[2] - t[0]));
-    let (mut lo, mut hi) = (0.0f64, 1.0f64);
-    for k in 0..3 {
-        let (a, b) = (t[k], t[(k + 1) % 3]);
-        let e = b - a;
-        // Inward distance of x from side a→b, for a counter-clockwise or clockwise t.
-        let inward = |x: Vec2| e.perp(&(x - a)) * area.signum() / e.norm();
-        let (fp, fd) = (inward(p) - eps, inward(q) - inward(p));
-        // Need fp + fd·s > 0.
-        if fd.abs() < 1e-300 {
-            if fp <= 0.0 {
-                return false;
-            }
-        } else if fd > 0.0 {
-            lo = lo.max(-fp / fd);
-        } else {
-            hi = hi.min(-fp / fd);
-        }
-    }
-    (hi - lo) * len > eps
-}
-
-/// Segments p–q and r–s lie on one line and share a stretch longer than `eps`.
-fn collinear_overlap(p: Vec2, q: Vec2, r: Vec2, s: Vec2, eps: f64) -> bool {
-    let d = q - p;
-    let len = d.norm();
-    let u = d / len;
-    let off = |x: Vec2| u.perp(&(x - p)).abs();
-    if off(r) > eps || off(s) > eps {
-        return false;
-    }
-    let (a, b) = ((r - p).dot(&u), (s - p).dot(&u));
-    let (a, b) = (a.min(b), a.max(b));
-    b.min(len) - a.max(0.0) > eps
-}
-
-/// Three triangles share a region of positive area.
-fn common_overlap(a: &[Vec2; 3], b: &[Vec2; 3], c: &[Vec2; 3], eps: f64) -> bool {
-    let ab = clip(a.to_vec(), b);
-    let abc = clip(ab, c);
-    area(&abc) > eps * eps
-}
-
-/// Sutherland–Hodgman: the part of `poly` inside triangle `t`.
-fn clip(mut poly: Vec<Vec2>, t: &[Vec2; 3]) -> Vec<Vec2> {
-    let orient = (t[1] - t[0]).perp(&(t[2] - t[0])).signum();
-    for k in 0..3 {
-        let (a, b) = (t[k], t[(k + 1) % 3]);
-        let side = |x: Vec2| (b - a).perp(&(x - a)) * orient;
-        let input = std::mem::take(&mut poly);
-        for i in 0..input.len() {
-            let (p, q) = (input[i], input[(i + 1) % input.len()]);
-            let (sp, sq) = (side(p), side(q));
-            if sp >= 0.0 {
-                poly.push(p);
-            }
-            if (sp >= 0.0) != (sq >= 0.0) {
-                poly.push(p + (q - p) * (sp / (sp - sq)));
-            }
-        }
-        if poly.is_empty() {
-            break;
-        }
-    }
-    poly
-}
-
-fn area(poly: &[Vec2]) -> f64 {
-    (0..poly.len())
-        .map(|i| poly[i].perp(&poly[(i + 1) % poly.len()]))
-        .sum::<f64>()
-        .abs()
-        / 2.0
 }

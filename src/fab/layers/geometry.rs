@@ -1,0 +1,118 @@
+//! The plane geometry of the layer solver: which folded faces overlap, which hinge lines
+//! pass through a face, which creases fold onto one line. Thin contacts (below `eps`)
+//! are not overlaps.
+
+use crate::mesh::Vec2;
+
+/// The bounding box of some points.
+pub(super) fn bounds(points: impl Iterator<Item = Vec2>) -> (Vec2, Vec2) {
+    points.fold(
+        (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.inf(&p), hi.sup(&p)),
+    )
+}
+
+/// Two triangles overlap with positive area: no separating axis among their sides, by
+/// more than `eps`.
+pub(super) fn overlap(s: &[Vec2; 3], t: &[Vec2; 3], eps: f64) -> bool {
+    for poly in [s, t] {
+        for k in 0..3 {
+            let d = poly[(k + 1) % 3] - poly[k];
+            let n = Vec2::new(-d.y, d.x) / d.norm().max(1e-300);
+            let span = |p: &[Vec2; 3]| {
+                p.iter()
+                    .map(|q| n.dot(q))
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                        (lo.min(x), hi.max(x))
+                    })
+            };
+            let (a, b) = (span(s), span(t));
+            if a.1 <= b.0 + eps || b.1 <= a.0 + eps {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+/// Segment p–q passes through the interior of triangle t for a length above `eps`.
+pub(super) fn crosses(p: Vec2, q: Vec2, t: &[Vec2; 3], eps: f64) -> bool {
+    let d = q - p;
+    let len = d.norm();
+    if len <= eps {
+        return false;
+    }
+    let area = (t[1] - t[0]).perp(&(t[2] - t[0]));
+    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    for k in 0..3 {
+        let (a, b) = (t[k], t[(k + 1) % 3]);
+        let e = b - a;
+        // Inward distance of x from side a→b, for a counter-clockwise or clockwise t.
+        let inward = |x: Vec2| e.perp(&(x - a)) * area.signum() / e.norm();
+        let (fp, fd) = (inward(p) - eps, inward(q) - inward(p));
+        // Need fp + fd·s > 0.
+        if fd.abs() < 1e-300 {
+            if fp <= 0.0 {
+                return false;
+            }
+        } else if fd > 0.0 {
+            lo = lo.max(-fp / fd);
+        } else {
+            hi = hi.min(-fp / fd);
+        }
+    }
+    (hi - lo) * len > eps
+}
+
+/// Segments p–q and r–s lie on one line and share a stretch longer than `eps`.
+pub(super) fn collinear_overlap(p: Vec2, q: Vec2, r: Vec2, s: Vec2, eps: f64) -> bool {
+    let d = q - p;
+    let len = d.norm();
+    let u = d / len;
+    let off = |x: Vec2| u.perp(&(x - p)).abs();
+    if off(r) > eps || off(s) > eps {
+        return false;
+    }
+    let (a, b) = ((r - p).dot(&u), (s - p).dot(&u));
+    let (a, b) = (a.min(b), a.max(b));
+    b.min(len) - a.max(0.0) > eps
+}
+
+/// Three triangles share a region of positive area.
+pub(super) fn common_overlap(a: &[Vec2; 3], b: &[Vec2; 3], c: &[Vec2; 3], eps: f64) -> bool {
+    let ab = clip(a.to_vec(), b);
+    let abc = clip(ab, c);
+    area(&abc) > eps * eps
+}
+
+/// Sutherland–Hodgman: the part of `poly` inside triangle `t`.
+fn clip(mut poly: Vec<Vec2>, t: &[Vec2; 3]) -> Vec<Vec2> {
+    let orient = (t[1] - t[0]).perp(&(t[2] - t[0])).signum();
+    for k in 0..3 {
+        let (a, b) = (t[k], t[(k + 1) % 3]);
+        let side = |x: Vec2| (b - a).perp(&(x - a)) * orient;
+        let input = std::mem::take(&mut poly);
+        for i in 0..input.len() {
+            let (p, q) = (input[i], input[(i + 1) % input.len()]);
+            let (sp, sq) = (side(p), side(q));
+            if sp >= 0.0 {
+                poly.push(p);
+            }
+            if (sp >= 0.0) != (sq >= 0.0) {
+                poly.push(p + (q - p) * (sp / (sp - sq)));
+            }
+        }
+        if poly.is_empty() {
+            break;
+        }
+    }
+    poly
+}
+
+fn area(poly: &[Vec2]) -> f64 {
+    (0..poly.len())
+        .map(|i| poly[i].perp(&poly[(i + 1) % poly.len()]))
+        .sum::<f64>()
+        .abs()
+        / 2.0
+}

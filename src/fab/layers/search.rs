@@ -1,0 +1,131 @@
+//! The search for values of the pair variables: propagation of what each constraint
+//! forces, and depth-first decisions with an undo trail.
+
+use super::{Constraint, LayerError, Lit, Problem, SEARCH_BUDGET};
+
+/// Depth-first search with propagation and an undo trail.
+pub(super) struct Search<'a> {
+    pub(super) problem: &'a Problem,
+    pub(super) watching: Vec<Vec<usize>>,
+    pub(super) value: Vec<Option<bool>>,
+    pub(super) trail: Vec<usize>,
+    pub(super) decisions: usize,
+}
+
+impl Search<'_> {
+    fn lit(&self, l: Lit) -> Option<bool> {
+        self.value[l.var].map(|v| v == l.value)
+    }
+
+    /// Sets a variable and everything it forces; false on a contradiction (the trail
+    /// keeps what was set, for undoing).
+    pub(super) fn assign(&mut self, var: usize, v: bool) -> bool {
+        let mut queue = vec![(var, v)];
+        while let Some((x, v)) = queue.pop() {
+            match self.value[x] {
+                Some(old) if old == v => continue,
+                Some(_) => return false,
+                None => {
+                    self.value[x] = Some(v);
+                    self.trail.push(x);
+                }
+            }
+            for &k in &self.watching[x] {
+                match self.problem.constraints[k] {
+                    Constraint::Same(a, b) => {
+                        for (p, q) in [(a, b), (b, a)] {
+                            if let Some(t) = self.lit(p) {
+                                // q must have the same truth.
+                                queue.push((q.var, t == q.value));
+                            }
+                        }
+                    }
+                    Constraint::Parity(l) => {
+                        let unknown: Vec<Lit> = l
+                            .iter()
+                            .copied()
+                            .filter(|x| self.lit(*x).is_none())
+                            .collect();
+                        let ones = l.iter().filter(|x| self.lit(**x) == Some(true)).count();
+                        match unknown.len() {
+                            0 if ones % 2 == 1 => return false,
+                            1 => {
+                                let need_true = ones % 2 == 1;
+                                let u = unknown[0];
+                                queue.push((u.var, need_true == u.value));
+                            }
+                            _ => {}
+                        }
+                    }
+                    Constraint::NotAll(l) => {
+                        let trues = l.iter().filter(|x| self.lit(**x) == Some(true)).count();
+                        let unknown: Vec<Lit> = l
+                            .iter()
+                            .copied()
+                            .filter(|x| self.lit(*x).is_none())
+                            .collect();
+                        if trues == 3 {
+                            return false;
+                        }
+                        if trues == 2 && unknown.len() == 1 {
+                            let u = unknown[0];
+                            queue.push((u.var, !u.value));
+                        }
+                    }
+                }
+            }
+        }
+        true
+    }
+
+    fn undo_to(&mut self, mark: usize) {
+        for x in self.trail.drain(mark..) {
+            self.value[x] = None;
+        }
+    }
+
+    /// Decides the variables in `order` not yet set: true when all could be. Depth
+    /// first: each decision tries "above" then "below"; a contradiction undoes back to the
+    /// latest decision with a branch left.
+    pub(super) fn run(&mut self, order: &[usize]) -> Result<bool, LayerError> {
+        let mut stack: Vec<(usize, usize, bool)> = Vec::new();
+        let mut pos = 0;
+        loop {
+            while pos < order.len() && self.value[order[pos]].is_some() {
+                pos += 1;
+            }
+            if pos == order.len() {
+                return Ok(true);
+            }
+            self.decisions += 1;
+            if self.decisions > SEARCH_BUDGET {
+                return Err(LayerError::GaveUp(SEARCH_BUDGET));
+            }
+            let mark = self.trail.len();
+            if self.assign(order[pos], true) {
+                stack.push((pos, mark, false));
+                continue;
+            }
+            self.undo_to(mark);
+            if self.assign(order[pos], false) {
+                stack.push((pos, mark, true));
+                continue;
+            }
+            self.undo_to(mark);
+            loop {
+                let Some((p, m, tried_both)) = stack.pop() else {
+                    return Ok(false);
+                };
+                self.undo_to(m);
+                if !tried_both {
+                    if self.assign(order[p], false) {
+                        stack.push((p, m, true));
+                        pos = p;
+                        break;
+                    }
+                    self.undo_to(m);
+                }
+            }
+        }
+    }
+}

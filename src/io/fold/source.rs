@@ -1,0 +1,142 @@
+//! What a FOLD file has beyond the mesh crease builds from it, read so that writing it
+//! back loses nothing: its fields, its coordinates' text, its vertex numbers.
+
+use crate::mesh::{Fingerprint, Mesh, MeshParts, SourceRecord, Vec2};
+
+/// The text of every `vertices_coords` array in a FOLD file (a file's rounding shows in
+/// its coordinates; fold angles and metadata are written with other precisions).
+pub(super) fn coordinate_arrays(text: &str) -> String {
+    let mut out = String::new();
+    for (at, _) in text.match_indices("\"vertices_coords\"") {
+        let rest = &text[at..];
+        let Some(open) = rest.find('[') else { continue };
+        let mut depth = 0;
+        for (k, c) in rest[open..].char_indices() {
+            match c {
+                '[' => depth += 1,
+                ']' => depth -= 1,
+                _ => {}
+            }
+            if depth == 0 {
+                out.push_str(&rest[open..open + k + 1]);
+                out.push(' ');
+                break;
+            }
+        }
+    }
+    out
+}
+
+/// Gives the vertices of a mesh rebuilt from a file's edges (an edges-only FOLD) the
+/// file's own numbers: FOLD identifies vertices by index, so a vertex found at a file
+/// vertex's position takes its index, and points the rebuild added (crossings) follow.
+pub(super) fn keep_file_numbering(mut parts: MeshParts, file: &[Vec2]) -> MeshParts {
+    let Some(points) = parts.flat.take() else {
+        return parts;
+    };
+    let key = |p: &Vec2| (p.x.to_bits(), p.y.to_bits());
+    let by_position: std::collections::HashMap<_, usize> =
+        file.iter().enumerate().map(|(i, p)| (key(p), i)).collect();
+    let mut next = file.len();
+    let mut taken = vec![false; file.len()];
+    let map: Vec<usize> = points
+        .iter()
+        .map(|p| match by_position.get(&key(p)) {
+            Some(&i) if !taken[i] => {
+                taken[i] = true;
+                i
+            }
+            _ => {
+                next += 1;
+                next - 1
+            }
+        })
+        .collect();
+    // File vertices no edge uses do not exist in the rebuilt mesh: close the gaps.
+    let mut order: Vec<usize> = (0..points.len()).collect();
+    order.sort_by_key(|&k| map[k]);
+    let mut compact = vec![0; points.len()];
+    for (new, &k) in order.iter().enumerate() {
+        compact[k] = new;
+    }
+    let mut flat = vec![Vec2::zeros(); points.len()];
+    for (k, p) in points.into_iter().enumerate() {
+        flat[compact[k]] = p;
+    }
+    for f in &mut parts.faces {
+        *f = f.map(|v| compact[v]);
+    }
+    for e in &mut parts.edges {
+        e.vertices = e.vertices.map(|v| compact[v]);
+    }
+    parts.flat = Some(flat);
+    parts
+}
+
+/// Top-level fields crease reads itself; everything else is carried through.
+const MODELLED: [&str; 17] = [
+    "file_spec",
+    "file_creator",
+    "file_classes",
+    "file_frames",
+    "frame_title",
+    "frame_classes",
+    "frame_attributes",
+    "frame_unit",
+    "vertices_coords",
+    "edges_vertices",
+    "edges_assignment",
+    "edges_foldAngle",
+    "faces_vertices",
+    "crease:targetAngle",
+    "crease:alpha",
+    "crease:lockTopology",
+    "crease:coincidentVertices",
+];
+
+/// What the file has beyond the mesh: its polygons, its descriptive `file_*`/`frame_*`
+/// fields, its other fields (kept while the geometry is unchanged) and its unit.
+pub(super) fn source_record(
+    text: &str,
+    mesh: &Mesh,
+    polygons: Vec<Vec<usize>>,
+    unit: Option<String>,
+) -> SourceRecord {
+    let mut record = SourceRecord {
+        polygons,
+        unit,
+        imported: Fingerprint::of(mesh),
+        ..Default::default()
+    };
+    if let Ok(serde_json::Value::Object(fields)) = serde_json::from_str(text) {
+        for (name, value) in fields {
+            if matches!(
+                name.as_str(),
+                "vertices_coords" | "frame_classes" | "frame_attributes"
+            ) {
+                record.frame.push((name, value));
+                continue;
+            }
+            if MODELLED.contains(&name.as_str()) {
+                continue;
+            }
+            if name.starts_with("file_") || name.starts_with("frame_") {
+                record.metadata.push((name, value));
+            } else {
+                record.extras.push((name, value));
+            }
+        }
+    }
+    // Vertices renumbered on import (cut lines split, unused vertices dropped): the file's
+    // per-vertex fields and coordinates no longer line up with the mesh.
+    let listed = record
+        .frame
+        .iter()
+        .find(|(n, _)| n == "vertices_coords")
+        .and_then(|(_, v)| v.as_array().map(Vec::len));
+    if listed != Some(mesh.vertex_count()) {
+        record.frame.clear();
+        record.extras.clear();
+    }
+    record
+}
