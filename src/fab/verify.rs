@@ -370,7 +370,7 @@ fn layer_order_report(mesh: &Mesh) -> Option<FamilyReport> {
             gating: false,
             basis: format!(
                 "not judged: crease {e} is drawn at {:.0}°, a partial fold",
-                super::super::io::fold::angle_to_fold(edge.fold_angle)
+                crate::io::fold::angle_to_fold(edge.fold_angle)
             ),
             ..summarise("layer-order", &[], 0.0)
         });
