@@ -47,31 +47,22 @@ pub fn split_along_cuts(parts: &mut MeshParts) -> usize {
     for v in vertices {
         let faces = &incident[&v];
         // Union faces that share a spoke v–x which is not cut.
-        let mut group: Vec<usize> = (0..faces.len()).collect();
-        fn find(g: &mut [usize], i: usize) -> usize {
-            let mut r = i;
-            while g[r] != r {
-                r = g[r];
-            }
-            g[i] = r;
-            r
-        }
+        let mut group = super::UnionFind::new(faces.len());
         for i in 0..faces.len() {
             for j in i + 1..faces.len() {
                 let (fi, fj) = (parts.faces[faces[i]], parts.faces[faces[j]]);
                 let shared = fi.iter().find(|&&x| x != v && fj.contains(&x));
                 if let Some(&x) = shared {
                     if !is_cut.contains(&key(v, x)) {
-                        let (ri, rj) = (find(&mut group, i), find(&mut group, j));
-                        group[ri] = rj;
+                        group.union(i, j);
                     }
                 }
             }
         }
         let mut copy_of_root: HashMap<usize, usize> = HashMap::new();
-        let first_root = find(&mut group, 0);
+        let first_root = group.find(0);
         for (i, &face) in faces.iter().enumerate() {
-            let r = find(&mut group, i);
+            let r = group.find(i);
             if r == first_root {
                 continue;
             }

@@ -9,12 +9,14 @@ mod info;
 mod source;
 mod topology;
 mod triangulate;
+mod union_find;
 
 pub use cuts::split_along_cuts;
 pub use info::MeshInfo;
 pub use source::{polygon_faces, Fingerprint, SourceRecord};
 pub use topology::{MeshError, Topology, TopologySummary, VertexFan};
 pub use triangulate::triangulate_polygon;
+pub use union_find::UnionFind;
 
 use nalgebra::{SVector, Vector2, Vector3};
 use std::f64::consts::PI;

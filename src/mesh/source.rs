@@ -63,29 +63,19 @@ pub fn polygon_faces(
 ) -> Vec<(Vec<usize>, Vec<usize>)> {
     let topo = mesh.topology();
     let n = mesh.faces().len();
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn find(p: &mut [usize], mut i: usize) -> usize {
-        while p[i] != i {
-            p[i] = p[p[i]];
-            i = p[i];
-        }
-        i
-    }
+    let mut sets = super::UnionFind::new(n);
     for (e, edge) in mesh.edges().iter().enumerate() {
         if !edge.synthetic || fold[e].abs() > flat_tolerance(e) {
             continue;
         }
         if let [Some(a), Some(b)] = topo.edge_faces[e] {
-            let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
-            if ra != rb {
-                parent[ra.max(rb)] = ra.min(rb);
-            }
+            sets.union(a, b);
         }
     }
     let mut groups: Vec<Vec<usize>> = Vec::new();
     let mut slot = vec![usize::MAX; n];
     for f in 0..n {
-        let r = find(&mut parent, f);
+        let r = sets.find(f);
         if slot[r] == usize::MAX {
             slot[r] = groups.len();
             groups.push(Vec::new());

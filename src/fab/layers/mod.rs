@@ -20,7 +20,7 @@ mod geometry;
 mod search;
 
 use super::flat_fold::FlatFolded;
-use crate::mesh::{Assignment, Mesh, Vec2};
+use crate::mesh::{Assignment, Mesh, UnionFind, Vec2};
 use geometry::{bounds, collinear_overlap, common_overlap, crosses, overlap};
 use search::Search;
 use std::collections::HashMap;
@@ -244,21 +244,13 @@ impl Problem {
             })
         };
         let mut watching: Vec<Vec<usize>> = vec![Vec::new(); self.pairs.len()];
-        let mut group: Vec<usize> = (0..self.pairs.len()).collect();
-        fn root(g: &mut [usize], mut i: usize) -> usize {
-            while g[i] != i {
-                g[i] = g[g[i]];
-                i = g[i];
-            }
-            i
-        }
+        let mut group = UnionFind::new(self.pairs.len());
         for (k, c) in self.constraints.iter().enumerate() {
             let vars = c.vars();
             if vars.iter().all(|&v| active(v)) {
                 for &v in &vars {
                     watching[v].push(k);
-                    let (r, s) = (root(&mut group, vars[0]), root(&mut group, v));
-                    group[r.max(s)] = r.min(s);
+                    group.union(vars[0], v);
                 }
             }
         }
@@ -280,14 +272,14 @@ impl Problem {
         };
         let mut members: HashMap<usize, Vec<usize>> = HashMap::new();
         for v in (0..self.pairs.len()).filter(|&v| active(v)) {
-            members.entry(root(&mut group, v)).or_default().push(v);
+            members.entry(group.find(v)).or_default().push(v);
         }
         let mut groups: Vec<Vec<usize>> = members.into_values().collect();
         groups.sort_unstable();
         for &(var, v) in &self.fixed {
             if active(var) && !search.assign(var, v) {
-                let r = root(&mut group, var);
-                let g = groups.iter().find(|g| root(&mut group, g[0]) == r).unwrap();
+                let r = group.find(var);
+                let g = groups.iter().find(|g| group.find(g[0]) == r).unwrap();
                 return Ok(Err(faces_of(g)));
             }
         }
