@@ -108,7 +108,7 @@ pub enum NotFlatFoldable {
 
 /// Whether an edge is folded completely (target ±π) in the flat-folded state. Merged
 /// creases (§4) may target other odd multiples of π, which fold flat as well.
-fn folds_flat(target: f64) -> Option<bool> {
+pub(crate) fn folds_flat(target: f64) -> Option<bool> {
     let turns = target / PI;
     let nearest = turns.round();
     if (turns - nearest).abs() > 1e-9 {

@@ -19,7 +19,7 @@
 mod geometry;
 mod search;
 
-use super::flat_fold::FlatFolded;
+use super::flat_fold::{folds_flat, FlatFolded};
 use crate::mesh::{Assignment, Mesh, UnionFind, Vec2};
 use geometry::{bounds, collinear_overlap, common_overlap, crosses, overlap};
 use search::Search;
@@ -168,7 +168,7 @@ impl Problem {
             let (p, q) = edge_image(mesh, folded, a, e);
             let folded_crease =
                 matches!(edge.assignment, Assignment::Mountain | Assignment::Valley)
-                    && (edge.target.abs() / std::f64::consts::PI).round() as i64 % 2 != 0;
+                    && folds_flat(edge.target) == Some(true);
             if folded_crease {
                 // b folds onto a: valley brings it to a's front, mountain behind.
                 let b_above = (edge.assignment == Assignment::Valley) != folded.motions[a].flips();
