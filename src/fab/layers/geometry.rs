@@ -4,14 +4,6 @@
 
 use crate::mesh::Vec2;
 
-/// The bounding box of some points.
-pub(super) fn bounds(points: impl Iterator<Item = Vec2>) -> (Vec2, Vec2) {
-    points.fold(
-        (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY)),
-        |(lo, hi), p| (lo.inf(&p), hi.sup(&p)),
-    )
-}
-
 /// Two triangles overlap with positive area: no separating axis among their sides, by
 /// more than `eps`.
 pub(super) fn overlap(s: &[Vec2; 3], t: &[Vec2; 3], eps: f64) -> bool {

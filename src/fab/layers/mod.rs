@@ -20,8 +20,9 @@ mod geometry;
 mod search;
 
 use super::flat_fold::{folds_flat, FlatFolded};
+use crate::mesh::bounds;
 use crate::mesh::{Assignment, Mesh, UnionFind, Vec2};
-use geometry::{bounds, collinear_overlap, common_overlap, crosses, overlap};
+use geometry::{collinear_overlap, common_overlap, crosses, overlap};
 use search::Search;
 use std::collections::HashMap;
 
@@ -119,32 +120,14 @@ impl Problem {
     fn build(mesh: &Mesh, folded: &FlatFolded) -> Problem {
         let tri = &folded.triangles;
         let n = tri.len();
-        let (lo, hi) = bounds(tri.iter().flatten().copied());
+        let (lo, hi) = bounds(tri.as_flattened());
         // Rounded coordinates fold to images that miss each other by about the file's
         // rounding, compounded along the reflections (the closure gap measures it): a
         // sliver that thin is contact, not overlap.
         let eps = (OVERLAP_FRACTION * (hi - lo).norm())
             .max(2.0 * folded.mismatch + 8.0 * mesh.coordinate_precision)
             .max(1e-300);
-        // Overlapping pairs: sweep by x, then a separating-axis test with margin.
-        let boxes: Vec<(Vec2, Vec2)> = tri.iter().map(|t| bounds(t.iter().copied())).collect();
-        let mut order: Vec<usize> = (0..n).collect();
-        order.sort_by(|&a, &b| boxes[a].0.x.total_cmp(&boxes[b].0.x));
-        let mut pairs = Vec::new();
-        for (k, &a) in order.iter().enumerate() {
-            for &b in &order[k + 1..] {
-                if boxes[b].0.x >= boxes[a].1.x - eps {
-                    break;
-                }
-                if boxes[b].0.y >= boxes[a].1.y - eps || boxes[a].0.y >= boxes[b].1.y - eps {
-                    continue;
-                }
-                if overlap(&tri[a], &tri[b], eps) {
-                    pairs.push((a.min(b), a.max(b)));
-                }
-            }
-        }
-        pairs.sort_unstable();
+        let pairs = overlapping_pairs(tri, eps);
         let index: HashMap<(usize, usize), usize> =
             pairs.iter().enumerate().map(|(i, &p)| (p, i)).collect();
         let mut problem = Problem {
@@ -159,8 +142,25 @@ impl Problem {
             overlapping[a].push(b);
             overlapping[b].push(a);
         }
+        let creases = problem.add_hinges(mesh, folded, &overlapping, eps);
+        problem.add_taco_taco(&creases, eps);
+        problem.add_transitivity(tri, &overlapping, eps);
+        problem
+    }
+
+    /// Every interior edge is a hinge between its two faces: a folded crease fixes which
+    /// lies above (valley brings the second face to the first's front, mountain behind),
+    /// and a face crossing the hinge's folded line lies above both or below both
+    /// (taco–tortilla). Returns the folded creases with their faces and folded lines.
+    fn add_hinges(
+        &mut self,
+        mesh: &Mesh,
+        folded: &FlatFolded,
+        overlapping: &[Vec<usize>],
+        eps: f64,
+    ) -> Vec<(usize, usize, Vec2, Vec2)> {
         let topo = mesh.topology();
-        let mut creases_on_lines: Vec<(usize, usize, usize, Vec2, Vec2)> = Vec::new();
+        let mut creases = Vec::new();
         for (e, edge) in mesh.edges().iter().enumerate() {
             let [Some(a), Some(b)] = topo.edge_faces[e] else {
                 continue;
@@ -170,68 +170,72 @@ impl Problem {
                 matches!(edge.assignment, Assignment::Mountain | Assignment::Valley)
                     && folds_flat(edge.target) == Some(true);
             if folded_crease {
-                // b folds onto a: valley brings it to a's front, mountain behind.
                 let b_above = (edge.assignment == Assignment::Valley) != folded.motions[a].flips();
-                if let Some(l) = problem.above(b, a) {
-                    problem.fixed.push((l.var, l.value == b_above));
+                if let Some(l) = self.above(b, a) {
+                    self.fixed.push((l.var, l.value == b_above));
                 }
-                creases_on_lines.push((e, a, b, p, q));
+                creases.push((a, b, p, q));
             }
-            // Taco–tortilla: a face crossing this hinge's line is above both or below both.
             for &c in overlapping[a].iter().filter(|&&c| c != b) {
-                if !crosses(p, q, &tri[c], eps) {
+                if !crosses(p, q, &folded.triangles[c], eps) {
                     continue;
                 }
-                if let (Some(x), Some(y)) = (problem.above(a, c), problem.above(b, c)) {
-                    problem.constraints.push(Constraint::Same(x, y));
+                if let (Some(x), Some(y)) = (self.above(a, c), self.above(b, c)) {
+                    self.constraints.push(Constraint::Same(x, y));
                 }
             }
         }
-        // Taco–taco: creases folded onto the same line with flaps on the same side.
-        for (i, &(_, a, b, p, q)) in creases_on_lines.iter().enumerate() {
-            for &(_, c, d, r, s) in &creases_on_lines[i + 1..] {
+        creases
+    }
+
+    /// Taco–taco: creases folded onto the same line with their flaps on the same side
+    /// nest or stay apart, never interleave.
+    fn add_taco_taco(&mut self, creases: &[(usize, usize, Vec2, Vec2)], eps: f64) {
+        for (i, &(a, b, p, q)) in creases.iter().enumerate() {
+            for &(c, d, r, s) in &creases[i + 1..] {
                 if !collinear_overlap(p, q, r, s, eps) {
                     continue;
                 }
                 let lits = [
-                    problem.above(a, c),
-                    problem.above(b, c),
-                    problem.above(a, d),
-                    problem.above(b, d),
+                    self.above(a, c),
+                    self.above(b, c),
+                    self.above(a, d),
+                    self.above(b, d),
                 ];
                 if let [Some(w), Some(x), Some(y), Some(z)] = lits {
-                    problem.constraints.push(Constraint::Parity([w, x, y, z]));
+                    self.constraints.push(Constraint::Parity([w, x, y, z]));
                 }
             }
         }
-        // Transitivity over triples with a common overlap.
-        for a in 0..n {
+    }
+
+    /// Transitivity: three faces with a common overlap are not stacked in a cycle.
+    fn add_transitivity(&mut self, tri: &[[Vec2; 3]], overlapping: &[Vec<usize>], eps: f64) {
+        let neg = |l: Lit| Lit {
+            var: l.var,
+            value: !l.value,
+        };
+        for a in 0..tri.len() {
             for (k, &b) in overlapping[a].iter().enumerate() {
                 if b < a {
                     continue;
                 }
                 for &c in &overlapping[a][k + 1..] {
-                    if c < a || problem.above(b, c).is_none() {
+                    if c < a || self.above(b, c).is_none() {
                         continue;
                     }
                     if !common_overlap(&tri[a], &tri[b], &tri[c], eps) {
                         continue;
                     }
-                    let ab = problem.above(a, b).unwrap();
-                    let bc = problem.above(b, c).unwrap();
-                    let ca = problem.above(c, a).unwrap();
-                    let neg = |l: Lit| Lit {
-                        var: l.var,
-                        value: !l.value,
-                    };
-                    problem.constraints.push(Constraint::NotAll([ab, bc, ca]));
-                    problem
-                        .constraints
+                    let ab = self.above(a, b).unwrap();
+                    let bc = self.above(b, c).unwrap();
+                    let ca = self.above(c, a).unwrap();
+                    self.constraints.push(Constraint::NotAll([ab, bc, ca]));
+                    self.constraints
                         .push(Constraint::NotAll([neg(ab), neg(bc), neg(ca)]));
                 }
             }
         }
-        problem
     }
 
     /// Values for every variable, or the faces of a group of variables with none. With
@@ -324,6 +328,31 @@ impl Problem {
             })
             .collect()
     }
+}
+
+/// Pairs of folded faces that overlap with positive area: sweep by x, then a
+/// separating-axis test with margin `eps`.
+fn overlapping_pairs(tri: &[[Vec2; 3]], eps: f64) -> Vec<(usize, usize)> {
+    let n = tri.len();
+    let boxes: Vec<(Vec2, Vec2)> = tri.iter().map(|t| bounds(t)).collect();
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&a, &b| boxes[a].0.x.total_cmp(&boxes[b].0.x));
+    let mut pairs = Vec::new();
+    for (k, &a) in order.iter().enumerate() {
+        for &b in &order[k + 1..] {
+            if boxes[b].0.x >= boxes[a].1.x - eps {
+                break;
+            }
+            if boxes[b].0.y >= boxes[a].1.y - eps || boxes[a].0.y >= boxes[b].1.y - eps {
+                continue;
+            }
+            if overlap(&tri[a], &tri[b], eps) {
+                pairs.push((a.min(b), a.max(b)));
+            }
+        }
+    }
+    pairs.sort_unstable();
+    pairs
 }
 
 /// Where edge `e` lies in the folded state, seen from face `a`.

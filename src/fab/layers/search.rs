@@ -17,6 +17,23 @@ impl Search<'_> {
         self.value[l.var].map(|v| v == l.value)
     }
 
+    /// Of some literals: how many are true, how many unknown, and the last unknown one
+    /// (counted in place: this runs for every constraint a new value touches).
+    fn tally(&self, lits: &[Lit]) -> (usize, usize, Option<Lit>) {
+        let (mut trues, mut unknown, mut last) = (0, 0, None);
+        for &l in lits {
+            match self.lit(l) {
+                Some(true) => trues += 1,
+                Some(false) => {}
+                None => {
+                    unknown += 1;
+                    last = Some(l);
+                }
+            }
+        }
+        (trues, unknown, last)
+    }
+
     /// Sets a variable and everything it forces; false on a contradiction (the trail
     /// keeps what was set, for undoing).
     pub(super) fn assign(&mut self, var: usize, v: bool) -> bool {
@@ -41,34 +58,22 @@ impl Search<'_> {
                         }
                     }
                     Constraint::Parity(l) => {
-                        let unknown: Vec<Lit> = l
-                            .iter()
-                            .copied()
-                            .filter(|x| self.lit(*x).is_none())
-                            .collect();
-                        let ones = l.iter().filter(|x| self.lit(**x) == Some(true)).count();
-                        match unknown.len() {
-                            0 if ones % 2 == 1 => return false,
-                            1 => {
+                        let (ones, unknown, last) = self.tally(&l);
+                        match (unknown, last) {
+                            (0, _) if ones % 2 == 1 => return false,
+                            (1, Some(u)) => {
                                 let need_true = ones % 2 == 1;
-                                let u = unknown[0];
                                 queue.push((u.var, need_true == u.value));
                             }
                             _ => {}
                         }
                     }
                     Constraint::NotAll(l) => {
-                        let trues = l.iter().filter(|x| self.lit(**x) == Some(true)).count();
-                        let unknown: Vec<Lit> = l
-                            .iter()
-                            .copied()
-                            .filter(|x| self.lit(*x).is_none())
-                            .collect();
+                        let (trues, unknown, last) = self.tally(&l);
                         if trues == 3 {
                             return false;
                         }
-                        if trues == 2 && unknown.len() == 1 {
-                            let u = unknown[0];
+                        if let (2, 1, Some(u)) = (trues, unknown, last) {
                             queue.push((u.var, !u.value));
                         }
                     }
