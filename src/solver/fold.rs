@@ -84,18 +84,15 @@ pub fn fold_toward(
     solver.options.max_newton = newton;
     solver.set = folding;
     corrected?;
-    let mut worst: f64 = 0.0;
-    let mut fraction = 0.0;
-    for &e in &run.creases {
-        let t = run.mesh.edges()[e].target;
-        let rho = solver.reference.previous_fold[e];
-        worst = worst.max((rho - amount * t).abs());
-        fraction += rho / t;
-    }
+    let worst = run
+        .creases
+        .iter()
+        .map(|&e| (solver.reference.previous_fold[e] - amount * run.mesh.edges()[e].target).abs())
+        .fold(0.0, f64::max);
     Ok(FoldReport {
         steps,
         error: worst,
-        mean_fraction: fraction / run.creases.len().max(1) as f64,
+        mean_fraction: run.mean_fraction(solver),
     })
 }
 
