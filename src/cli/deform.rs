@@ -3,9 +3,9 @@
 use super::{design_failure, parse_drag, progress_bar, DragArg};
 use crease::constraints::ConstraintSet;
 use crease::io;
-use crease::pipeline::{run_design, DesignJob};
+use crease::pipeline::{run_design, DesignJob, DesignOutcome};
 use crease::solver::{Mode, Script, Stage};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
 pub struct DeformArgs {
@@ -120,6 +120,13 @@ pub fn deform(args: DeformArgs) -> Result<u8, String> {
         Err(e) => return design_failure(e, source),
     };
     io::write(&outcome.mesh, &output).map_err(|e| e.to_string())?;
+    print_summary(&outcome, &output, asked_fold, job_remesh);
+    Ok(0)
+}
+
+/// What the run did, on stderr: solver counters, a flat start, remeshing, and how close
+/// each dragged vertex came to its target.
+fn print_summary(outcome: &DesignOutcome, output: &Path, asked_fold: bool, job_remesh: bool) {
     let s = &outcome.stats;
     eprintln!(
         "{} steps, {} Newton iterations, {} halvings, largest residual {:.1e}; wrote {}",
@@ -148,5 +155,4 @@ pub fn deform(args: DeformArgs) -> Result<u8, String> {
             d.0, d.2, d.1
         );
     }
-    Ok(0)
 }

@@ -166,23 +166,7 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
         .iter()
         .flat_map(|s| s.moves.iter().map(|m| m.vertex))
         .collect();
-    if let Some(r) = remesh {
-        if !(r > 0.0 && r < 1.0) {
-            return Err(PipelineError::Input(format!(
-                "remesh threshold must be in (0, 1), a fraction of the mean edge (got {r})"
-            )));
-        }
-    }
-    let n = mesh.vertex_count();
-    for list in [&fixed, &fold_fixed] {
-        if let Some(&bad) = list.iter().flatten().find(|&&v| v >= n) {
-            return Err(SolverError::UnknownVertex {
-                vertex: bad,
-                count: n,
-            }
-            .into());
-        }
-    }
+    check_options(&mesh, remesh, [&fixed, &fold_fixed])?;
     // Folding shrinks the sheet: unless told otherwise, a face in the middle is held.
     let fold_anchor = fold_fixed.unwrap_or_else(|| Solver::default_fixed(&mesh, &[]));
     let fixed = fixed.unwrap_or_else(|| Solver::default_fixed(&mesh, &dragged));
@@ -228,6 +212,32 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
         drags,
         fold: fold_report,
     })
+}
+
+/// A remesh threshold in (0, 1) and fixed vertices that exist.
+fn check_options(
+    mesh: &Mesh,
+    remesh: Option<f64>,
+    fixed: [&Option<Vec<usize>>; 2],
+) -> Result<(), PipelineError> {
+    if let Some(r) = remesh {
+        if !(r > 0.0 && r < 1.0) {
+            return Err(PipelineError::Input(format!(
+                "remesh threshold must be in (0, 1), a fraction of the mean edge (got {r})"
+            )));
+        }
+    }
+    let n = mesh.vertex_count();
+    for list in fixed {
+        if let Some(&bad) = list.iter().flatten().find(|&&v| v >= n) {
+            return Err(SolverError::UnknownVertex {
+                vertex: bad,
+                count: n,
+            }
+            .into());
+        }
+    }
+    Ok(())
 }
 
 /// Folds `mesh` in simulation mode toward `amount` of its targets, holding `anchor`, and
