@@ -7,11 +7,7 @@ use common::run_crease;
 use std::path::{Path, PathBuf};
 
 fn scratch(name: &str, content: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("crease-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let p = dir.join(name);
-    std::fs::write(&p, content).unwrap();
-    p
+    common::scratch_file("cli", name, content)
 }
 
 fn assert_bad_input(path: &Path, cause: &str) {

@@ -7,11 +7,7 @@ use common::run_crease;
 use std::path::PathBuf;
 
 fn scratch(name: &str, content: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("crease-foldability-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let p = dir.join(name);
-    std::fs::write(&p, content).unwrap();
-    p
+    common::scratch_file("foldability", name, content)
 }
 
 /// A 2 × 2 square with four creases from its centre (vertex 8) to the side midpoints:

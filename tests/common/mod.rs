@@ -15,3 +15,14 @@ pub fn run_crease(args: &[&str]) -> (i32, String, String) {
         String::from_utf8_lossy(&out.stderr).into_owned(),
     )
 }
+
+/// Writes `content` to `name` in this process's scratch folder for `suite`, so test
+/// files of different suites and runs never share a path.
+#[allow(dead_code)] // not every test crate that includes this module writes files
+pub fn scratch_file(suite: &str, name: &str, content: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("crease-{suite}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join(name);
+    std::fs::write(&p, content).unwrap();
+    p
+}
