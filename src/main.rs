@@ -63,8 +63,9 @@ enum Command {
     /// Vary a pattern by dragging vertices while the chosen conditions keep holding.
     Deform(cli::deform::DeformArgs),
     /// Fabricate a design: verify, unfold, lay out on the media, score folds with the
-    /// machine's dash codes, and write sheet.svg, sheet.pdf, sheet.hpgl,
-    /// crease-pattern.svg and report.json.
+    /// machine's dash codes, and write sheet.svg, sheet.pdf, sheet.hpgl, sheet.dxf,
+    /// crease-pattern.svg, crease-pattern.fold (with faceOrders when it folds flat) and
+    /// report.json.
     Fab(cli::fab::FabArgs),
     /// List the machine profiles `--machine` can name.
     Machines,

@@ -213,6 +213,36 @@ fn the_crease_pattern_svg_reimports_to_the_same_graph() {
 }
 
 #[test]
+fn the_crease_pattern_fold_carries_the_layer_order_of_a_flat_pattern() {
+    // The bird base folds flat: fab writes its laid-out crease pattern with the same
+    // faceOrders `convert` finds for the file itself (an order depends on the faces, not
+    // on where the layout puts them). A 3D design gets its crease pattern without one.
+    let machine = Machine::load("generic-hpgl").unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let file = |out: &crease::pipeline::FabOutput, name: &str| -> serde_json::Value {
+        let bytes = &out.files.iter().find(|f| f.0 == name).unwrap().1;
+        serde_json::from_slice(bytes).unwrap()
+    };
+    let bird = crease::io::read(&root.join("patterns/bird-base.fold")).unwrap();
+    let out = fabricate(&bird, &machine, &a3()).unwrap();
+    let written = file(&out, "crease-pattern.fold");
+    let crease::fab::LayerOrder::Found(orders) = crease::fab::layer_order(&bird).unwrap() else {
+        panic!("the bird base folds flat");
+    };
+    let written_orders: Vec<[i64; 3]> =
+        serde_json::from_value(written["faceOrders"].clone()).unwrap();
+    assert!(!orders.is_empty());
+    assert_eq!(written_orders, orders);
+    let reread = crease::io::fold::parse(&written.to_string()).unwrap();
+    assert_eq!(reread.faces().len(), bird.faces().len());
+    let bent = crease::io::read(&root.join("patterns/miura-bent.fold")).unwrap();
+    let out = fabricate(&bent, &machine, &a3()).unwrap();
+    assert!(file(&out, "crease-pattern.fold")
+        .get("faceOrders")
+        .is_none());
+}
+
+#[test]
 fn the_pdf_page_is_the_media_and_its_scale_bar_is_100_mm() {
     let machine = Machine::load("generic-hpgl").unwrap();
     let mesh = crease::io::read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura.fold"))

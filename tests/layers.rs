@@ -75,7 +75,7 @@ fn flat_foldable_patterns_and_anchors_get_an_order() {
         anchors.join("BoxPleatPyramid.fold"),
         root.join("../shared/anchors/data/fold/diagonal-cp.fold"),
     ];
-    for name in ["miura", "waterbomb"] {
+    for name in ["miura", "waterbomb", "bird-base"] {
         files.push(root.join(format!("patterns/{name}.fold")));
     }
     for path in files {
@@ -149,12 +149,12 @@ fn the_order_agrees_with_a_physical_fold() {
             c[0] * b[0] + c[1] * b[1] + c[2] * b[2]
         };
         let (pf, pg) = (lift(f, tf), lift(g, tg));
-        let c = folded3d.faces()[f].map(|v| x[v]);
+        let c = folded3d.faces()[g].map(|v| x[v]);
         let normal = (c[1] - c[0]).cross(&(c[2] - c[0])).normalize();
-        let side = (pg - pf).dot(&normal);
-        // s = +1: f above g along f's normal, so g is behind f: (pg − pf)·n < 0.
+        let side = (pf - pg).dot(&normal);
+        // FOLD: s = +1 when f lies on the side g's normal points to: (pf − pg)·n_g > 0.
         assert!(
-            side * s as f64 <= 0.0,
+            side * s as f64 >= 0.0,
             "faces {f} and {g}: s = {s}, 3D says {side}"
         );
         checked += 1;
@@ -216,4 +216,108 @@ fn fold_flat_writes_the_flat_folded_state_with_its_order_or_names_the_conflict()
         "{err}"
     );
     assert!(!out.exists());
+}
+
+/// The folded triangles of a `fold --flat` output and, per face, whether its normal
+/// points up (+z): the FOLD reading of `faceOrders` needs g's normal.
+fn folded_faces(json: &serde_json::Value) -> (Vec<[[f64; 2]; 3]>, Vec<bool>) {
+    let coords: Vec<Vec<f64>> = serde_json::from_value(json["vertices_coords"].clone()).unwrap();
+    let faces: Vec<Vec<usize>> = serde_json::from_value(json["faces_vertices"].clone()).unwrap();
+    let tri: Vec<[[f64; 2]; 3]> = faces
+        .iter()
+        .map(|f| {
+            assert_eq!(f.len(), 3, "the flat-folded state is triangulated");
+            [0, 1, 2].map(|k| [coords[f[k]][0], coords[f[k]][1]])
+        })
+        .collect();
+    let up = tri
+        .iter()
+        .map(|t| {
+            (t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[1][1] - t[0][1]) * (t[2][0] - t[0][0])
+                > 0.0
+        })
+        .collect();
+    (tri, up)
+}
+
+#[test]
+fn written_face_orders_read_by_the_fold_specification_stack_the_layers() {
+    // FOLD: [f, g, +1] means f lies on the side g's normal points to. Read that way,
+    // the faces over any point must form one stack: the pairwise "above" relation
+    // among them is a strict total order (each face has a distinct number of faces
+    // below it). Read with f's normal instead, faces folded opposite ways disagree, and
+    // stacks on the bird base and the Miura-ori turn cyclic.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = std::env::temp_dir().join(format!("crease-layers-stack-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for name in ["bird-base", "miura", "waterbomb"] {
+        let out = dir.join(format!("{name}-flat.fold"));
+        let input = root.join(format!("patterns/{name}.fold"));
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_crease"))
+            .args(["fold", input.to_str().unwrap(), "--flat", "-o"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        let (tri, up) = folded_faces(&json);
+        let orders: Vec<[i64; 3]> = serde_json::from_value(json["faceOrders"].clone()).unwrap();
+        let mut above = std::collections::HashMap::new();
+        for [f, g, s] in orders {
+            let (f, g) = (f as usize, g as usize);
+            let f_above_g = (s > 0) == up[g];
+            above.insert((f, g), f_above_g);
+            above.insert((g, f), !f_above_g);
+        }
+        let mut stacks = 0;
+        for t in &tri {
+            let centre = [0, 1].map(|k| (t[0][k] + t[1][k] + t[2][k]) / 3.0);
+            let stack: Vec<usize> = (0..tri.len())
+                .filter(|&g| barycentric(centre, tri[g]).iter().all(|&b| b > 1e-6))
+                .collect();
+            let mut below: Vec<usize> = stack
+                .iter()
+                .map(|&f| {
+                    stack
+                        .iter()
+                        .filter(|&&g| g != f)
+                        .filter(|&&g| {
+                            *above.get(&(f, g)).unwrap_or_else(|| {
+                                panic!("{name}: faces {f} and {g} overlap, no order")
+                            })
+                        })
+                        .count()
+                })
+                .collect();
+            below.sort_unstable();
+            assert!(
+                below.iter().enumerate().all(|(i, &n)| i == n),
+                "{name}: faces {stack:?} do not stack ({below:?} below each)"
+            );
+            stacks += usize::from(stack.len() > 2);
+        }
+        assert!(stacks > 0, "{name}: no point with three layers checked");
+    }
+}
+
+#[test]
+fn the_bird_base_folds_to_its_known_shape() {
+    // Folded flat, the bird base is a diamond as long as the square's side: both petal
+    // tips (corners 1 and 3 of the file) at one end, both leg tips (2 and 4) at the
+    // other, the centre of the square 0.707 of a side from the legs' end.
+    let mesh =
+        crease::io::read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/bird-base.fold"))
+            .unwrap();
+    let flat = crease::fab::flat_folded(&mesh, None).unwrap();
+    let cp = mesh.flat().unwrap();
+    let place = |v: usize| {
+        let f = mesh.faces().iter().position(|f| f.contains(&v)).unwrap();
+        flat.motions[f].apply(cp[v])
+    };
+    let side = 150.0;
+    assert!((place(1) - place(3)).norm() < 1e-9);
+    assert!((place(2) - place(4)).norm() < 1e-9);
+    assert!(((place(1) - place(2)).norm() - side).abs() < 1e-9);
+    assert!(((place(0) - place(2)).norm() - side / 2f64.sqrt()).abs() < 1e-9);
 }

@@ -168,6 +168,11 @@ pub fn fabricate(
     placed.set_flat(sheet.vertices.clone());
     let cp = crate::io::to_string(&placed, crate::io::Format::Svg).map_err(FabError::Input)?;
     files.push(("crease-pattern.svg".to_string(), cp.into_bytes()));
+    files.push((
+        "crease-pattern.fold".to_string(),
+        crate::io::fold::to_string_with_orders(&placed, layer_order_of(mesh, &placed).as_deref())
+            .into_bytes(),
+    ));
 
     // Figures for the report.
     let mut line_length: BTreeMap<&str, f64> = BTreeMap::new();
@@ -276,4 +281,16 @@ pub enum FabError {
     /// The design was refused.
     #[error(transparent)]
     Rejected(#[from] Rejected),
+}
+
+/// The layer order FOLD tools expect beside a crease pattern that folds flat (every crease
+/// ±180° and no 3D form): `faceOrders` of the laid-out faces, or nothing.
+fn layer_order_of(design: &Mesh, placed: &Mesh) -> Option<Vec<[i64; 3]>> {
+    if design.has_3d() || crate::fab::layers::partial_crease(design).is_some() {
+        return None;
+    }
+    match crate::fab::layer_order(placed) {
+        Ok(crate::fab::LayerOrder::Found(orders)) => Some(orders),
+        _ => None,
+    }
 }

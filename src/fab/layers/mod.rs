@@ -33,7 +33,7 @@ const OVERLAP_FRACTION: f64 = 1e-7;
 #[derive(Clone, Debug, PartialEq)]
 pub enum LayerOrder {
     /// One valid order: FOLD `faceOrders` triples `[f, g, s]`, s = +1 when f lies above g
-    /// on f's front side (its normal), −1 below; one per overlapping pair.
+    /// (on the side g's normal points to), −1 below; one per overlapping pair.
     Found(Vec<[i64; 3]>),
     /// No order exists; these faces alone already have none.
     Conflict(Vec<usize>),
@@ -313,13 +313,15 @@ impl Problem {
         Ok((0..self.faces).filter(|&f| keep[f]).collect())
     }
 
-    /// FOLD `faceOrders` from the values: s relative to f's own normal.
+    /// FOLD `faceOrders` from the values. The FOLD specification measures "above"
+    /// along g's normal (as Rabbit Ear and Flat-Folder read it), so s = +1 when f lies
+    /// on the side g's front faces.
     fn face_orders(&self, values: &[bool], folded: &FlatFolded) -> Vec<[i64; 3]> {
         self.pairs
             .iter()
             .zip(values)
             .map(|(&(f, g), &f_higher)| {
-                let s = if f_higher != folded.motions[f].flips() {
+                let s = if f_higher != folded.motions[g].flips() {
                     1
                 } else {
                     -1
