@@ -335,3 +335,136 @@ fn bad_ports_and_speeds_exit_2_with_a_clear_message() {
     assert!(err.contains("busy"), "{err}");
     drop(emulator);
 }
+
+/// Makes a `crease fab` job folder for `design` on `machine` (A3 for the generic plotter,
+/// the profile's own media otherwise).
+fn fab_job(design: &str, machine: &str, name: &str) -> PathBuf {
+    let dir = scratch(name).join("job");
+    let input = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("patterns")
+        .join(design);
+    let mut args = vec![
+        "fab",
+        input.to_str().unwrap(),
+        "--machine",
+        machine,
+        "--out",
+    ];
+    args.push(dir.to_str().unwrap());
+    if machine == "generic-hpgl" {
+        args.extend(["--media", "a3"]);
+    }
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_crease"))
+        .args(&args)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    dir
+}
+
+fn plot_cli(job: &Path, port: &Path, extra: &[&str]) -> (Option<i32>, String) {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_crease"))
+        .arg("plot")
+        .arg(job)
+        .arg("--port")
+        .arg(port)
+        .args(extra)
+        .output()
+        .unwrap();
+    (
+        o.status.code(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn a_job_is_plotted_over_the_line_of_the_machine_it_was_made_for() {
+    // A roland-cutter job (RTS/CTS, 2 KiB buffer) plotted with neither --machine nor
+    // --flow: the line settings come from its report.json, so the cutter's hardware
+    // flow control holds it and nothing is lost. Streamed with the default profile's
+    // XON/XOFF instead, the host would ignore CTS and overrun the buffer (as
+    // a_sender_that_ignores_flow_control_loses_bytes shows).
+    let dir = fab_job("miura.fold", "roland-cutter", "own-machine");
+    let text = std::fs::read_to_string(dir.join("sheet.hpgl")).unwrap();
+    let link = scratch("own-machine").join("plotter");
+    let emulator = Emulator::start(
+        &link,
+        EmulatorConfig {
+            baud: 9600,
+            rate: 800.0,
+            buffer: 2048,
+            flow: Flow::RtsCts,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let (code, err) = plot_cli(&dir, &link, &[]);
+    emulator.wait_idle(Duration::from_millis(300), Duration::from_secs(60));
+    let state = emulator.stop();
+    assert_eq!(code, Some(0), "{err}");
+    assert!(
+        err.contains("RtsCts") && err.contains("report.json"),
+        "{err}"
+    );
+    assert_eq!(state.lost, 0);
+    assert_eq!(
+        state.path.segments,
+        hpgl::interpret(&text).unwrap().segments
+    );
+}
+
+#[test]
+fn a_plain_plot_of_an_unfinished_job_sends_nothing_and_exits_2() {
+    let dir = fab_job("miura.fold", "generic-hpgl", "unfinished");
+    let text = std::fs::read_to_string(dir.join("sheet.hpgl")).unwrap();
+    // Interrupt a real plot: the cable is pulled a third of the way in.
+    let link = scratch("unfinished").join("plotter");
+    let emulator = Emulator::start(
+        &link,
+        EmulatorConfig {
+            baud: 115200,
+            rate: 6000.0,
+            flow: Flow::XonXoff,
+            fail_after: Some(text.len() / 3),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let (code, err) = plot_cli(&dir, &link, &["--baud", "115200", "--flow", "xonxoff"]);
+    assert_eq!(code, Some(1), "{err}");
+    drop(emulator.stop());
+    // A plain plot refuses before it opens the port: the plotter receives nothing.
+    let fresh = || {
+        Emulator::start(
+            &link,
+            EmulatorConfig {
+                baud: 115200,
+                rate: 6000.0,
+                flow: Flow::XonXoff,
+                ..Default::default()
+            },
+        )
+        .unwrap()
+    };
+    let emulator = fresh();
+    let plain = ["--baud", "115200", "--flow", "xonxoff"];
+    let (code, err) = plot_cli(&dir, &link, &plain);
+    std::thread::sleep(Duration::from_millis(200));
+    assert_eq!(emulator.stop().received, 0, "the refused plot sent nothing");
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("--resume") && err.contains("--restart"),
+        "{err}"
+    );
+    // --restart plots the whole job again.
+    let emulator = fresh();
+    let (code, err) = plot_cli(&dir, &link, &[&plain[..], &["--restart"]].concat());
+    emulator.wait_idle(Duration::from_millis(300), Duration::from_secs(60));
+    let state = emulator.stop();
+    assert_eq!(code, Some(0), "{err}");
+    assert_eq!(state.lost, 0);
+    assert_eq!(
+        state.path.segments,
+        hpgl::interpret(&text).unwrap().segments
+    );
+}

@@ -2,7 +2,7 @@
 
 use super::out;
 use indicatif::{ProgressBar, ProgressStyle};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `crease plot`.
 #[derive(clap::Args)]
@@ -12,9 +12,10 @@ pub struct PlotArgs {
     /// Serial port, e.g. /dev/ttyUSB0.
     #[arg(long)]
     pub port: PathBuf,
-    /// Machine profile for baud, flow control and buffer size.
-    #[arg(long, default_value = "generic-hpgl")]
-    pub machine: String,
+    /// Machine profile for baud, flow control and buffer size (default: the machine the job
+    /// was made for, from the report.json beside it; generic-hpgl for a bare .hpgl file).
+    #[arg(long)]
+    pub machine: Option<String>,
     /// Line speed (default: the machine's).
     #[arg(long)]
     pub baud: Option<u32>,
@@ -22,8 +23,11 @@ pub struct PlotArgs {
     #[arg(long)]
     pub flow: Option<String>,
     /// Continue an interrupted job from its journal.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "restart")]
     pub resume: bool,
+    /// Plot an interrupted job again from its first byte (what was drawn is drawn twice).
+    #[arg(long)]
+    pub restart: bool,
     /// Check the job and print what would be sent, without opening the port.
     #[arg(long)]
     pub dry_run: bool,
@@ -58,18 +62,68 @@ pub struct EmulateArgs {
     pub power_cycle: bool,
 }
 
-/// `crease plot`: stream an HP-GL job to a port.
-pub fn plot(args: PlotArgs) -> Result<u8, String> {
-    let PlotArgs {
-        job,
-        port,
-        machine,
-        baud,
-        flow,
-        resume,
-        dry_run,
-    } = args;
-    use crease::plotter::{stream, FlowMode, StreamOptions};
+/// The line a job is streamed over, and where those settings came from.
+struct LineSettings {
+    source: String,
+    baud: u32,
+    flow: String,
+    buffer: usize,
+}
+
+impl LineSettings {
+    fn from_profile(name: &str, source: &str) -> Result<LineSettings, String> {
+        let m = crease::plotter::Machine::load(name).map_err(|e| e.to_string())?;
+        Ok(LineSettings {
+            source: format!("{source} {name} ({})", m.name),
+            baud: m.baud,
+            flow: m.flow_control,
+            buffer: m.buffer_bytes,
+        })
+    }
+
+    /// The machine a `crease fab` folder was made for, from its report.json: `None` when
+    /// there is no report or it predates reports naming their line settings.
+    fn from_report(folder: &Path) -> Result<Option<LineSettings>, String> {
+        let path = folder.join("report.json");
+        let Ok(text) = std::fs::read_to_string(&path) else {
+            return Ok(None);
+        };
+        let bad = |why: &str| format!("{}: {why}; name the machine with --machine", path.display());
+        let json: serde_json::Value =
+            serde_json::from_str(&text).map_err(|e| bad(&format!("not JSON ({e})")))?;
+        let plotter = &json["sheet"]["plotter"];
+        if plotter.is_null() {
+            return Ok(None);
+        }
+        if plotter["protocol"] != "hpgl" {
+            return Err(bad(&format!(
+                "the job is for protocol {}, and plot streams HP-GL",
+                plotter["protocol"]
+            )));
+        }
+        let number = |k: &str| plotter[k].as_u64().ok_or_else(|| bad(&format!("no {k}")));
+        Ok(Some(LineSettings {
+            source: format!(
+                "the job's machine ({}, from report.json)",
+                json["sheet"]["machine"].as_str().unwrap_or("unnamed")
+            ),
+            baud: u32::try_from(number("baud")?).map_err(|_| bad("baud out of range"))?,
+            flow: plotter["flow_control"]
+                .as_str()
+                .ok_or_else(|| bad("no flow_control"))?
+                .to_string(),
+            buffer: usize::try_from(number("buffer_bytes")?)
+                .map_err(|_| bad("buffer out of range"))?,
+        }))
+    }
+}
+
+/// The job file, its text, and the line it goes over: `--machine` if given, else the
+/// machine the job was made for, else generic-hpgl.
+fn open_job(
+    job: PathBuf,
+    machine: Option<&str>,
+) -> Result<(PathBuf, String, LineSettings), String> {
     let job_path = if job.is_dir() {
         job.join("sheet.hpgl")
     } else {
@@ -78,36 +132,80 @@ pub fn plot(args: PlotArgs) -> Result<u8, String> {
     let bytes = std::fs::read(&job_path).map_err(|e| format!("{}: {e}", job_path.display()))?;
     let text = String::from_utf8(bytes)
         .map_err(|_| format!("{}: not an HP-GL text file", job_path.display()))?;
+    let folder = job_path.parent().unwrap_or(Path::new("."));
+    let settings = match machine {
+        Some(name) => LineSettings::from_profile(name, "--machine")?,
+        None => match LineSettings::from_report(folder)? {
+            Some(s) => s,
+            None => LineSettings::from_profile("generic-hpgl", "the default machine")?,
+        },
+    };
+    Ok((job_path, text, settings))
+}
+
+/// `crease plot`: stream an HP-GL job to a port.
+pub fn plot(args: PlotArgs) -> Result<u8, String> {
+    use crease::plotter::{stream, FlowMode, StreamOptions};
+    let (job_path, text, line) = open_job(args.job, args.machine.as_deref())?;
     let path = crease::output::hpgl::interpret(&text)
         .map_err(|e| format!("{}: {e}", job_path.display()))?;
-    let machine = crease::plotter::Machine::load(&machine).map_err(|e| e.to_string())?;
-    let baud = baud.unwrap_or(machine.baud);
-    let flow = FlowMode::parse(flow.as_deref().unwrap_or(&machine.flow_control))?;
-    let seconds = text.len() as f64 * 10.0 / baud as f64;
-    if dry_run {
+    let baud = args.baud.unwrap_or(line.baud);
+    let flow = FlowMode::parse(args.flow.as_deref().unwrap_or(&line.flow))?;
+    let unfinished = stream::unfinished(text.as_bytes(), &job_path);
+    if let (Some(j), false, false) = (&unfinished, args.resume, args.restart) {
+        return Err(format!(
+            "{}: an earlier plot of this job stopped after {} of {} bytes; run again with --resume to continue it, or --restart to plot it from the start (what was drawn is cut twice)",
+            job_path.display(),
+            j.received,
+            j.job_len
+        ));
+    }
+    if args.dry_run {
         out(&format!(
-            "{}: {} bytes, {} pen-down segments; {:.0} s on the line at {baud} baud; would send to {} with {:?} flow control\n",
+            "{}: {} bytes, {} pen-down segments; {:.0} s on the line at {baud} baud; would {} to {} with {flow:?} flow control and a {}-byte buffer, settings from {}\n",
             job_path.display(),
             text.len(),
             path.segments.len(),
-            seconds,
-            port.display(),
-            flow
+            text.len() as f64 * 10.0 / baud as f64,
+            if args.resume { "resume" } else { "send" },
+            args.port.display(),
+            line.buffer,
+            line.source
         ));
         return Ok(0);
     }
+    if args.restart {
+        let journal = stream::journal_path(&job_path);
+        if journal.exists() {
+            std::fs::remove_file(&journal).map_err(|e| format!("{}: {e}", journal.display()))?;
+        }
+    }
+    eprintln!(
+        "plotting with {}: {baud} baud, {flow:?} flow control",
+        line.source
+    );
+    let options = StreamOptions {
+        port: args.port,
+        baud,
+        flow,
+        buffer: line.buffer,
+        resume: args.resume,
+        answer_timeout: std::time::Duration::from_secs(10),
+    };
+    stream_with_progress(&text, &job_path, &options)
+}
+
+/// Streams the job with a progress bar of confirmed bytes; exit 1 (journal kept) when the
+/// plotter or the port fails, an error for bad input.
+fn stream_with_progress(
+    text: &str,
+    job_path: &Path,
+    options: &crease::plotter::StreamOptions,
+) -> Result<u8, String> {
     let interrupted = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
     let flag = interrupted.clone();
     ctrlc::set_handler(move || flag.store(true, std::sync::atomic::Ordering::SeqCst))
         .map_err(|e| e.to_string())?;
-    let options = StreamOptions {
-        port,
-        baud,
-        flow,
-        buffer: machine.buffer_bytes,
-        resume,
-        answer_timeout: std::time::Duration::from_secs(10),
-    };
     let bar = ProgressBar::new(text.len() as u64);
     bar.set_style(
         ProgressStyle::with_template(
@@ -116,10 +214,11 @@ pub fn plot(args: PlotArgs) -> Result<u8, String> {
         .expect("valid template")
         .progress_chars("=> "),
     );
-    let result = stream(
+    let baud = options.baud;
+    let result = crease::plotter::stream(
         text.as_bytes(),
-        &job_path,
-        &options,
+        job_path,
+        options,
         &mut |p| {
             bar.set_position(p.confirmed as u64);
             // The line is the hard limit: what remains cannot cross it faster than baud/10.
@@ -149,7 +248,7 @@ pub fn plot(args: PlotArgs) -> Result<u8, String> {
             eprintln!("error: {e}");
             eprintln!(
                 "journal: {}",
-                crease::plotter::stream::journal_path(&job_path).display()
+                crease::plotter::stream::journal_path(job_path).display()
             );
             Ok(1)
         }

@@ -196,6 +196,13 @@ pub fn fabricate(
     let estimate = motion.max(transfer);
     let sheet_json = serde_json::json!({
         "machine": machine.name,
+        // What `crease plot` needs to stream this job to the machine it was made for.
+        "plotter": {
+            "protocol": machine.protocol,
+            "baud": machine.baud,
+            "flow_control": machine.flow_control,
+            "buffer_bytes": machine.buffer_bytes,
+        },
         "media": {"name": media.name, "width_mm": media.width, "height_mm": media.height},
         "size_mm": sheet.size,
         "scale": sheet.scale,

@@ -28,6 +28,15 @@ pub fn journal_path(job: &Path) -> PathBuf {
     job.with_file_name(name)
 }
 
+/// The journal of an unfinished plot of this very job, if one lies beside it: a plain
+/// `plot` must not start it again from byte 0 (everything drawn would be cut twice).
+pub fn unfinished(job: &[u8], job_path: &Path) -> Option<Journal> {
+    let text = std::fs::read_to_string(journal_path(job_path)).ok()?;
+    let journal: Journal = serde_json::from_str(&text).ok()?;
+    (journal.job_hash == hash(job) && journal.job_len == job.len() && !journal.done)
+        .then_some(journal)
+}
+
 pub(crate) fn hash(bytes: &[u8]) -> u64 {
     bytes.iter().fold(0xcbf29ce484222325u64, |h, &b| {
         (h ^ b as u64).wrapping_mul(0x100000001b3)

@@ -7,7 +7,7 @@
 //! or a power cut without drawing a segment twice or skipping one.
 
 use super::journal::{commands, hash, save_journal, tool_state};
-pub use super::journal::{journal_path, Journal};
+pub use super::journal::{journal_path, unfinished, Journal};
 use serialport::{FlowControl, TTYPort};
 use std::io::{ErrorKind, Read, Write};
 use std::path::{Path, PathBuf};
