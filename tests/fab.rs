@@ -657,3 +657,117 @@ fn sheet_dxf_read_by_an_independent_parser_carries_exactly_the_toolpath() {
         );
     }
 }
+
+/// An independent GP-GL reader: the pen-down segments of a job, as (tool holder, from,
+/// to) in cutter steps, (feed, carriage) as written.
+fn read_gpgl(job: &str) -> Vec<(u32, [i64; 2], [i64; 2])> {
+    let body = job
+        .strip_prefix("\u{1b}\u{4}")
+        .expect("a GP-GL job starts by resetting the cutter (ESC EOT)");
+    assert!(body.ends_with('\u{3}'), "every command ends with ETX");
+    let numbers = |s: &str| -> Vec<i64> { s.split(',').map(|n| n.parse().unwrap()).collect() };
+    let (mut tool, mut at, mut segments) = (0, [0i64, 0], Vec::new());
+    for cmd in body.split('\u{3}').filter(|c| !c.is_empty()) {
+        assert!(cmd.bytes().all(|b| (0x20..0x7f).contains(&b)), "{cmd:?}");
+        if let Some(rest) = cmd.strip_prefix('J') {
+            tool = rest.parse().unwrap();
+        } else if let Some(rest) = cmd.strip_prefix('M') {
+            let p = numbers(rest);
+            at = [p[0], p[1]];
+        } else if let Some(rest) = cmd.strip_prefix('D') {
+            for p in numbers(rest).chunks(2) {
+                segments.push((tool, at, [p[0], p[1]]));
+                at = [p[0], p[1]];
+            }
+        }
+    }
+    segments
+}
+
+#[test]
+fn sheet_gpgl_read_by_an_independent_reader_carries_exactly_the_toolpath() {
+    // Graphtec profile: 20 steps per mm, media feed (the sheet's y) first. Every stroke
+    // of the toolpath is one cut segment with the kind's tool holder, its ends within
+    // one step of the stroke's and its length within one step of the stroke's (rounding
+    // both ends to their nearest step alone would allow √2).
+    let machine = Machine::load("graphtec-ce").unwrap();
+    let units = machine.units_per_mm;
+    for path in patterns() {
+        let mesh = crease::io::read(&path).unwrap();
+        let out = fabricate(&mesh, &machine, &a3()).unwrap();
+        assert!(!out.files.iter().any(|f| f.0 == "sheet.hpgl"));
+        let job = &out.files.iter().find(|f| f.0 == "sheet.gpgl").unwrap().1;
+        let segments = read_gpgl(std::str::from_utf8(job).unwrap());
+        let step = |p: Vec2| [(p.y * units).round() as i64, (p.x * units).round() as i64];
+        let strokes: Vec<_> = out
+            .toolpath
+            .strokes
+            .iter()
+            .filter(|s| step(s.from) != step(s.to))
+            .collect();
+        assert_eq!(segments.len(), strokes.len(), "{}", path.display());
+        for ((tool, from, to), s) in segments.iter().zip(&strokes) {
+            assert_eq!(*tool, machine.tools[s.kind.name()].pen);
+            for (got, want) in [(from, s.from), (to, s.to)] {
+                let want = [want.y * units, want.x * units];
+                assert!(
+                    (got[0] as f64 - want[0]).abs() < 1.0 && (got[1] as f64 - want[1]).abs() < 1.0,
+                    "{}: {got:?} vs {want:?}",
+                    path.display()
+                );
+            }
+            let length = |a: [i64; 2], b: [i64; 2]| {
+                (((a[0] - b[0]).pow(2) + (a[1] - b[1]).pow(2)) as f64).sqrt()
+            };
+            let (got, want) = (length(*from, *to), (s.to - s.from).norm() * units);
+            assert!(
+                (got - want).abs() <= 1.0,
+                "{}: length {got} vs {want}",
+                path.display()
+            );
+        }
+    }
+    // Carriage first (as inkcut sends): the same job with each pair swapped.
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/graphtec-ce.toml"),
+    )
+    .unwrap()
+    .replace(
+        "axis_order = \"feed-first\"",
+        "axis_order = \"carriage-first\"",
+    );
+    let swapped = Machine::parse(&text).unwrap();
+    let mesh = crease::io::read(&patterns()[0]).unwrap();
+    let read = |m: &Machine| {
+        let out = fabricate(&mesh, m, &a3()).unwrap();
+        read_gpgl(
+            std::str::from_utf8(&out.files.iter().find(|f| f.0 == "sheet.gpgl").unwrap().1)
+                .unwrap(),
+        )
+    };
+    let flipped: Vec<_> = read(&swapped)
+        .into_iter()
+        .map(|(t, a, b)| (t, [a[1], a[0]], [b[1], b[0]]))
+        .collect();
+    assert_eq!(flipped, read(&machine));
+}
+
+#[test]
+fn a_laser_profile_gets_dxf_and_svg_and_no_cutter_job() {
+    let machine = Machine::load("laser-dxf").unwrap();
+    let mesh = crease::io::read(&patterns()[0]).unwrap();
+    let out = fabricate(&mesh, &machine, &a3()).unwrap();
+    let names: Vec<&str> = out.files.iter().map(|f| f.0.as_str()).collect();
+    assert!(
+        names.contains(&"sheet.dxf") && names.contains(&"sheet.svg"),
+        "{names:?}"
+    );
+    assert!(
+        !names
+            .iter()
+            .any(|n| n.ends_with(".hpgl") || n.ends_with(".gpgl")),
+        "{names:?}"
+    );
+    assert_eq!(out.report["sheet"]["job_files"], serde_json::json!([]));
+    assert!(out.report["sheet"]["plotter"].is_null());
+}

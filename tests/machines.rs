@@ -57,6 +57,87 @@ fn every_field_out_of_range_is_refused_naming_its_key() {
 }
 
 #[test]
+fn protocols_and_connections_are_checked_naming_their_key() {
+    // Every bundled profile loads, whatever its protocol.
+    for name in crease::plotter::machine::known_machines() {
+        Machine::load(&name).unwrap_or_else(|e| panic!("{name}: {e}"));
+    }
+    let text = generic();
+    let graphtec = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/graphtec-ce.toml"),
+    )
+    .unwrap();
+    let cases = [
+        (
+            &text,
+            "protocol = \"hpgl\"",
+            "protocol = \"camm\"",
+            "protocol",
+        ),
+        (&text, "baud = 9600\n", "", "needs baud"),
+        (
+            &text,
+            "flow_control = \"xonxoff\"",
+            "flow_control = \"dtr\"",
+            "flow_control",
+        ),
+        (
+            &text,
+            "protocol = \"hpgl\"",
+            "protocol = \"dxf\"",
+            "connection = \"file\"",
+        ),
+        (
+            &text,
+            "protocol = \"hpgl\"",
+            "protocol = \"hpgl\"\nconnection = \"usb\"",
+            "connection",
+        ),
+        (
+            &graphtec,
+            "force = 14.0",
+            "force = 120.0",
+            "tools.cut.force",
+        ),
+        (
+            &graphtec,
+            "axis_order = \"feed-first\"",
+            "axis_order = \"yx\"",
+            "gpgl.axis_order",
+        ),
+        (
+            &graphtec,
+            "blade_offset_mm = 0.9",
+            "blade_offset_mm = 9.0",
+            "gpgl.blade_offset_mm",
+        ),
+    ];
+    for (base, from, to, key) in cases {
+        assert!(base.contains(from), "{from}");
+        let err = Machine::parse(&base.replacen(from, to, 1)).expect_err(to);
+        assert!(err.contains(key), "{to}: {err}");
+        assert!(!err.contains('\n'), "{to}: one line: {err}");
+    }
+    // A file-only machine has no serial line, so plot refuses it by name.
+    let cameo = Machine::load("silhouette-cameo").unwrap();
+    assert!(cameo.serial_line().is_none());
+    assert_eq!(cameo.job_file("sheet").as_deref(), Some("sheet.gpgl"));
+    let (code, _, err) = run_crease(&[
+        "plot",
+        "/dev/null",
+        "--port",
+        "/dev/null",
+        "--machine",
+        "silhouette-cameo",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("silhouette-cameo") && err.contains("file"),
+        "{err}"
+    );
+}
+
+#[test]
 fn a_bad_profile_stops_fab_with_one_line_naming_the_file() {
     let dir = std::env::temp_dir().join(format!("crease-machines-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();

@@ -77,14 +77,29 @@ pub fn fab(args: FabArgs) -> Result<u8, String> {
         );
         return Ok(0);
     }
-    eprintln!(
-        "{}: {} strokes, pen-up travel {:.0} mm, {} bytes of HP-GL, about {:.0} s to plot",
-        dir.display(),
-        s["strokes"],
-        s["pen_up_travel_mm"].as_f64().unwrap_or(0.0),
-        s["hpgl_bytes"],
-        s["estimated_plot_time_s"].as_f64().unwrap_or(0.0)
-    );
+    let jobs: Vec<&str> = s["job_files"]
+        .as_array()
+        .map(|a| a.iter().filter_map(|n| n.as_str()).collect())
+        .unwrap_or_default();
+    if jobs.is_empty() {
+        eprintln!(
+            "{}: {} strokes, pen-up travel {:.0} mm; no cutter job for {}: sheet.dxf and sheet.svg are for its software",
+            dir.display(),
+            s["strokes"],
+            s["pen_up_travel_mm"].as_f64().unwrap_or(0.0),
+            machine.name
+        );
+    } else {
+        eprintln!(
+            "{}: {} strokes, pen-up travel {:.0} mm, {} bytes in {}, about {:.0} s to plot",
+            dir.display(),
+            s["strokes"],
+            s["pen_up_travel_mm"].as_f64().unwrap_or(0.0),
+            s["job_bytes"],
+            jobs.join(" and "),
+            s["estimated_plot_time_s"].as_f64().unwrap_or(0.0)
+        );
+    }
     if !result.verification.pass() {
         eprintln!("warning: the design fails verification; cut anyway because of --force");
     }

@@ -73,11 +73,23 @@ struct LineSettings {
 impl LineSettings {
     fn from_profile(name: &str, source: &str) -> Result<LineSettings, String> {
         let m = crease::plotter::Machine::load(name).map_err(|e| e.to_string())?;
+        let line = m.serial_line().ok_or_else(|| {
+            format!(
+                "{name} ({}) takes its job as a file (connection = \"{}\"), not over a serial port: send it with the machine's own software",
+                m.name, m.connection
+            )
+        })?;
+        if m.protocol != "hpgl" {
+            return Err(format!(
+                "{name} ({}) speaks {}, and plot streams HP-GL only so far: send sheet.{} with the cutter's software",
+                m.name, m.protocol, m.protocol
+            ));
+        }
         Ok(LineSettings {
             source: format!("{source} {name} ({})", m.name),
-            baud: m.baud,
-            flow: m.flow_control,
-            buffer: m.buffer_bytes,
+            baud: line.baud,
+            flow: line.flow_control,
+            buffer: line.buffer_bytes,
         })
     }
 
@@ -91,22 +103,35 @@ impl LineSettings {
         let bad = |why: &str| format!("{}: {why}; name the machine with --machine", path.display());
         let json: serde_json::Value =
             serde_json::from_str(&text).map_err(|e| bad(&format!("not JSON ({e})")))?;
-        let plotter = &json["sheet"]["plotter"];
+        let sheet = &json["sheet"];
+        let plotter = &sheet["plotter"];
+        let machine = sheet["machine"].as_str().unwrap_or("unnamed");
         if plotter.is_null() {
-            return Ok(None);
+            return match sheet["job_files"].as_array() {
+                // Made before reports named their line.
+                None => Ok(None),
+                Some(files) if files.is_empty() => Err(format!(
+                    "{}: made for {machine}, which takes sheet.dxf or sheet.svg in its own software; there is no cutter job to stream",
+                    folder.display()
+                )),
+                Some(files) => Err(format!(
+                    "{}: made for {machine}, which takes {} as a file (it is not on a serial port); send it with the cutter's software",
+                    folder.display(),
+                    files.iter().filter_map(|f| f.as_str()).collect::<Vec<_>>().join(" and ")
+                )),
+            };
         }
         if plotter["protocol"] != "hpgl" {
-            return Err(bad(&format!(
-                "the job is for protocol {}, and plot streams HP-GL",
-                plotter["protocol"]
-            )));
+            return Err(format!(
+                "{}: made for {machine}, which speaks {}; plot streams HP-GL only so far: send sheet.{} with the cutter's software",
+                folder.display(),
+                plotter["protocol"].as_str().unwrap_or("?"),
+                plotter["protocol"].as_str().unwrap_or("?")
+            ));
         }
         let number = |k: &str| plotter[k].as_u64().ok_or_else(|| bad(&format!("no {k}")));
         Ok(Some(LineSettings {
-            source: format!(
-                "the job's machine ({}, from report.json)",
-                json["sheet"]["machine"].as_str().unwrap_or("unnamed")
-            ),
+            source: format!("the job's machine ({machine}, from report.json)"),
             baud: u32::try_from(number("baud")?).map_err(|_| bad("baud out of range"))?,
             flow: plotter["flow_control"]
                 .as_str()
@@ -124,6 +149,20 @@ fn open_job(
     job: PathBuf,
     machine: Option<&str>,
 ) -> Result<(PathBuf, String, LineSettings), String> {
+    let folder = if job.is_dir() {
+        job.clone()
+    } else {
+        job.parent().unwrap_or(Path::new(".")).to_path_buf()
+    };
+    // The machine first: a folder made for a GP-GL cutter or a laser has no sheet.hpgl,
+    // and saying so beats "file not found".
+    let settings = match machine {
+        Some(name) => LineSettings::from_profile(name, "--machine")?,
+        None => match LineSettings::from_report(&folder)? {
+            Some(s) => s,
+            None => LineSettings::from_profile("generic-hpgl", "the default machine")?,
+        },
+    };
     let job_path = if job.is_dir() {
         job.join("sheet.hpgl")
     } else {
@@ -132,14 +171,6 @@ fn open_job(
     let bytes = std::fs::read(&job_path).map_err(|e| format!("{}: {e}", job_path.display()))?;
     let text = String::from_utf8(bytes)
         .map_err(|_| format!("{}: not an HP-GL text file", job_path.display()))?;
-    let folder = job_path.parent().unwrap_or(Path::new("."));
-    let settings = match machine {
-        Some(name) => LineSettings::from_profile(name, "--machine")?,
-        None => match LineSettings::from_report(folder)? {
-            Some(s) => s,
-            None => LineSettings::from_profile("generic-hpgl", "the default machine")?,
-        },
-    };
     Ok((job_path, text, settings))
 }
 

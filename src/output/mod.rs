@@ -3,8 +3,10 @@
 //! bytes; geometry is decided upstream in [`crate::fab`].
 
 pub mod dxf;
+pub mod gpgl;
 pub mod hpgl;
 pub mod pdf;
 pub mod svg;
 
+pub use gpgl::GpglSettings;
 pub use hpgl::{HpglSettings, PenPath, ToolSetting};

@@ -140,25 +140,24 @@ pub fn fabricate(
             strokes: route(&mirrored),
         }
     });
-    let hpgl_settings = machine.hpgl_settings();
-    let hpgl =
-        crate::output::hpgl::to_string(&toolpath, &hpgl_settings).map_err(FabError::Input)?;
-    let mut files = vec![
-        (
-            "sheet.svg".to_string(),
-            crate::output::svg::sheet_to_string(&toolpath).into_bytes(),
-        ),
-        ("sheet.hpgl".to_string(), hpgl.clone().into_bytes()),
-        (
-            "sheet.dxf".to_string(),
-            crate::output::dxf::to_string(&toolpath).into_bytes(),
-        ),
-    ];
-    let mut back_bytes = 0;
+    // A tiled sheet is larger than the media: a cutter cannot take it, only pages print.
+    let jobs_written = if tiled {
+        Vec::new()
+    } else {
+        cutter_jobs(machine, &toolpath, back.as_ref())?
+    };
+    let job_bytes: usize = jobs_written.iter().map(|(_, b)| b.len()).sum();
+    let mut files = vec![(
+        "sheet.svg".to_string(),
+        crate::output::svg::sheet_to_string(&toolpath).into_bytes(),
+    )];
+    files.extend(jobs_written.iter().take(1).cloned());
+    files.push((
+        "sheet.dxf".to_string(),
+        crate::output::dxf::to_string(&toolpath).into_bytes(),
+    ));
+    files.extend(jobs_written.iter().skip(1).cloned());
     if let Some(b) = &back {
-        let text = crate::output::hpgl::to_string(b, &hpgl_settings).map_err(FabError::Input)?;
-        back_bytes = text.len();
-        files.push(("sheet-back.hpgl".to_string(), text.into_bytes()));
         files.push((
             "sheet-back.svg".to_string(),
             crate::output::svg::sheet_to_string(b).into_bytes(),
@@ -191,18 +190,20 @@ pub fn fabricate(
         travel += job.travel();
     }
     motion += travel / machine.pen_up_speed_mm_s;
-    let bytes = hpgl.len() + back_bytes;
-    let transfer = bytes as f64 * 10.0 / machine.baud as f64;
+    let line = machine.serial_line();
+    let transfer = line
+        .as_ref()
+        .map_or(0.0, |l| job_bytes as f64 * 10.0 / l.baud as f64);
     let estimate = motion.max(transfer);
     let sheet_json = serde_json::json!({
         "machine": machine.name,
         // What `crease plot` needs to stream this job to the machine it was made for.
-        "plotter": {
+        "plotter": line.as_ref().filter(|_| !jobs_written.is_empty()).map(|l| serde_json::json!({
             "protocol": machine.protocol,
-            "baud": machine.baud,
-            "flow_control": machine.flow_control,
-            "buffer_bytes": machine.buffer_bytes,
-        },
+            "baud": l.baud,
+            "flow_control": l.flow_control,
+            "buffer_bytes": l.buffer_bytes,
+        })),
         "media": {"name": media.name, "width_mm": media.width, "height_mm": media.height},
         "size_mm": sheet.size,
         "scale": sheet.scale,
@@ -211,7 +212,8 @@ pub fn fabricate(
         "cut_length_mm": cut_length,
         "strokes": jobs.iter().map(|j| j.strokes.len()).sum::<usize>(),
         "pen_up_travel_mm": travel,
-        "hpgl_bytes": bytes,
+        "job_files": jobs_written.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>(),
+        "job_bytes": job_bytes,
         "estimated_plot_time_s": estimate,
         "motion_time_s": motion,
         "transfer_time_s": transfer,
@@ -238,12 +240,12 @@ pub fn fabricate(
             sheet.scale,
             if verification.pass() { "passed" } else { "FAILED (forced)" }
         ),
-            format!(
-                "cut {:.0} mm, pen-up travel {:.0} mm, {} bytes of HP-GL, about {:.0} s to plot",
-                cut_length.values().sum::<f64>(),
+            job_summary(
+                &jobs_written,
+                cut_length.values().sum(),
                 travel,
-                bytes,
-                estimate
+                estimate,
+                tiled,
             ),
         ];
     let pdf = if tiled {
@@ -258,10 +260,6 @@ pub fn fabricate(
     } else {
         crate::output::pdf::to_bytes(&sheet, &title, &summary)
     };
-    if tiled {
-        // A cutter cannot take a sheet larger than its media: only the printable files.
-        files.retain(|(name, _)| !name.ends_with(".hpgl"));
-    }
     files.push(("sheet.pdf".to_string(), pdf));
     files.push((
         "report.json".to_string(),
@@ -300,4 +298,52 @@ fn layer_order_of(design: &Mesh, placed: &Mesh) -> Option<Vec<[i64; 3]>> {
         Ok(crate::fab::LayerOrder::Found(orders)) => Some(orders),
         _ => None,
     }
+}
+
+/// The cutter's own job (sheet.hpgl or sheet.gpgl, and its `-back` twin for a two-sided
+/// job) in the machine's protocol; nothing for a laser, which takes sheet.dxf or sheet.svg.
+fn cutter_jobs(
+    machine: &crate::plotter::Machine,
+    front: &crate::fab::Toolpath,
+    back: Option<&crate::fab::Toolpath>,
+) -> Result<Vec<(String, Vec<u8>)>, FabError> {
+    let mut files = Vec::new();
+    for (side, path) in [("sheet", Some(front)), ("sheet-back", back)] {
+        let (Some(path), Some(name)) = (path, machine.job_file(side)) else {
+            continue;
+        };
+        let text = match machine.protocol.as_str() {
+            "gpgl" => crate::output::gpgl::to_string(path, &machine.gpgl_settings()),
+            _ => crate::output::hpgl::to_string(path, &machine.hpgl_settings()),
+        }
+        .map_err(FabError::Input)?;
+        files.push((name, text.into_bytes()));
+    }
+    Ok(files)
+}
+
+/// The summary's line on the cutter job: its size and time, or why there is none.
+fn job_summary(
+    jobs: &[(String, Vec<u8>)],
+    cut_mm: f64,
+    travel_mm: f64,
+    seconds: f64,
+    tiled: bool,
+) -> String {
+    if tiled {
+        return format!(
+            "cut {cut_mm:.0} mm; tiled over pages to print and cut by hand, so no cutter job"
+        );
+    }
+    if jobs.is_empty() {
+        return format!(
+            "cut {cut_mm:.0} mm, pen-up travel {travel_mm:.0} mm, about {seconds:.0} s of motion; no cutter job: sheet.dxf or sheet.svg goes to the laser's software"
+        );
+    }
+    let names: Vec<&str> = jobs.iter().map(|(n, _)| n.as_str()).collect();
+    let bytes: usize = jobs.iter().map(|(_, b)| b.len()).sum();
+    format!(
+        "cut {cut_mm:.0} mm, pen-up travel {travel_mm:.0} mm, {bytes} bytes in {}, about {seconds:.0} s to plot",
+        names.join(" and ")
+    )
 }

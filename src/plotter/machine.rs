@@ -41,8 +41,13 @@ fn cut_and_gap<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<[f64; 2]
 pub struct Machine {
     /// Human name.
     pub name: String,
-    /// "hpgl" (GP-GL to come).
+    /// The job the machine takes: "hpgl" (sheet.hpgl), "gpgl" (sheet.gpgl, Graphtec and
+    /// Silhouette) or "dxf" (laser cutters: sheet.dxf and sheet.svg, no cutter job).
     pub protocol: String,
+    /// How the job reaches it: "serial" (`crease plot` streams it; needs `baud`,
+    /// `flow_control` and `buffer_bytes`) or "file" (the maker's own software sends it).
+    #[serde(default = "serial")]
+    pub connection: String,
     /// Plotter units per mm.
     pub units_per_mm: f64,
     /// Default media (a4, letter, 12x12in, WxHmm).
@@ -50,17 +55,48 @@ pub struct Machine {
     /// Margin the machine cannot reach, mm.
     pub margin_mm: f64,
     /// Serial speed.
-    pub baud: u32,
+    pub baud: Option<u32>,
     /// xonxoff, rtscts, query or none.
-    pub flow_control: String,
+    pub flow_control: Option<String>,
     /// Input buffer of the machine, bytes.
-    pub buffer_bytes: usize,
+    pub buffer_bytes: Option<usize>,
     /// Pen-up travel speed, mm/s.
     pub pen_up_speed_mm_s: f64,
     /// Distance dashes keep from points where three or more creases meet, mm.
     pub clearance_mm: f64,
+    /// GP-GL details (protocol "gpgl" only).
+    #[serde(default)]
+    pub gpgl: Option<GpglProfile>,
     /// Tools by line kind: cut, mountain, valley, and optionally flat.
     pub tools: BTreeMap<String, Tool>,
+}
+
+fn serial() -> String {
+    "serial".into()
+}
+
+/// What differs between GP-GL cutters.
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct GpglProfile {
+    /// Order of `M`/`D` coordinates: "feed-first" (media feed, then carriage: Silhouette
+    /// and Graphtec in portrait, `FN0`) or "carriage-first" (as inkcut and robocut send).
+    #[serde(default)]
+    pub axis_order: Option<String>,
+    /// Drag-knife blade offset, mm (`FC`, in 0.05 mm); absent or 0 for a pen.
+    #[serde(default)]
+    pub blade_offset_mm: Option<f64>,
+}
+
+/// The serial line of a machine that is streamed to.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SerialLine {
+    /// Speed.
+    pub baud: u32,
+    /// xonxoff, rtscts, query or none.
+    pub flow_control: String,
+    /// The machine's input buffer, bytes.
+    pub buffer_bytes: usize,
 }
 
 /// Why a machine profile cannot be used.
@@ -170,21 +206,7 @@ impl Machine {
     pub fn parse(text: &str) -> Result<Machine, String> {
         let m: Machine = toml::from_str(text).map_err(|e| crate::io::toml_error(text, &e))?;
         m.check_ranges()?;
-        if m.protocol != "hpgl" {
-            return Err(format!(
-                "protocol \"{}\" is not supported yet (hpgl)",
-                m.protocol
-            ));
-        }
-        if m.units_per_mm.is_nan() || m.units_per_mm <= 0.0 {
-            return Err("units_per_mm must be positive".into());
-        }
-        if !["xonxoff", "rtscts", "query", "none"].contains(&m.flow_control.as_str()) {
-            return Err(format!(
-                "flow_control \"{}\" is not one of xonxoff, rtscts, query, none",
-                m.flow_control
-            ));
-        }
+        m.check_protocol()?;
         for (k, t) in &m.tools {
             if Machine::kind(k).is_none() {
                 return Err(format!(
@@ -239,18 +261,23 @@ impl Machine {
             10_000.0,
             "must be a positive speed up to 10 m/s",
         )?;
-        if !STANDARD_BAUDS.contains(&self.baud) {
+        if let Some(baud) = self.baud.filter(|b| !STANDARD_BAUDS.contains(b)) {
             return Err(format!(
-                "baud = {}: not a standard rate ({})",
-                self.baud,
+                "baud = {baud}: not a standard rate ({})",
                 STANDARD_BAUDS.map(|b| b.to_string()).join(", ")
             ));
         }
-        if !(1..=(1 << 24)).contains(&self.buffer_bytes) {
-            return Err(format!(
-                "buffer_bytes = {}: must be 1 byte to 16 MiB",
-                self.buffer_bytes
-            ));
+        if let Some(bytes) = self.buffer_bytes.filter(|b| !(1..=(1 << 24)).contains(b)) {
+            return Err(format!("buffer_bytes = {bytes}: must be 1 byte to 16 MiB"));
+        }
+        if let Some(offset) = self.gpgl.as_ref().and_then(|g| g.blade_offset_mm) {
+            within(
+                "gpgl.blade_offset_mm",
+                offset,
+                0.0,
+                2.5,
+                "must be 0 (a pen) to 2.5 mm",
+            )?;
         }
         for (k, t) in &self.tools {
             if !(1..=MAX_PEN).contains(&t.pen) {
@@ -292,6 +319,103 @@ impl Machine {
             }
         }
         Ok(())
+    }
+
+    /// Protocol, connection and the settings they need, each refusal naming its key.
+    fn check_protocol(&self) -> Result<(), String> {
+        if !["hpgl", "gpgl", "dxf"].contains(&self.protocol.as_str()) {
+            return Err(format!(
+                "protocol \"{}\" is not one of hpgl, gpgl, dxf",
+                self.protocol
+            ));
+        }
+        match self.connection.as_str() {
+            "serial" => {
+                let missing: Vec<&str> = [
+                    ("baud", self.baud.is_none()),
+                    ("flow_control", self.flow_control.is_none()),
+                    ("buffer_bytes", self.buffer_bytes.is_none()),
+                ]
+                .iter()
+                .filter(|(_, absent)| *absent)
+                .map(|(k, _)| *k)
+                .collect();
+                if !missing.is_empty() {
+                    return Err(format!(
+                        "connection = \"serial\" needs {} (or connection = \"file\" for a machine crease does not stream to)",
+                        missing.join(", ")
+                    ));
+                }
+                if self.protocol == "dxf" {
+                    return Err(
+                        "protocol \"dxf\" is a file for laser software: use connection = \"file\""
+                            .into(),
+                    );
+                }
+            }
+            "file" => {}
+            other => return Err(format!("connection \"{other}\" is not one of serial, file")),
+        }
+        if let Some(flow) = &self.flow_control {
+            if !["xonxoff", "rtscts", "query", "none"].contains(&flow.as_str()) {
+                return Err(format!(
+                    "flow_control \"{flow}\" is not one of xonxoff, rtscts, query, none"
+                ));
+            }
+        }
+        if self.gpgl.is_some() && self.protocol != "gpgl" {
+            return Err("a [gpgl] table belongs to protocol \"gpgl\" only".into());
+        }
+        if let Some(order) = self.gpgl.as_ref().and_then(|g| g.axis_order.as_deref()) {
+            if !["feed-first", "carriage-first"].contains(&order) {
+                return Err(format!(
+                    "gpgl.axis_order \"{order}\" is not one of feed-first, carriage-first"
+                ));
+            }
+        }
+        if self.protocol == "gpgl" {
+            for (k, t) in &self.tools {
+                if let Some(f) = t.force.filter(|f| !(1.0..=33.0).contains(f)) {
+                    return Err(format!(
+                        "tools.{k}.force = {f}: GP-GL pressure (FX) is 1 to 33"
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The serial line `crease plot` streams over; `None` for a file-only machine.
+    pub fn serial_line(&self) -> Option<SerialLine> {
+        if self.connection != "serial" {
+            return None;
+        }
+        Some(SerialLine {
+            baud: self.baud?,
+            flow_control: self.flow_control.clone()?,
+            buffer_bytes: self.buffer_bytes?,
+        })
+    }
+
+    /// The cutter job's file name, or `None` when the machine takes the drawing itself
+    /// (a laser cutter's DXF or SVG).
+    pub fn job_file(&self, side: &str) -> Option<String> {
+        match self.protocol.as_str() {
+            "hpgl" => Some(format!("{side}.hpgl")),
+            "gpgl" => Some(format!("{side}.gpgl")),
+            _ => None,
+        }
+    }
+
+    /// Units, axis order, blade offset and tools for the GP-GL writer.
+    pub fn gpgl_settings(&self) -> crate::output::GpglSettings {
+        let profile = self.gpgl.clone().unwrap_or_default();
+        crate::output::GpglSettings {
+            units_per_mm: self.units_per_mm,
+            feed_first: profile.axis_order.as_deref() != Some("carriage-first"),
+            blade_offset_mm: profile.blade_offset_mm.unwrap_or(0.0),
+            tools: self.hpgl_settings().tools,
+        }
     }
 
     fn kind(name: &str) -> Option<LineKind> {
