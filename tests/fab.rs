@@ -603,8 +603,8 @@ fn a_width_too_small_to_cut_is_refused() {
 #[test]
 fn sheet_dxf_read_by_an_independent_parser_carries_exactly_the_toolpath() {
     // The dxf crate (ixmilia) reads sheet.dxf back: one LINE per stroke, on the layer of
-    // its operation, ends within a micrometre of the toolpath's (y flipped: DXF y grows
-    // upward), in millimetres.
+    // its operation, ends within a micrometre of the toolpath's (whose y grows upward, as
+    // DXF's), in millimetres.
     let machine = Machine::load("generic-hpgl").unwrap();
     for path in patterns() {
         let mesh = crease::io::read(&path).unwrap();
@@ -624,7 +624,6 @@ fn sheet_dxf_read_by_an_independent_parser_carries_exactly_the_toolpath() {
             .collect();
         let strokes = &out.toolpath.strokes;
         assert_eq!(lines.len(), strokes.len(), "{}", path.display());
-        let h = out.toolpath.media.height;
         for ((layer, [x1, y1, x2, y2]), s) in lines.iter().zip(strokes) {
             let expected = match s.kind {
                 LineKind::Cut => "CUT",
@@ -635,9 +634,9 @@ fn sheet_dxf_read_by_an_independent_parser_carries_exactly_the_toolpath() {
             assert_eq!(layer, expected);
             for (got, want) in [
                 (*x1, s.from.x),
-                (*y1, h - s.from.y),
+                (*y1, s.from.y),
                 (*x2, s.to.x),
-                (*y2, h - s.to.y),
+                (*y2, s.to.y),
             ] {
                 assert!(
                     (got - want).abs() <= 1e-4,
@@ -698,7 +697,14 @@ fn sheet_gpgl_read_by_an_independent_reader_carries_exactly_the_toolpath() {
         assert!(!out.files.iter().any(|f| f.0 == "sheet.hpgl"));
         let job = &out.files.iter().find(|f| f.0 == "sheet.gpgl").unwrap().1;
         let segments = read_gpgl(std::str::from_utf8(job).unwrap());
-        let step = |p: Vec2| [(p.y * units).round() as i64, (p.x * units).round() as i64];
+        // The cutter's origin is the media's top-left corner; the toolpath's y grows up.
+        let h = out.toolpath.media.height;
+        let step = |p: Vec2| {
+            [
+                ((h - p.y) * units).round() as i64,
+                (p.x * units).round() as i64,
+            ]
+        };
         let strokes: Vec<_> = out
             .toolpath
             .strokes
@@ -709,7 +715,7 @@ fn sheet_gpgl_read_by_an_independent_reader_carries_exactly_the_toolpath() {
         for ((tool, from, to), s) in segments.iter().zip(&strokes) {
             assert_eq!(*tool, machine.tools[s.kind.name()].pen);
             for (got, want) in [(from, s.from), (to, s.to)] {
-                let want = [want.y * units, want.x * units];
+                let want = [(h - want.y) * units, want.x * units];
                 assert!(
                     (got[0] as f64 - want[0]).abs() < 1.0 && (got[1] as f64 - want[1]).abs() < 1.0,
                     "{}: {got:?} vs {want:?}",
@@ -770,4 +776,103 @@ fn a_laser_profile_gets_dxf_and_svg_and_no_cutter_job() {
     );
     assert_eq!(out.report["sheet"]["job_files"], serde_json::json!([]));
     assert!(out.report["sheet"]["plotter"].is_null());
+}
+
+#[test]
+fn every_output_shows_the_sheet_the_same_way_round() {
+    // A mirrored file folds into the mirror image of the design. Seen from above with
+    // the origin at the media's top-left corner: sheet.svg as drawn (y down), sheet.dxf
+    // and sheet.hpgl with y up from the lower edge, sheet.gpgl feed-first from the top.
+    // The bird base is laid out asymmetrically enough (its kite lines) that a flip of any
+    // one file changes its set of segments.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let bird = crease::io::read(&root.join("patterns/bird-base.fold")).unwrap();
+    type Segment = ([f64; 2], [f64; 2]);
+    let set = |v: Vec<Segment>| v;
+    let hpgl_machine = Machine::load("generic-hpgl").unwrap();
+    let out = fabricate(&bird, &hpgl_machine, &a3()).unwrap();
+    let h = out.toolpath.media.height;
+    let file = |o: &crease::pipeline::FabOutput, n: &str| {
+        String::from_utf8(o.files.iter().find(|f| f.0 == n).unwrap().1.clone()).unwrap()
+    };
+    // The SVG's lines, as drawn.
+    let svg = file(&out, "sheet.svg");
+    let attr = |tag: &str, name: &str| -> f64 {
+        let at = tag.find(&format!(" {name}=\"")).unwrap() + name.len() + 3;
+        tag[at..].split('"').next().unwrap().parse().unwrap()
+    };
+    let from_svg = set(svg
+        .split("<line")
+        .skip(1)
+        .map(|t| {
+            (
+                [attr(t, "x1"), attr(t, "y1")],
+                [attr(t, "x2"), attr(t, "y2")],
+            )
+        })
+        .collect());
+    // The DXF, turned to y down.
+    let dxf = file(&out, "sheet.dxf");
+    let drawing = dxf::Drawing::load(&mut dxf.as_bytes()).unwrap();
+    let from_dxf = set(drawing
+        .entities()
+        .filter_map(|e| match &e.specific {
+            dxf::entities::EntityType::Line(l) => {
+                Some(([l.p1.x, h - l.p1.y], [l.p2.x, h - l.p2.y]))
+            }
+            _ => None,
+        })
+        .collect());
+    // The HP-GL as the plotter draws it.
+    let u = hpgl_machine.units_per_mm;
+    let drawn = hpgl::interpret(&file(&out, "sheet.hpgl")).unwrap().segments;
+    let from_hpgl = set(drawn
+        .iter()
+        .map(|(_, a, b)| {
+            let p = |q: [i64; 2]| [q[0] as f64 / u, h - q[1] as f64 / u];
+            (p(*a), p(*b))
+        })
+        .collect());
+    // The GP-GL from the top-left origin, feed (down) first.
+    let gpgl_machine = Machine::load("graphtec-ce").unwrap();
+    let g = fabricate(&bird, &gpgl_machine, &a3()).unwrap();
+    let gu = gpgl_machine.units_per_mm;
+    let from_gpgl = set(read_gpgl(&file(&g, "sheet.gpgl"))
+        .into_iter()
+        .map(|(_, a, b)| {
+            let p = |q: [i64; 2]| [q[1] as f64 / gu, q[0] as f64 / gu];
+            (p(a), p(b))
+        })
+        .collect());
+    // Each segment of `other` lies on one of sheet.svg's, ends within 0.1 mm (the
+    // cutters' steps are 0.025–0.05 mm), and the counts agree.
+    let near = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]) < 0.1;
+    let same = |s: &Segment, t: &Segment| {
+        (near(s.0, t.0) && near(s.1, t.1)) || (near(s.0, t.1) && near(s.1, t.0))
+    };
+    let matched = |other: &[Segment]| {
+        other
+            .iter()
+            .filter(|s| from_svg.iter().any(|t| same(s, t)))
+            .count()
+    };
+    let mirrored: Vec<Segment> = from_svg
+        .iter()
+        .map(|&(p, q)| ([p[0], 2.0 * h - p[1] - h], [q[0], 2.0 * h - q[1] - h]))
+        .collect();
+    assert!(
+        (matched(&mirrored) as f64) < 0.9 * from_svg.len() as f64,
+        "the test pattern must not be its own mirror image"
+    );
+    let agree = |name: &str, other: &Vec<Segment>| {
+        assert_eq!(other.len(), from_svg.len(), "{name}");
+        assert_eq!(
+            matched(other),
+            other.len(),
+            "{name}: segments off sheet.svg's"
+        );
+    };
+    agree("sheet.dxf", &from_dxf);
+    agree("sheet.hpgl", &from_hpgl);
+    agree("sheet.gpgl", &from_gpgl);
 }

@@ -16,8 +16,8 @@ pub fn layer_of(kind: LineKind) -> (&'static str, u8) {
     }
 }
 
-/// The toolpath as DXF R12 text. y grows upward in DXF, downward on the media: the sheet
-/// is flipped so that it reads the same way round as the SVG.
+/// The toolpath as DXF R12 text. The toolpath's y grows upward from the media's lower
+/// edge, as DXF's does (and HP-GL's and the PDF's), so coordinates go across unchanged.
 pub fn to_string(toolpath: &Toolpath) -> String {
     let mut out = String::new();
     let mut pair = |code: u16, value: &str| {
@@ -59,16 +59,15 @@ pub fn to_string(toolpath: &Toolpath) -> String {
     pair(0, "ENDSEC");
     pair(0, "SECTION");
     pair(2, "ENTITIES");
-    let h = toolpath.media.height;
     for s in &toolpath.strokes {
         let (layer, _) = layer_of(s.kind);
         pair(0, "LINE");
         pair(8, layer);
         pair(10, &num(s.from.x));
-        pair(20, &num(h - s.from.y));
+        pair(20, &num(s.from.y));
         pair(30, "0.0");
         pair(11, &num(s.to.x));
-        pair(21, &num(h - s.to.y));
+        pair(21, &num(s.to.y));
         pair(31, "0.0");
     }
     pair(0, "ENDSEC");

@@ -27,12 +27,14 @@ pub struct GpglSettings {
     pub tools: BTreeMap<LineKind, ToolSetting>,
 }
 
-/// Writes a toolpath as GP-GL. The sheet's x runs along the carriage and its y down the
-/// media feed, both from the sheet's top-left corner; strokes whose kind has no tool are
-/// an error.
+/// Writes a toolpath as GP-GL. The cutter's origin is the media's top-left corner, its
+/// carriage axis the sheet's x and its feed axis runs down the sheet (the toolpath's y
+/// grows upward, so feed = height − y); strokes whose kind has no tool are an error.
 pub fn to_string(path: &Toolpath, settings: &GpglSettings) -> Result<String, String> {
     let u = settings.units_per_mm;
     let order = |(x, y): (i64, i64)| if settings.feed_first { (y, x) } else { (x, y) };
+    let h = path.media.height;
+    let down = |p: crate::mesh::Vec2| crate::mesh::Vec2::new(p.x, h - p.y);
     let point = |p: crate::mesh::Vec2| order(((p.x * u).round() as i64, (p.y * u).round() as i64));
     let mut out = String::from(RESET);
     let command = |out: &mut String, text: &str| {
@@ -40,9 +42,9 @@ pub fn to_string(path: &Toolpath, settings: &GpglSettings) -> Result<String, Str
         out.push(ETX);
     };
     command(&mut out, "FN0");
-    let (h, w) = point(crate::mesh::Vec2::new(path.media.width, path.media.height));
+    let (limit_a, limit_b) = point(crate::mesh::Vec2::new(path.media.width, path.media.height));
     command(&mut out, "\\0,0");
-    command(&mut out, &format!("Z{h},{w}"));
+    command(&mut out, &format!("Z{limit_a},{limit_b}"));
     // `at` in (x, y) steps, the order the sheet has; `order` turns it into the cutter's.
     let mut at = (0i64, 0i64);
     let mut tool: Option<LineKind> = None;
@@ -69,7 +71,10 @@ pub fn to_string(path: &Toolpath, settings: &GpglSettings) -> Result<String, Str
             command(&mut out, &format!("FC{offset}"));
             tool = Some(kind);
         }
-        let exact: Vec<(f64, f64)> = points.iter().map(|p| (p.x * u, p.y * u)).collect();
+        let exact: Vec<(f64, f64)> = points
+            .iter()
+            .map(|&p| (down(p).x * u, down(p).y * u))
+            .collect();
         let steps = snap_chain(&exact);
         let mut cut = String::new();
         let mut last = steps[0];
