@@ -489,6 +489,7 @@ fn routing_a_small_design_far_from_the_pen_keeps_every_stroke() {
             },
             from: Vec2::new(x, y),
             to: Vec2::new(x + 0.5, y + 0.2),
+            line: i,
         });
     }
     let routed = crease::fab::route(&strokes);
@@ -797,19 +798,9 @@ fn every_output_shows_the_sheet_the_same_way_round() {
     };
     // The SVG's lines, as drawn.
     let svg = file(&out, "sheet.svg");
-    let attr = |tag: &str, name: &str| -> f64 {
-        let at = tag.find(&format!(" {name}=\"")).unwrap() + name.len() + 3;
-        tag[at..].split('"').next().unwrap().parse().unwrap()
-    };
-    let from_svg = set(svg
-        .split("<line")
-        .skip(1)
-        .map(|t| {
-            (
-                [attr(t, "x1"), attr(t, "y1")],
-                [attr(t, "x2"), attr(t, "y2")],
-            )
-        })
+    let from_svg = set(svg_segments(&svg)
+        .into_iter()
+        .map(|(_, a, b)| (a, b))
         .collect());
     // The DXF, turned to y down.
     let dxf = file(&out, "sheet.dxf");
@@ -875,4 +866,118 @@ fn every_output_shows_the_sheet_the_same_way_round() {
     agree("sheet.dxf", &from_dxf);
     agree("sheet.hpgl", &from_hpgl);
     agree("sheet.gpgl", &from_gpgl);
+}
+
+/// The segments of a sheet.svg's paths: (layer, from, to) as drawn (y down), closing
+/// segments of `Z` included.
+fn svg_segments(svg: &str) -> Vec<(String, [f64; 2], [f64; 2])> {
+    let mut out = Vec::new();
+    for layer in svg.split("<g ").skip(1) {
+        let name = layer
+            .split("id=\"")
+            .nth(1)
+            .unwrap()
+            .split('"')
+            .next()
+            .unwrap();
+        for path in layer.split("<path d=\"").skip(1) {
+            let d = path.split('"').next().unwrap();
+            let mut tokens = d.split_whitespace();
+            let (mut at, mut start) = ([0.0; 2], [0.0; 2]);
+            while let Some(t) = tokens.next() {
+                let (op, x) = t.split_at(1);
+                if op == "Z" {
+                    out.push((name.to_string(), at, start));
+                    at = start;
+                    continue;
+                }
+                let p = [x.parse().unwrap(), tokens.next().unwrap().parse().unwrap()];
+                match op {
+                    "M" => start = p,
+                    "L" => out.push((name.to_string(), at, p)),
+                    other => panic!("unexpected path command {other}"),
+                }
+                at = p;
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn sheet_svg_holds_only_what_is_cut_or_scored_one_path_per_line() {
+    // What cutter and laser software take: no media frame, hairlines, one colour per
+    // layer; the outline one closed path; each crease's dashes one path element; and,
+    // segment by segment, exactly the toolpath.
+    let machine = Machine::load("generic-hpgl").unwrap();
+    for path in patterns() {
+        let mesh = crease::io::read(&path).unwrap();
+        let out = fabricate(&mesh, &machine, &a3()).unwrap();
+        let svg = String::from_utf8(
+            out.files
+                .iter()
+                .find(|f| f.0 == "sheet.svg")
+                .unwrap()
+                .1
+                .clone(),
+        )
+        .unwrap();
+        let name = path.display();
+        assert!(!svg.contains("<rect") && !svg.contains("<line"), "{name}");
+        // Every layer drawn in hairlines.
+        assert_eq!(
+            svg.matches("stroke-width=\"0.0254\"").count(),
+            svg.matches("<g ").count(),
+            "{name}"
+        );
+        let strokes = &out.toolpath.strokes;
+        for kind in [LineKind::Cut, LineKind::Mountain, LineKind::Valley] {
+            let layer = svg.split(&format!("id=\"{}\"", kind.name())).nth(1);
+            let ours: Vec<_> = strokes.iter().filter(|s| s.kind == kind).collect();
+            let Some(layer) = layer else {
+                assert!(ours.is_empty(), "{name}: no {} layer", kind.name());
+                continue;
+            };
+            let layer = layer.split("</g>").next().unwrap();
+            let paths = layer.matches("<path").count();
+            if kind == LineKind::Cut {
+                assert_eq!(paths, 1, "{name}: the outline is one path");
+                let d = layer
+                    .split("d=\"")
+                    .nth(1)
+                    .unwrap()
+                    .split('"')
+                    .next()
+                    .unwrap();
+                assert_eq!(
+                    d.matches('M').count(),
+                    d.matches('Z').count(),
+                    "{name}: every loop of the outline is closed"
+                );
+            } else {
+                let mut lines: Vec<usize> = ours.iter().map(|s| s.line).collect();
+                lines.sort_unstable();
+                lines.dedup();
+                assert_eq!(
+                    paths,
+                    lines.len(),
+                    "{name}: one path per {} crease",
+                    kind.name()
+                );
+            }
+        }
+        // Segment by segment the toolpath (the SVG's y runs down the sheet).
+        let h = out.toolpath.media.height;
+        let drawn = svg_segments(&svg);
+        assert_eq!(drawn.len(), strokes.len(), "{name}");
+        let near = |a: [f64; 2], b: Vec2| (a[0] - b.x).hypot(a[1] - (h - b.y)) < 1e-3;
+        for s in strokes {
+            assert!(
+                drawn.iter().any(|(layer, a, b)| layer == s.kind.name()
+                    && ((near(*a, s.from) && near(*b, s.to))
+                        || (near(*a, s.to) && near(*b, s.from)))),
+                "{name}: stroke {s:?} missing from sheet.svg"
+            );
+        }
+    }
 }

@@ -189,6 +189,7 @@ mod tests {
             kind: LineKind::Valley,
             from: Vec2::new(x0, y0),
             to: Vec2::new(x1, y1),
+            line: 0,
         }
     }
 

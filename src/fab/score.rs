@@ -53,6 +53,8 @@ pub struct Stroke {
     pub from: Vec2,
     /// End.
     pub to: Vec2,
+    /// The sheet line ([`Sheet::lines`]) it cuts or scores: a crease's dashes share it.
+    pub line: usize,
 }
 
 impl Stroke {
@@ -123,7 +125,7 @@ pub fn dashes(len: f64, code: DashCode, min_dash: f64) -> Vec<(f64, f64)> {
 /// Turns the sheet's lines into strokes (unordered; see [`super::route`]).
 pub fn score(sheet: &Sheet, settings: &ScoreSettings) -> Vec<Stroke> {
     let mut strokes = Vec::new();
-    for line in &sheet.lines {
+    for (index, line) in sheet.lines.iter().enumerate() {
         let Some(code) = settings.codes.get(&line.kind) else {
             continue;
         };
@@ -138,6 +140,7 @@ pub fn score(sheet: &Sheet, settings: &ScoreSettings) -> Vec<Stroke> {
                 kind: line.kind,
                 from: line.a,
                 to: line.b,
+                line: index,
             });
             continue;
         };
@@ -168,6 +171,7 @@ pub fn score(sheet: &Sheet, settings: &ScoreSettings) -> Vec<Stroke> {
                     kind: line.kind,
                     from: at(lo + s),
                     to: at(lo + e),
+                    line: index,
                 });
             }
         }

@@ -1,9 +1,19 @@
-//! The scored sheet as SVG at 1:1 (mm), one Inkscape layer per line kind, every dash a real
-//! segment: what a cutting plotter's own software would cut.
+//! The scored sheet as SVG at 1:1 (mm), what a cutter's or laser's own software takes:
+//! nothing but what is cut or scored (no media frame: it would be cut), one Inkscape
+//! layer and one colour per operation, hairline strokes, the outline as one closed path
+//! and each crease's dashes as one path element (every dash a real segment: laser
+//! software draws a dashed stroke style solid).
 
-use crate::fab::{LineKind, Toolpath};
-use svg::node::element::{Group, Line, Rectangle};
+use crate::fab::{LineKind, Stroke, Toolpath};
+use crate::mesh::Vec2;
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use svg::node::element::{Group, Path};
 use svg::Document;
+
+/// A hairline: 0.001 in, what Epilog and Universal laser drivers take as "cut this
+/// vector" and thin enough that no cutter software reads it as an area.
+const HAIRLINE_MM: f64 = 0.0254;
 
 /// Stroke colour per kind on the sheet.
 fn colour(kind: LineKind) -> &'static str {
@@ -26,46 +36,108 @@ pub fn sheet_to_string(path: &Toolpath) -> String {
         .set("width", format!("{w}mm"))
         .set("height", format!("{h}mm"))
         .set("viewBox", format!("0 0 {w} {h}"));
-    // The media outline, on its own hidden-from-cutting layer for orientation.
-    doc = doc.add(
-        Group::new()
-            .set("inkscape:groupmode", "layer")
-            .set("inkscape:label", "media")
-            .set("id", "media")
-            .add(
-                Rectangle::new()
-                    .set("x", 0)
-                    .set("y", 0)
-                    .set("width", w)
-                    .set("height", h)
-                    .set("fill", "none")
-                    .set("stroke", "#dddddd")
-                    .set("stroke-width", 0.1),
-            ),
-    );
     for kind in LineKind::ALL {
+        let strokes: Vec<&Stroke> = path.strokes.iter().filter(|s| s.kind == kind).collect();
+        if strokes.is_empty() {
+            continue;
+        }
         let mut layer = Group::new()
             .set("inkscape:groupmode", "layer")
             .set("inkscape:label", kind.name())
             .set("id", kind.name())
             .set("stroke", colour(kind))
-            .set("stroke-width", 0.2)
+            .set("stroke-width", HAIRLINE_MM)
             .set("stroke-linecap", "butt")
+            .set("stroke-linejoin", "round")
             .set("fill", "none");
-        let mut any = false;
-        for s in path.strokes.iter().filter(|s| s.kind == kind) {
-            layer = layer.add(
-                Line::new()
-                    .set("x1", s.from.x)
-                    .set("y1", h - s.from.y)
-                    .set("x2", s.to.x)
-                    .set("y2", h - s.to.y),
-            );
-            any = true;
+        // The outline (and any hole) is one path; a crease's dashes are one path each.
+        let mut groups: Vec<Vec<&Stroke>> = Vec::new();
+        let mut group_of: HashMap<usize, usize> = HashMap::new();
+        for s in strokes {
+            let key = if kind == LineKind::Cut { 0 } else { s.line };
+            let g = *group_of.entry(key).or_insert_with(|| {
+                groups.push(Vec::new());
+                groups.len() - 1
+            });
+            groups[g].push(s);
         }
-        if any {
-            doc = doc.add(layer);
+        for group in groups {
+            layer = layer.add(Path::new().set("d", path_data(&group, h)));
         }
+        doc = doc.add(layer);
     }
     doc.to_string() + "\n"
+}
+
+/// SVG path data for strokes: joined strokes become one subpath (`M … L …`), a subpath
+/// that returns to its start is closed (`Z`). The sheet's y grows up, SVG's down.
+fn path_data(strokes: &[&Stroke], h: f64) -> String {
+    let mut d = String::new();
+    let point = |d: &mut String, op: char, p: Vec2| {
+        let _ = write!(d, "{op}{} {} ", round(p.x), round(h - p.y));
+    };
+    for chain in chains(strokes) {
+        let closed = chain.len() > 2 && (chain[0] - chain[chain.len() - 1]).norm() < 1e-6;
+        point(&mut d, 'M', chain[0]);
+        let last = if closed { chain.len() - 1 } else { chain.len() };
+        for &p in &chain[1..last] {
+            point(&mut d, 'L', p);
+        }
+        if closed {
+            d.push_str("Z ");
+        }
+    }
+    d.trim_end().to_string()
+}
+
+/// Micrometre precision: ends that meet in the toolpath meet in the file.
+fn round(v: f64) -> f64 {
+    let r = (v * 1e4).round() / 1e4;
+    if r == 0.0 {
+        0.0
+    } else {
+        r
+    }
+}
+
+/// Strokes joined end to end, in either direction, into runs of points.
+fn chains(strokes: &[&Stroke]) -> Vec<Vec<Vec2>> {
+    let key = |p: Vec2| ((p.x * 1e6).round() as i64, (p.y * 1e6).round() as i64);
+    let mut at: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
+    for (i, s) in strokes.iter().enumerate() {
+        at.entry(key(s.from)).or_default().push(i);
+        at.entry(key(s.to)).or_default().push(i);
+    }
+    let mut used = vec![false; strokes.len()];
+    let next_from = |p: Vec2, used: &mut Vec<bool>| -> Option<Vec2> {
+        let i = *at.get(&key(p))?.iter().find(|&&i| !used[i])?;
+        used[i] = true;
+        let s = strokes[i];
+        Some(if key(s.from) == key(p) { s.to } else { s.from })
+    };
+    let mut out = Vec::new();
+    for i in 0..strokes.len() {
+        if used[i] {
+            continue;
+        }
+        used[i] = true;
+        let mut chain = vec![strokes[i].from, strokes[i].to];
+        while let Some(p) = next_from(chain[chain.len() - 1], &mut used) {
+            chain.push(p);
+        }
+        // Strokes before this one in the run: walk back from its start.
+        let mut before = Vec::new();
+        let mut cursor = chain[0];
+        while let Some(p) = next_from(cursor, &mut used) {
+            before.push(p);
+            cursor = p;
+        }
+        if !before.is_empty() {
+            before.reverse();
+            before.extend(chain);
+            chain = before;
+        }
+        out.push(chain);
+    }
+    out
 }
