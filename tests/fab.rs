@@ -981,3 +981,82 @@ fn sheet_svg_holds_only_what_is_cut_or_scored_one_path_per_line() {
         }
     }
 }
+
+#[test]
+fn width_is_the_laid_out_width_and_fit_fills_the_media_within_the_margin() {
+    let machine = Machine::load("generic-hpgl").unwrap();
+    for path in patterns() {
+        let mesh = crease::io::read(&path).unwrap();
+        let name = path.display();
+        // --width 150: the sheet as placed (after any turn) is 150 mm wide.
+        let options = FabOptions {
+            media: Some(crease::fab::Media::parse("a3").unwrap()),
+            width: Some(150.0),
+            ..Default::default()
+        };
+        let out = fabricate(&mesh, &machine, &options).unwrap();
+        let xs = out.sheet.vertices.iter().map(|p| p.x);
+        let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(x), b.max(x))
+        });
+        assert!(
+            (hi - lo - 150.0).abs() < 1e-6,
+            "{name}: {} mm wide",
+            hi - lo
+        );
+        // --fit with a 25 mm margin: every vertex within it, touching it on one axis.
+        let options = FabOptions {
+            media: Some(crease::fab::Media::parse("a4").unwrap()),
+            fit: true,
+            margin: Some(25.0),
+            ..Default::default()
+        };
+        let out = fabricate(&mesh, &machine, &options).unwrap();
+        let (w, h) = (out.toolpath.media.width, out.toolpath.media.height);
+        let v = &out.sheet.vertices;
+        let lo = v
+            .iter()
+            .fold(Vec2::new(f64::INFINITY, f64::INFINITY), |a, p| a.inf(p));
+        let hi = v
+            .iter()
+            .fold(Vec2::new(f64::NEG_INFINITY, f64::NEG_INFINITY), |a, p| {
+                a.sup(p)
+            });
+        assert!(lo.x >= 25.0 - 1e-6 && lo.y >= 25.0 - 1e-6, "{name}: {lo:?}");
+        assert!(
+            hi.x <= w - 25.0 + 1e-6 && hi.y <= h - 25.0 + 1e-6,
+            "{name}: {hi:?}"
+        );
+        let fill = ((hi.x - lo.x) / (w - 50.0)).max((hi.y - lo.y) / (h - 50.0));
+        assert!((fill - 1.0).abs() < 1e-6, "{name}: fills {fill}");
+        // Fitted is at least as large as the design laid out upright at the same fill.
+        let natural = fabricate(&mesh, &machine, &a3()).unwrap();
+        let upright = ((w - 50.0) / natural.sheet.size[0]).min((h - 50.0) / natural.sheet.size[1]);
+        assert!(
+            out.sheet.scale >= upright - 1e-9,
+            "{name}: {} < {upright}",
+            out.sheet.scale
+        );
+    }
+    let mesh = crease::io::read(&patterns()[0]).unwrap();
+    for options in [
+        FabOptions {
+            fit: true,
+            width: Some(100.0),
+            ..Default::default()
+        },
+        FabOptions {
+            margin: Some(-1.0),
+            ..Default::default()
+        },
+        FabOptions {
+            margin: Some(200.0),
+            ..Default::default()
+        },
+    ] {
+        assert!(matches!(
+            fabricate(&mesh, &machine, &options),
+            Err(FabError::Input(_))
+        ));
+    }
+}

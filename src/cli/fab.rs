@@ -13,9 +13,17 @@ pub struct FabArgs {
     /// Media: a4, a3, letter, 12x12in, WxHmm (default: the machine's).
     #[arg(long)]
     media: Option<String>,
-    /// Scale the pattern to this width in mm (default: design units are mm).
-    #[arg(long)]
+    /// Scale the pattern so the laid-out sheet is this wide in mm, measured after it is
+    /// turned to fit (default: design units are mm).
+    #[arg(long, conflicts_with = "fit")]
     width: Option<f64>,
+    /// Scale the pattern to the largest size the media takes within the margins, in the
+    /// orientation that allows most (default: off).
+    #[arg(long)]
+    fit: bool,
+    /// Margin kept free on every side, mm (default: the machine's).
+    #[arg(long)]
+    margin: Option<f64>,
     /// Output folder (default: out/DESIGN-NAME).
     #[arg(long)]
     out: Option<PathBuf>,
@@ -37,6 +45,8 @@ pub fn fab(args: FabArgs) -> Result<u8, String> {
         machine,
         media,
         width,
+        fit,
+        margin,
         out: out_dir,
         force,
         mountains_from_back,
@@ -51,6 +61,8 @@ pub fn fab(args: FabArgs) -> Result<u8, String> {
     let options = crease::pipeline::FabOptions {
         media,
         width,
+        fit,
+        margin,
         force,
         mountains_from_back,
         tile,

@@ -135,25 +135,41 @@ fn hull(points: &[Vec2]) -> Vec<Vec2> {
     lower
 }
 
-/// Places `vertices` and `lines` (flat pattern, mm) on `media`. `width` scales the pattern
-/// so its bounding box is that wide before turning.
+/// How large the pattern is placed.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Sizing {
+    /// As designed (design units are mm).
+    #[default]
+    Natural,
+    /// Scaled so the laid-out sheet, after it is turned, is this wide (mm).
+    Width(f64),
+    /// As large as fits within the media's margins, in the orientation that allows most.
+    Fit,
+}
+
+/// Places `vertices` and `lines` (flat pattern, mm) on `media` within `margin`, turned to
+/// the fitting orientation of least area and sized by `sizing` (a width is the width of
+/// the turned sheet, not of the design before it turns).
 pub fn layout(
     vertices: &[Vec2],
     lines: &[CreaseLine],
     media: &Media,
     margin: f64,
-    width: Option<f64>,
+    sizing: Sizing,
 ) -> Result<Sheet, LayoutError> {
     let (lo, hi) = bounds(vertices);
-    let scale = match width {
-        Some(w) if w.is_finite() && w > 0.0 => w / (hi.x - lo.x),
-        Some(w) => {
+    if let Sizing::Width(w) = sizing {
+        if !(w.is_finite() && w > 0.0) {
             return Err(LayoutError::Bad(format!(
                 "--width must be a positive length in mm (got {w})"
-            )))
+            )));
         }
-        None => 1.0,
-    };
+    }
+    if !(margin.is_finite() && margin >= 0.0) {
+        return Err(LayoutError::Bad(format!(
+            "--margin must be a length of 0 mm or more (got {margin})"
+        )));
+    }
     let usable = Vec2::new(media.width - 2.0 * margin, media.height - 2.0 * margin);
     if usable.x <= 0.0 || usable.y <= 0.0 {
         return Err(LayoutError::Bad(format!(
@@ -162,42 +178,56 @@ pub fn layout(
         )));
     }
     // Candidate turns: every hull edge laid flat (the least-area box is among them), each
-    // also turned a quarter; keep the fitting one of least area, preferring no turn.
-    let scaled: Vec<Vec2> = vertices.iter().map(|p| (p - lo) * scale).collect();
-    let h = hull(&scaled);
+    // also turned a quarter. Each gets its own scale (a width is measured after turning);
+    // keep the fitting one of least area (with --fit: of largest scale), preferring no turn.
+    let unit: Vec<Vec2> = vertices.iter().map(|p| p - lo).collect();
+    let h = hull(&unit);
     let mut candidates = vec![0.0, std::f64::consts::FRAC_PI_2];
     for i in 0..h.len() {
         let d = h[(i + 1) % h.len()] - h[i];
         let a = -d.y.atan2(d.x);
         candidates.extend([a, a + std::f64::consts::FRAC_PI_2]);
     }
-    let size_at = |angle: f64| {
+    let unit_size = |angle: f64| {
         let turned: Vec<Vec2> = h.iter().map(|&p| rotate(p, angle)).collect();
         let (a, b) = bounds(&turned);
         b - a
     };
+    let scale_at = |s: Vec2| match sizing {
+        Sizing::Natural => 1.0,
+        Sizing::Width(w) => w / s.x.max(f64::MIN_POSITIVE),
+        Sizing::Fit => (usable.x / s.x).min(usable.y / s.y),
+    };
     let fits = |s: Vec2| s.x <= usable.x + 1e-9 && s.y <= usable.y + 1e-9;
-    let best = candidates
+    let options: Vec<(f64, f64, Vec2)> = candidates
         .iter()
-        .copied()
-        .map(|a| (a, size_at(a)))
-        .filter(|(_, s)| fits(*s))
-        .min_by(|(a1, s1), (a2, s2)| {
-            let (x, y) = (s1.x * s1.y, s2.x * s2.y);
-            // Within 0.1% of area, the smaller turn wins (keeps the design upright).
+        .map(|&a| {
+            let s = unit_size(a);
+            let k = scale_at(s);
+            (a, k, s * k)
+        })
+        .collect();
+    let best = options.iter().copied().filter(|(_, _, s)| fits(*s)).min_by(
+        |(a1, k1, s1), (a2, k2, s2)| {
+            let (x, y) = match sizing {
+                // Larger is better: compare the scales' inverses.
+                Sizing::Fit => (1.0 / k1, 1.0 / k2),
+                _ => (s1.x * s1.y, s2.x * s2.y),
+            };
+            // Within 0.1%, the smaller turn wins (keeps the design upright).
             if (x - y).abs() <= 1e-3 * x.max(y) {
                 a1.abs().total_cmp(&a2.abs())
             } else {
                 x.total_cmp(&y)
             }
-        });
-    let Some((angle, size)) = best else {
-        let (angle, s) = candidates
+        },
+    );
+    let Some((angle, scale, size)) = best else {
+        let (_, _, s) = options
             .iter()
-            .map(|&a| (a, size_at(a)))
-            .min_by(|a, b| (a.1.x * a.1.y).total_cmp(&(b.1.x * b.1.y)))
-            .unwrap_or((0.0, hi - lo));
-        let _ = angle;
+            .copied()
+            .min_by(|a, b| (a.2.x * a.2.y).total_cmp(&(b.2.x * b.2.y)))
+            .unwrap_or((0.0, 1.0, hi - lo));
         return Err(LayoutError::TooLarge {
             need_w: s.x + 2.0 * margin,
             need_h: s.y + 2.0 * margin,
@@ -206,6 +236,7 @@ pub fn layout(
             media_h: media.height,
         });
     };
+    let scaled: Vec<Vec2> = unit.iter().map(|&p| p * scale).collect();
     let turned: Vec<Vec2> = scaled.iter().map(|&p| rotate(p, angle)).collect();
     let (tlo, _) = bounds(&turned);
     let offset = Vec2::new(media.width - size.x, media.height - size.y) / 2.0 - tlo;

@@ -15,7 +15,7 @@ pub mod verify;
 pub use flat_fold::{flat_folded, FlatFolded, NotFlatFoldable, PlaneMotion};
 pub use intersect::{self_intersections, Crossing};
 pub use layers::{layer_order, LayerError, LayerOrder};
-pub use layout::{layout, LayoutError, Media, Sheet};
+pub use layout::{layout, LayoutError, Media, Sheet, Sizing};
 pub use lines::{crease_lines, CreaseLine, LineKind};
 pub use route::route;
 

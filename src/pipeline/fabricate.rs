@@ -9,8 +9,12 @@ use std::collections::BTreeMap;
 pub struct FabOptions {
     /// Media; default the machine's.
     pub media: Option<crate::fab::Media>,
-    /// Scale the pattern to this width (mm).
+    /// Scale the pattern so the laid-out sheet is this wide (mm).
     pub width: Option<f64>,
+    /// Scale the pattern to the largest size the media takes within its margins.
+    pub fit: bool,
+    /// Margin kept free on every side (mm); default the machine's.
+    pub margin: Option<f64>,
     /// Fabricate even if verification fails.
     pub force: bool,
     /// Score mountains from the back: a second, mirrored job.
@@ -59,7 +63,7 @@ pub fn fabricate(
 ) -> Result<FabOutput, FabError> {
     use crate::fab::{
         check_overlap, crease_lines, layout, route, score, verify, LayoutError, LineKind, Media,
-        Tolerances, Toolpath,
+        Sizing, Tolerances, Toolpath,
     };
     if let Some(w) = options.width {
         if !(w.is_finite() && w >= MIN_WIDTH_MM) {
@@ -97,7 +101,18 @@ pub fn fabricate(
     };
     let lines = crease_lines(mesh, &flat);
     let mut tiled = false;
-    let sheet = match layout(&flat, &lines, &media, machine.margin_mm, options.width) {
+    let margin = options.margin.unwrap_or(machine.margin_mm);
+    let sizing = match (options.fit, options.width) {
+        (true, Some(_)) => {
+            return Err(FabError::Input(
+                "--fit and --width both size the sheet: give one".into(),
+            ))
+        }
+        (true, None) => Sizing::Fit,
+        (false, Some(w)) => Sizing::Width(w),
+        (false, None) => Sizing::Natural,
+    };
+    let sheet = match layout(&flat, &lines, &media, margin, sizing) {
         Ok(s) => s,
         Err(LayoutError::TooLarge { need_w, need_h, .. }) if options.tile => {
             // Lay it out on a virtual sheet just large enough; the PDF is tiled below.
@@ -107,7 +122,7 @@ pub fn fabricate(
                 width: need_w + 1e-6,
                 height: need_h + 1e-6,
             };
-            layout(&flat, &lines, &big, machine.margin_mm, options.width)
+            layout(&flat, &lines, &big, margin, sizing)
                 .map_err(|e| FabError::Input(e.to_string()))?
         }
         Err(e @ LayoutError::TooLarge { .. }) => {
@@ -249,14 +264,7 @@ pub fn fabricate(
             ),
         ];
     let pdf = if tiled {
-        crate::output::pdf::to_bytes_tiled(
-            &sheet,
-            &page,
-            machine.margin_mm,
-            TILE_OVERLAP_MM,
-            &title,
-            &summary,
-        )
+        crate::output::pdf::to_bytes_tiled(&sheet, &page, margin, TILE_OVERLAP_MM, &title, &summary)
     } else {
         crate::output::pdf::to_bytes(&sheet, &title, &summary)
     };
