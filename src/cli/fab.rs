@@ -112,6 +112,13 @@ pub fn fab(args: FabArgs) -> Result<u8, String> {
             s["estimated_plot_time_s"].as_f64().unwrap_or(0.0)
         );
     }
+    if let Some(folds) = s["unscored_creases"].as_array().filter(|a| !a.is_empty()) {
+        eprintln!(
+            "warning: {} fold(s) too short to score ({} mm clearance at junctions): crease them by hand; report.json and sheet.pdf name them",
+            folds.len(),
+            machine.clearance_mm
+        );
+    }
     if !result.verification.pass() {
         eprintln!("warning: the design fails verification; cut anyway because of --force");
     }

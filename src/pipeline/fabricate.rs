@@ -133,6 +133,7 @@ pub fn fabricate(
     let page = media.clone();
     let media = sheet.media.clone();
     let strokes = score(&sheet, &machine.score_settings());
+    let unscored = unscored_creases(&sheet, &strokes);
     let (front, back): (Vec<_>, Vec<_>) = strokes
         .into_iter()
         .partition(|s| !(options.mountains_from_back && s.kind == LineKind::Mountain));
@@ -235,6 +236,17 @@ pub fn fabricate(
         "isometry_max_relative_error": isometry_error,
         "mountains_from_back": options.mountains_from_back,
         "tiled": tiled,
+        // Folds with no dash (shorter than the clearance the junctions at their ends
+        // need): the maker has to score these by hand.
+        "unscored_creases": unscored.iter().map(|&i| {
+            let l = &sheet.lines[i];
+            serde_json::json!({
+                "kind": l.kind.name(),
+                "length_mm": l.length(),
+                "from_mm": [l.a.x, l.a.y],
+                "to_mm": [l.b.x, l.b.y],
+            })
+        }).collect::<Vec<_>>(),
     });
     let report = serde_json::json!({"verification": verification.to_json(), "sheet": sheet_json});
     let title = if mesh.title.is_empty() {
@@ -242,7 +254,7 @@ pub fn fabricate(
     } else {
         mesh.title.clone()
     };
-    let summary =
+    let mut summary =
         vec![
             format!(
             "{} on {} ({:.0} x {:.0} mm), pattern {:.1} x {:.1} mm at scale {:.3}; verification {}",
@@ -263,6 +275,23 @@ pub fn fabricate(
                 tiled,
             ),
         ];
+    if !unscored.is_empty() {
+        let lengths: Vec<String> = unscored
+            .iter()
+            .map(|&i| {
+                format!(
+                    "{} {:.1} mm",
+                    sheet.lines[i].kind.name(),
+                    sheet.lines[i].length()
+                )
+            })
+            .collect();
+        summary.push(format!(
+            "{} fold(s) too short to score, crease by hand: {} (report.json has their ends)",
+            unscored.len(),
+            lengths.join(", ")
+        ));
+    }
     let pdf = if tiled {
         crate::output::pdf::to_bytes_tiled(&sheet, &page, margin, TILE_OVERLAP_MM, &title, &summary)
     } else {
@@ -354,4 +383,19 @@ fn job_summary(
         "cut {cut_mm:.0} mm, pen-up travel {travel_mm:.0} mm, {bytes} bytes in {}, about {seconds:.0} s to plot",
         names.join(" and ")
     )
+}
+
+/// Mountain and valley lines that got no stroke: too short for a dash once the clearance
+/// at their junctions is kept.
+fn unscored_creases(sheet: &crate::fab::Sheet, strokes: &[crate::fab::Stroke]) -> Vec<usize> {
+    use crate::fab::LineKind;
+    let mut scored = vec![false; sheet.lines.len()];
+    for s in strokes {
+        scored[s.line] = true;
+    }
+    (0..sheet.lines.len())
+        .filter(|&i| {
+            matches!(sheet.lines[i].kind, LineKind::Mountain | LineKind::Valley) && !scored[i]
+        })
+        .collect()
 }
