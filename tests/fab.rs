@@ -1100,3 +1100,47 @@ fn every_fold_is_scored_or_named_in_the_report() {
         "no design has a fold too short to score: the test checks nothing"
     );
 }
+
+#[test]
+fn a_later_run_leaves_no_files_of_an_earlier_one_and_a_failed_run_touches_nothing() {
+    let dir = std::env::temp_dir().join(format!("crease-fab-stale-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let design = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura.fold");
+    let fab = |extra: &[&str]| {
+        let mut args = vec![
+            "fab",
+            design.to_str().unwrap(),
+            "--out",
+            dir.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        run_crease(&args)
+    };
+    let (code, _, err) = fab(&["--mountains-from-back"]);
+    assert_eq!(code, 0, "{err}");
+    std::fs::write(dir.join("sheet-back.hpgl.journal"), "{}").unwrap();
+    assert!(dir.join("sheet-back.hpgl").is_file() && dir.join("sheet-back.svg").is_file());
+    // A failed run (a width too small to cut) leaves the earlier run whole.
+    let (code, _, _) = fab(&["--width", "1"]);
+    assert_eq!(code, 2);
+    assert!(dir.join("sheet-back.hpgl").is_file());
+    // A run without the back job removes the old one and its journal.
+    let (code, _, err) = fab(&[]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("sheet-back.hpgl") && err.contains("earlier run"),
+        "{err}"
+    );
+    for stale in [
+        "sheet-back.hpgl",
+        "sheet-back.svg",
+        "sheet-back.hpgl.journal",
+    ] {
+        assert!(!dir.join(stale).exists(), "{stale} left over");
+    }
+    // A GP-GL machine's run replaces sheet.hpgl by sheet.gpgl.
+    let (code, _, err) = fab(&["--machine", "graphtec-ce"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(dir.join("sheet.gpgl").is_file() && !dir.join("sheet.hpgl").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -79,6 +79,14 @@ pub fn fab(args: FabArgs) -> Result<u8, String> {
     let dir = out_dir
         .unwrap_or_else(|| PathBuf::from("out").join(design.file_stem().unwrap_or_default()));
     io::write_all_atomic(&dir, &result.files).map_err(|e| e.to_string())?;
+    let removed = crease::pipeline::remove_stale_outputs(&dir, &result.files);
+    if !removed.is_empty() {
+        eprintln!(
+            "{}: removed {} from an earlier run",
+            dir.display(),
+            removed.join(", ")
+        );
+    }
     let s = &result.report["sheet"];
     if s["tiled"] == true {
         eprintln!(

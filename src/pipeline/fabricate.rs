@@ -399,3 +399,39 @@ fn unscored_creases(sheet: &crate::fab::Sheet, strokes: &[crate::fab::Stroke]) -
         })
         .collect()
 }
+
+/// Every file a fabrication run can write, and the journals `plot` keeps beside the jobs.
+pub const OUTPUT_FILES: [&str; 14] = [
+    "sheet.svg",
+    "sheet.hpgl",
+    "sheet.gpgl",
+    "sheet.dxf",
+    "sheet-back.hpgl",
+    "sheet-back.gpgl",
+    "sheet-back.svg",
+    "crease-pattern.svg",
+    "crease-pattern.fold",
+    "sheet.pdf",
+    "report.json",
+    "sheet.hpgl.journal",
+    "sheet-back.hpgl.journal",
+    "sheet.gpgl.journal",
+];
+
+/// Files an earlier run left in `dir` that this run's `written` files do not replace (a
+/// back job the new run has none of, with its journal; a sheet.hpgl when the machine now
+/// takes sheet.gpgl): removed once
+/// the new files are in, so the folder holds one run, never a mix of two.
+pub fn remove_stale_outputs(dir: &std::path::Path, written: &[(String, Vec<u8>)]) -> Vec<String> {
+    let mut removed = Vec::new();
+    for name in OUTPUT_FILES {
+        // A journal stays while its job is written again: for the same bytes it still
+        // resumes, for others its hash tells `plot` it is not theirs.
+        let owner = name.strip_suffix(".journal").unwrap_or(name);
+        let fresh = written.iter().any(|(n, _)| n == owner);
+        if !fresh && dir.join(name).is_file() && std::fs::remove_file(dir.join(name)).is_ok() {
+            removed.push(name.to_string());
+        }
+    }
+    removed
+}

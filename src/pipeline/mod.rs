@@ -5,7 +5,8 @@
 mod fabricate;
 
 pub use fabricate::{
-    fabricate, FabError, FabOptions, FabOutput, Rejected, MIN_WIDTH_MM, TILE_OVERLAP_MM,
+    fabricate, remove_stale_outputs, FabError, FabOptions, FabOutput, Rejected, MIN_WIDTH_MM,
+    OUTPUT_FILES, TILE_OVERLAP_MM,
 };
 
 use crate::constraints::{tracked_fold_angle, ConstraintSet, Reference};
