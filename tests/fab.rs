@@ -391,12 +391,33 @@ fn mountains_from_the_back_are_mirrored_into_a_second_job() {
     )
     .unwrap();
     let back = split.back.as_ref().unwrap();
+    // The front job scores valleys only; the back job scores the mountains and then cuts
+    // the outline, so the piece stays in the sheet until both sides are scored.
     assert!(split
         .toolpath
         .strokes
         .iter()
-        .all(|s| s.kind != LineKind::Mountain));
-    assert!(back.strokes.iter().all(|s| s.kind == LineKind::Mountain));
+        .all(|s| s.kind == LineKind::Valley));
+    let first_cut = back
+        .strokes
+        .iter()
+        .position(|s| s.kind == LineKind::Cut)
+        .unwrap();
+    assert!(back.strokes[..first_cut]
+        .iter()
+        .all(|s| s.kind == LineKind::Mountain));
+    assert!(back.strokes[first_cut..]
+        .iter()
+        .all(|s| s.kind == LineKind::Cut));
+    let back_cut: f64 = back.strokes[first_cut..].iter().map(|s| s.length()).sum();
+    let plain_cut: f64 = plain
+        .toolpath
+        .strokes
+        .iter()
+        .filter(|s| s.kind == LineKind::Cut)
+        .map(|s| s.length())
+        .sum();
+    assert!((back_cut - plain_cut).abs() < 1e-6);
     let w = plain.sheet.media.width;
     let front_mountains: Vec<&Stroke> = plain
         .toolpath
@@ -404,9 +425,9 @@ fn mountains_from_the_back_are_mirrored_into_a_second_job() {
         .iter()
         .filter(|s| s.kind == LineKind::Mountain)
         .collect();
-    assert_eq!(front_mountains.len(), back.strokes.len());
-    // Each back stroke is a front mountain mirrored left to right.
-    for s in &back.strokes {
+    assert_eq!(front_mountains.len(), first_cut);
+    // Each back mountain is a front mountain mirrored left to right.
+    for s in &back.strokes[..first_cut] {
         let m = (
             Vec2::new(w - s.from.x, s.from.y),
             Vec2::new(w - s.to.x, s.to.y),

@@ -30,7 +30,8 @@ pub struct FabArgs {
     /// Cut even if the design fails verification.
     #[arg(long)]
     force: bool,
-    /// Score mountains from the back: a second, mirrored job (sheet-back.hpgl).
+    /// Score mountains from the back: a second, mirrored job (sheet-back.*) that also cuts
+    /// the outline, last, so the piece stays in the sheet until both sides are scored.
     #[arg(long)]
     mountains_from_back: bool,
     /// Split a sheet too large for the media over several PDF pages, with overlap and

@@ -136,7 +136,11 @@ pub fn fabricate(
     let unscored = unscored_creases(&sheet, &strokes);
     let (front, back): (Vec<_>, Vec<_>) = strokes
         .into_iter()
-        .partition(|s| !(options.mountains_from_back && s.kind == LineKind::Mountain));
+        // Two-sided: the outline is cut last in the last job, so the piece stays in the
+        // sheet until both sides are scored.
+        .partition(|s| {
+            !(options.mountains_from_back && matches!(s.kind, LineKind::Mountain | LineKind::Cut))
+        });
     let toolpath = Toolpath {
         media: media.clone(),
         strokes: route(&front),
