@@ -31,6 +31,20 @@ fn a3() -> FabOptions {
     }
 }
 
+/// The bytes of one file a fabrication run produced.
+fn output<'a>(out: &'a crease::pipeline::FabOutput, name: &str) -> &'a [u8] {
+    &out.files
+        .iter()
+        .find(|f| f.0 == name)
+        .unwrap_or_else(|| panic!("fab wrote no {name}"))
+        .1
+}
+
+/// One text file a fabrication run produced.
+fn output_text<'a>(out: &'a crease::pipeline::FabOutput, name: &str) -> &'a str {
+    std::str::from_utf8(output(out, name)).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
 fn distance_to_segment(p: Vec2, s: &Stroke) -> f64 {
     let d = s.to - s.from;
     let t = ((p - s.from).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
@@ -99,16 +113,7 @@ fn every_design_fabricates_isometric_clear_of_junctions_and_hpgl_faithful() {
             assert!(scored > 0, "{} has folds to score", path.display());
         }
         // The HP-GL, interpreted, draws exactly the toolpath (to the plotter unit).
-        let text = String::from_utf8(
-            out.files
-                .iter()
-                .find(|f| f.0 == "sheet.hpgl")
-                .unwrap()
-                .1
-                .clone(),
-        )
-        .unwrap();
-        let drawn = hpgl::interpret(&text).unwrap();
+        let drawn = hpgl::interpret(output_text(&out, "sheet.hpgl")).unwrap();
         let expected = hpgl::expected_segments(&out.toolpath, &machine.hpgl_settings());
         assert_eq!(drawn.segments.len(), expected.len(), "{}", path.display());
         for (d, e) in drawn.segments.iter().zip(&expected) {
@@ -191,12 +196,7 @@ fn the_crease_pattern_svg_reimports_to_the_same_graph() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura-bent.fold");
     let mesh = crease::io::read(&path).unwrap();
     let out = fabricate(&mesh, &machine, &a3()).unwrap();
-    let svg = &out
-        .files
-        .iter()
-        .find(|f| f.0 == "crease-pattern.svg")
-        .unwrap()
-        .1;
+    let svg = output(&out, "crease-pattern.svg");
     let dir = std::env::temp_dir().join(format!("crease-fab-cp-{}", std::process::id()));
     crease::io::write_atomic(&dir.join("cp.svg"), svg).unwrap();
     let back = crease::io::read(&dir.join("cp.svg")).unwrap();
@@ -220,8 +220,7 @@ fn the_crease_pattern_fold_carries_the_layer_order_of_a_flat_pattern() {
     let machine = Machine::load("generic-hpgl").unwrap();
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let file = |out: &crease::pipeline::FabOutput, name: &str| -> serde_json::Value {
-        let bytes = &out.files.iter().find(|f| f.0 == name).unwrap().1;
-        serde_json::from_slice(bytes).unwrap()
+        serde_json::from_slice(output(out, name)).unwrap()
     };
     let bird = crease::io::read(&root.join("patterns/bird-base.fold")).unwrap();
     let out = fabricate(&bird, &machine, &a3()).unwrap();
@@ -253,7 +252,7 @@ fn the_pdf_page_is_the_media_and_its_scale_bar_is_100_mm() {
             ..Default::default()
         };
         let out = fabricate(&mesh, &machine, &options).unwrap();
-        let pdf = &out.files.iter().find(|f| f.0 == "sheet.pdf").unwrap().1;
+        let pdf = output(&out, "sheet.pdf");
         let doc = printpdf::PdfDocument::parse(pdf, &Default::default(), &mut Vec::new()).unwrap();
         assert_eq!(doc.pages.len(), 1);
         let page = &doc.pages[0];
@@ -481,7 +480,7 @@ fn an_oversized_sheet_is_tiled_over_media_pages_when_asked() {
         out.files.iter().all(|f| !f.0.ends_with(".hpgl")),
         "no cutter job for a sheet larger than the media"
     );
-    let pdf = &out.files.iter().find(|f| f.0 == "sheet.pdf").unwrap().1;
+    let pdf = output(&out, "sheet.pdf");
     let doc = printpdf::PdfDocument::parse(pdf, &Default::default(), &mut Vec::new()).unwrap();
     // The sheet (with margins) is wider or taller than A5, so at least two pages, each A5.
     assert!(out.sheet.media.width > 148.0 || out.sheet.media.height > 210.0);
@@ -631,8 +630,8 @@ fn sheet_dxf_read_by_an_independent_parser_carries_exactly_the_toolpath() {
     for path in patterns() {
         let mesh = crease::io::read(&path).unwrap();
         let out = fabricate(&mesh, &machine, &a3()).unwrap();
-        let bytes = &out.files.iter().find(|f| f.0 == "sheet.dxf").unwrap().1;
-        let drawing = dxf::Drawing::load(&mut bytes.as_slice())
+        let bytes = output(&out, "sheet.dxf");
+        let drawing = dxf::Drawing::load(&mut &bytes[..])
             .unwrap_or_else(|e| panic!("{}: sheet.dxf does not parse: {e}", path.display()));
         assert_eq!(drawing.header.version, dxf::enums::AcadVersion::R12);
         let lines: Vec<(String, [f64; 4])> = drawing
@@ -717,8 +716,8 @@ fn sheet_gpgl_read_by_an_independent_reader_carries_exactly_the_toolpath() {
         let mesh = crease::io::read(&path).unwrap();
         let out = fabricate(&mesh, &machine, &a3()).unwrap();
         assert!(!out.files.iter().any(|f| f.0 == "sheet.hpgl"));
-        let job = &out.files.iter().find(|f| f.0 == "sheet.gpgl").unwrap().1;
-        let segments = read_gpgl(std::str::from_utf8(job).unwrap());
+        let job = output_text(&out, "sheet.gpgl");
+        let segments = read_gpgl(job);
         // The cutter's origin is the media's top-left corner; the toolpath's y grows up.
         let h = out.toolpath.media.height;
         let step = |p: Vec2| {
@@ -768,10 +767,7 @@ fn sheet_gpgl_read_by_an_independent_reader_carries_exactly_the_toolpath() {
     let mesh = crease::io::read(&patterns()[0]).unwrap();
     let read = |m: &Machine| {
         let out = fabricate(&mesh, m, &a3()).unwrap();
-        read_gpgl(
-            std::str::from_utf8(&out.files.iter().find(|f| f.0 == "sheet.gpgl").unwrap().1)
-                .unwrap(),
-        )
+        read_gpgl(output_text(&out, "sheet.gpgl"))
     };
     let flipped: Vec<_> = read(&swapped)
         .into_iter()
@@ -810,23 +806,19 @@ fn every_output_shows_the_sheet_the_same_way_round() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let bird = crease::io::read(&root.join("patterns/bird-base.fold")).unwrap();
     type Segment = ([f64; 2], [f64; 2]);
-    let set = |v: Vec<Segment>| v;
     let hpgl_machine = Machine::load("generic-hpgl").unwrap();
     let out = fabricate(&bird, &hpgl_machine, &a3()).unwrap();
     let h = out.toolpath.media.height;
-    let file = |o: &crease::pipeline::FabOutput, n: &str| {
-        String::from_utf8(o.files.iter().find(|f| f.0 == n).unwrap().1.clone()).unwrap()
-    };
     // The SVG's lines, as drawn.
-    let svg = file(&out, "sheet.svg");
-    let from_svg = set(svg_segments(&svg)
+    let svg = output_text(&out, "sheet.svg");
+    let from_svg: Vec<Segment> = svg_segments(svg)
         .into_iter()
         .map(|(_, a, b)| (a, b))
-        .collect());
+        .collect();
     // The DXF, turned to y down.
-    let dxf = file(&out, "sheet.dxf");
+    let dxf = output_text(&out, "sheet.dxf");
     let drawing = dxf::Drawing::load(&mut dxf.as_bytes()).unwrap();
-    let from_dxf = set(drawing
+    let from_dxf: Vec<Segment> = drawing
         .entities()
         .filter_map(|e| match &e.specific {
             dxf::entities::EntityType::Line(l) => {
@@ -834,28 +826,30 @@ fn every_output_shows_the_sheet_the_same_way_round() {
             }
             _ => None,
         })
-        .collect());
+        .collect();
     // The HP-GL as the plotter draws it.
     let u = hpgl_machine.units_per_mm;
-    let drawn = hpgl::interpret(&file(&out, "sheet.hpgl")).unwrap().segments;
-    let from_hpgl = set(drawn
+    let drawn = hpgl::interpret(output_text(&out, "sheet.hpgl"))
+        .unwrap()
+        .segments;
+    let from_hpgl: Vec<Segment> = drawn
         .iter()
         .map(|(_, a, b)| {
             let p = |q: [i64; 2]| [q[0] as f64 / u, h - q[1] as f64 / u];
             (p(*a), p(*b))
         })
-        .collect());
+        .collect();
     // The GP-GL from the top-left origin, feed (down) first.
     let gpgl_machine = Machine::load("graphtec-ce").unwrap();
     let g = fabricate(&bird, &gpgl_machine, &a3()).unwrap();
     let gu = gpgl_machine.units_per_mm;
-    let from_gpgl = set(read_gpgl(&file(&g, "sheet.gpgl"))
+    let from_gpgl: Vec<Segment> = read_gpgl(output_text(&g, "sheet.gpgl"))
         .into_iter()
         .map(|(_, a, b)| {
             let p = |q: [i64; 2]| [q[1] as f64 / gu, q[0] as f64 / gu];
             (p(a), p(b))
         })
-        .collect());
+        .collect();
     // Each segment of `other` lies on one of sheet.svg's, ends within 0.1 mm (the
     // cutters' steps are 0.025–0.05 mm), and the counts agree.
     let near = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]) < 0.1;
@@ -934,15 +928,7 @@ fn sheet_svg_holds_only_what_is_cut_or_scored_one_path_per_line() {
     for path in patterns() {
         let mesh = crease::io::read(&path).unwrap();
         let out = fabricate(&mesh, &machine, &a3()).unwrap();
-        let svg = String::from_utf8(
-            out.files
-                .iter()
-                .find(|f| f.0 == "sheet.svg")
-                .unwrap()
-                .1
-                .clone(),
-        )
-        .unwrap();
+        let svg = output_text(&out, "sheet.svg");
         let name = path.display();
         assert!(!svg.contains("<rect") && !svg.contains("<line"), "{name}");
         // Every layer drawn in hairlines.
@@ -989,7 +975,7 @@ fn sheet_svg_holds_only_what_is_cut_or_scored_one_path_per_line() {
         }
         // Segment by segment the toolpath (the SVG's y runs down the sheet).
         let h = out.toolpath.media.height;
-        let drawn = svg_segments(&svg);
+        let drawn = svg_segments(svg);
         assert_eq!(drawn.len(), strokes.len(), "{name}");
         let near = |a: [f64; 2], b: Vec2| (a[0] - b.x).hypot(a[1] - (h - b.y)) < 1e-3;
         for s in strokes {

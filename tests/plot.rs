@@ -417,37 +417,29 @@ fn a_job_is_plotted_over_the_line_of_the_machine_it_was_made_for() {
 fn a_plain_plot_of_an_unfinished_job_sends_nothing_and_exits_2() {
     let dir = fab_job("miura.fold", "generic-hpgl", "unfinished");
     let text = std::fs::read_to_string(dir.join("sheet.hpgl")).unwrap();
-    // Interrupt a real plot: the cable is pulled a third of the way in.
+    // A fast XON/XOFF plotter, its cable pulled after `fail_after` bytes if given.
     let link = scratch("unfinished").join("plotter");
-    let emulator = Emulator::start(
-        &link,
-        EmulatorConfig {
-            baud: 115200,
-            rate: 6000.0,
-            flow: Flow::XonXoff,
-            fail_after: Some(text.len() / 3),
-            ..Default::default()
-        },
-    )
-    .unwrap();
-    let (code, err) = plot_cli(&dir, &link, &["--baud", "115200", "--flow", "xonxoff"]);
-    assert_eq!(code, Some(1), "{err}");
-    drop(emulator.stop());
-    // A plain plot refuses before it opens the port: the plotter receives nothing.
-    let fresh = || {
+    let plotter = |fail_after: Option<usize>| {
         Emulator::start(
             &link,
             EmulatorConfig {
                 baud: 115200,
                 rate: 6000.0,
                 flow: Flow::XonXoff,
+                fail_after,
                 ..Default::default()
             },
         )
         .unwrap()
     };
-    let emulator = fresh();
     let plain = ["--baud", "115200", "--flow", "xonxoff"];
+    // Interrupt a real plot: the cable is pulled a third of the way in.
+    let emulator = plotter(Some(text.len() / 3));
+    let (code, err) = plot_cli(&dir, &link, &plain);
+    assert_eq!(code, Some(1), "{err}");
+    drop(emulator.stop());
+    // A plain plot refuses before it opens the port: the plotter receives nothing.
+    let emulator = plotter(None);
     let (code, err) = plot_cli(&dir, &link, &plain);
     std::thread::sleep(Duration::from_millis(200));
     assert_eq!(emulator.stop().received, 0, "the refused plot sent nothing");
@@ -457,7 +449,7 @@ fn a_plain_plot_of_an_unfinished_job_sends_nothing_and_exits_2() {
         "{err}"
     );
     // --restart plots the whole job again.
-    let emulator = fresh();
+    let emulator = plotter(None);
     let (code, err) = plot_cli(&dir, &link, &[&plain[..], &["--restart"]].concat());
     emulator.wait_idle(Duration::from_millis(300), Duration::from_secs(60));
     let state = emulator.stop();

@@ -98,35 +98,14 @@ pub fn fab(args: FabArgs) -> Result<u8, String> {
         );
         return Ok(0);
     }
-    let jobs: Vec<&str> = s["job_files"]
-        .as_array()
-        .map(|a| a.iter().filter_map(|n| n.as_str()).collect())
-        .unwrap_or_default();
-    if jobs.is_empty() {
-        eprintln!(
-            "{}: {} strokes, pen-up travel {:.0} mm; no cutter job for {}: sheet.dxf and sheet.svg are for its software",
-            dir.display(),
-            s["strokes"],
-            s["pen_up_travel_mm"].as_f64().unwrap_or(0.0),
-            machine.name
-        );
-    } else {
-        eprintln!(
-            "{}: {} strokes, pen-up travel {:.0} mm, {} bytes in {}, about {:.0} s to plot",
-            dir.display(),
-            s["strokes"],
-            s["pen_up_travel_mm"].as_f64().unwrap_or(0.0),
-            s["job_bytes"],
-            jobs.join(" and "),
-            s["estimated_plot_time_s"].as_f64().unwrap_or(0.0)
-        );
-    }
-    if let Some(folds) = s["unscored_creases"].as_array().filter(|a| !a.is_empty()) {
-        eprintln!(
-            "warning: {} fold(s) too short to score ({} mm clearance at junctions): crease them by hand; report.json and sheet.pdf name them",
-            folds.len(),
-            machine.clearance_mm
-        );
+    eprintln!(
+        "{}: {} strokes; {}",
+        dir.display(),
+        s["strokes"],
+        result.job_line
+    );
+    for warning in &result.warnings {
+        eprintln!("warning: {warning}");
     }
     if !result.verification.pass() {
         eprintln!("warning: the design fails verification; cut anyway because of --force");

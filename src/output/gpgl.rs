@@ -48,7 +48,7 @@ pub fn to_string(path: &Toolpath, settings: &GpglSettings) -> Result<String, Str
     // `at` in (x, y) steps, the order the sheet has; `order` turns it into the cutter's.
     let mut at = (0i64, 0i64);
     let mut tool: Option<LineKind> = None;
-    for (kind, points) in chains(path) {
+    for (kind, points) in runs_in_cutting_order(path) {
         if tool != Some(kind) {
             let t = settings
                 .tools
@@ -101,8 +101,9 @@ pub fn to_string(path: &Toolpath, settings: &GpglSettings) -> Result<String, Str
     Ok(out)
 }
 
-/// The toolpath as runs of joined strokes of one kind: (kind, the points in order).
-fn chains(path: &Toolpath) -> Vec<(LineKind, Vec<crate::mesh::Vec2>)> {
+/// The toolpath as runs of joined strokes of one kind, (kind, points), in the toolpath's
+/// cutting order: only strokes that follow each other join, so the job cuts as routed.
+fn runs_in_cutting_order(path: &Toolpath) -> Vec<(LineKind, Vec<crate::mesh::Vec2>)> {
     let mut runs: Vec<(LineKind, Vec<crate::mesh::Vec2>)> = Vec::new();
     for s in &path.strokes {
         match runs.last_mut() {

@@ -37,6 +37,11 @@ pub struct FabOutput {
     pub files: Vec<(String, Vec<u8>)>,
     /// The report written as report.json.
     pub report: serde_json::Value,
+    /// The summary's line on the cutter job (as on the PDF): its size and time, or why
+    /// there is none.
+    pub job_line: String,
+    /// What the maker must do by hand (as on the PDF), e.g. folds too short to score.
+    pub warnings: Vec<String>,
     /// The verification report.
     pub verification: crate::fab::Report,
     /// The placed sheet.
@@ -258,6 +263,16 @@ pub fn fabricate(
     } else {
         mesh.title.clone()
     };
+    let job_line = job_summary(
+        &jobs_written,
+        cut_length.values().sum(),
+        travel,
+        estimate,
+        tiled,
+    );
+    let warnings = unscored_warning(&sheet, &unscored)
+        .into_iter()
+        .collect::<Vec<_>>();
     let mut summary =
         vec![
             format!(
@@ -271,31 +286,9 @@ pub fn fabricate(
             sheet.scale,
             if verification.pass() { "passed" } else { "FAILED (forced)" }
         ),
-            job_summary(
-                &jobs_written,
-                cut_length.values().sum(),
-                travel,
-                estimate,
-                tiled,
-            ),
+            job_line.clone(),
         ];
-    if !unscored.is_empty() {
-        let lengths: Vec<String> = unscored
-            .iter()
-            .map(|&i| {
-                format!(
-                    "{} {:.1} mm",
-                    sheet.lines[i].kind.name(),
-                    sheet.lines[i].length()
-                )
-            })
-            .collect();
-        summary.push(format!(
-            "{} fold(s) too short to score, crease by hand: {} (report.json has their ends)",
-            unscored.len(),
-            lengths.join(", ")
-        ));
-    }
+    summary.extend(warnings.iter().cloned());
     let pdf = if tiled {
         crate::output::pdf::to_bytes_tiled(&sheet, &page, margin, TILE_OVERLAP_MM, &title, &summary)
     } else {
@@ -309,6 +302,8 @@ pub fn fabricate(
     Ok(FabOutput {
         files,
         report,
+        job_line,
+        warnings,
         verification,
         sheet,
         toolpath,
@@ -387,6 +382,28 @@ fn job_summary(
         "cut {cut_mm:.0} mm, pen-up travel {travel_mm:.0} mm, {bytes} bytes in {}, about {seconds:.0} s to plot",
         names.join(" and ")
     )
+}
+
+/// The note naming folds too short to score, if there are any.
+fn unscored_warning(sheet: &crate::fab::Sheet, unscored: &[usize]) -> Option<String> {
+    if unscored.is_empty() {
+        return None;
+    }
+    let lengths: Vec<String> = unscored
+        .iter()
+        .map(|&i| {
+            format!(
+                "{} {:.1} mm",
+                sheet.lines[i].kind.name(),
+                sheet.lines[i].length()
+            )
+        })
+        .collect();
+    Some(format!(
+        "{} fold(s) too short to score, crease by hand: {} (report.json has their ends)",
+        unscored.len(),
+        lengths.join(", ")
+    ))
 }
 
 /// Mountain and valley lines that got no stroke: too short for a dash once the clearance
