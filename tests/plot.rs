@@ -1,50 +1,29 @@
 //! Streaming to the emulated plotter over a real pty through `serialport`: every flow mode
-//! delivers the job intact; a sender that ignores flow control loses bytes (so the tests
-//! can fail); a pulled cable and a power cut are recovered with --resume.
+//! delivers the job intact, in HP-GL and GP-GL; a sender that ignores flow control loses
+//! bytes (so the tests can fail); `plot` takes the job's own line and refuses to start an
+//! unfinished job again. Recovery after a pulled cable or a power cut is in plot_resume.rs.
 
+mod common;
+
+use common::plotting::{cutter_job, scratch};
 use crease::output::hpgl;
 use crease::plotter::{
-    stream, Emulator, EmulatorConfig, Flow, FlowMode, StreamError, StreamOptions,
+    stream, Emulator, EmulatorConfig, Flow, FlowMode, Language, StreamError, StreamOptions,
 };
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("crease-plot-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-/// A real job: the bundled Miura-ori's HP-GL, from the fabrication pipeline.
+/// A real job: a bundled design's HP-GL from the fabrication pipeline.
 fn job(design: &str) -> String {
-    let machine = crease::plotter::Machine::load("generic-hpgl").unwrap();
-    let mesh = crease::io::read(
-        &Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("patterns")
-            .join(design),
-    )
-    .unwrap();
-    let options = crease::pipeline::FabOptions {
-        media: Some(crease::fab::Media::parse("a3").unwrap()),
-        ..Default::default()
-    };
-    let out = crease::pipeline::fabricate(&mesh, &machine, &options).unwrap();
-    String::from_utf8(
-        out.files
-            .iter()
-            .find(|f| f.0 == "sheet.hpgl")
-            .unwrap()
-            .1
-            .clone(),
-    )
-    .unwrap()
+    cutter_job(design, "generic-hpgl")
 }
 
 fn options(port: &Path, flow: FlowMode, baud: u32) -> StreamOptions {
     StreamOptions {
         port: port.to_path_buf(),
         baud,
+        language: Language::Hpgl,
         flow,
         buffer: 1024,
         resume: false,
@@ -183,115 +162,65 @@ fn a_sender_that_ignores_flow_control_loses_bytes() {
     assert_ne!(state.path.segments, expected);
 }
 
-/// Pen-down segments: (pen, from, to) in plotter units.
-type Segments = Vec<(u32, [i64; 2], [i64; 2])>;
-
-/// Streams until the emulator pulls the cable, waits for the port to come back, resumes.
-fn pull_and_resume(
-    seed: usize,
-    flow: FlowMode,
-    power_cycle: bool,
-) -> (crease::plotter::EmulatorState, Segments) {
-    let text = job("miura.fold");
-    let expected = hpgl::interpret(&text).unwrap().segments;
-    let dir = scratch(&format!("pull-{seed}-{flow:?}-{power_cycle}"));
-    let link = dir.join("plotter");
-    // A byte somewhere in the job, different per seed.
-    let fail_after = 600 + (seed * 2654435761) % (text.len() - 1200);
+/// Streams a GP-GL job to a GP-GL emulator on an RTS/CTS line.
+fn gpgl_run(
+    text: &str,
+    name: &str,
+    media_loaded: bool,
+) -> (Result<(), StreamError>, crease::plotter::EmulatorState) {
+    let dir = scratch(name);
+    let link = dir.join("cutter");
     let config = EmulatorConfig {
-        baud: 115200,
-        rate: 6000.0,
-        flow: emulator_flow(flow),
-        fail_after: Some(fail_after),
-        reconnect_after: Some(Duration::from_millis(700)),
-        power_cycle,
+        baud: 9600,
+        rate: 600.0,
+        flow: Flow::RtsCts,
+        language: Language::Gpgl,
+        media_loaded,
         ..Default::default()
     };
     let emulator = Emulator::start(&link, config).unwrap();
-    let job_path = dir.join("job.hpgl");
-    std::fs::write(&job_path, &text).unwrap();
-    let mut opts = options(&link, flow, 115200);
-    let first = stream(
+    let job_path = dir.join("sheet.gpgl");
+    std::fs::write(&job_path, text).unwrap();
+    let mut opts = options(&link, FlowMode::RtsCts, 9600);
+    opts.language = Language::Gpgl;
+    let result = stream(
         text.as_bytes(),
         &job_path,
         &opts,
         &mut |_| {},
         &AtomicBool::new(false),
-    );
-    assert!(
-        matches!(first, Err(StreamError::Vanished { .. })),
-        "seed {seed}: {first:?}"
-    );
-    // The journal survives; wait for the port to come back.
-    assert!(crease::plotter::stream::journal_path(&job_path).is_file());
-    let start = std::time::Instant::now();
-    while std::fs::symlink_metadata(&link).is_err() && start.elapsed() < Duration::from_secs(10) {
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    std::thread::sleep(Duration::from_millis(100));
-    opts.resume = true;
-    // The link can reappear a moment before the replugged port opens (a busy machine):
-    // a resume that could not open it sent nothing, and is tried again, as a user would.
-    let mut second = stream(
-        text.as_bytes(),
-        &job_path,
-        &opts,
-        &mut |_| {},
-        &AtomicBool::new(false),
-    );
-    for _ in 0..5 {
-        if !matches!(second, Err(StreamError::Open { .. })) {
-            break;
-        }
-        std::thread::sleep(Duration::from_millis(300));
-        second = stream(
-            text.as_bytes(),
-            &job_path,
-            &opts,
-            &mut |_| {},
-            &AtomicBool::new(false),
-        );
-    }
-    let second = second.unwrap_or_else(|e| panic!("seed {seed}: resume failed: {e}"));
-    assert!(
-        second.resumed_from > 0 || power_cycle,
-        "seed {seed}: resumed from the start ({:?})",
-        second.resume_note
-    );
+    )
+    .map(|_| ());
     emulator.wait_idle(Duration::from_millis(300), Duration::from_secs(60));
-    (emulator.stop(), expected)
+    (result, emulator.stop())
 }
 
 #[test]
-fn a_pulled_cable_is_resumed_without_redrawing_or_skipping() {
-    for seed in 1..=4 {
-        for flow in [FlowMode::Query, FlowMode::XonXoff] {
-            let (state, expected) = pull_and_resume(seed, flow, false);
-            assert_eq!(state.lost, 0, "seed {seed} {flow:?}");
-            assert_eq!(state.disconnects, 1);
-            // The plotter kept power: one continuous drawing, exactly the job.
-            assert_eq!(
-                state.path.segments, expected,
-                "seed {seed} {flow:?}: drawing differs (a segment twice or missing)"
-            );
-        }
-    }
+fn a_gpgl_job_arrives_complete_at_9600_baud() {
+    let text = cutter_job("miura.fold", "graphtec-ce");
+    let expected = crease::output::gpgl::interpret(&text).unwrap().segments;
+    assert!(expected.len() > 100, "a real job: {} cuts", expected.len());
+    let (result, state) = gpgl_run(&text, "gpgl-9600", true);
+    result.unwrap();
+    assert_eq!(state.lost, 0, "bytes lost");
+    assert!(state.errors.is_empty(), "{:?}", state.errors);
+    // Only the job's own reset came before the cuts.
+    assert!(state.earlier.is_empty());
+    assert_eq!(
+        state.path.segments, expected,
+        "the cuts differ from the job"
+    );
 }
 
 #[test]
-fn a_power_cut_is_resumed_with_nothing_missing() {
-    for seed in [2, 5] {
-        let (state, expected) = pull_and_resume(seed, FlowMode::Query, true);
-        let drawn: std::collections::HashSet<_> =
-            state.earlier.iter().chain(&state.path.segments).collect();
-        for s in &expected {
-            assert!(drawn.contains(s), "seed {seed}: segment {s:?} never drawn");
-        }
-        assert!(
-            !state.earlier.is_empty(),
-            "seed {seed}: something was drawn before the cut"
-        );
-    }
+fn a_cutter_without_media_stops_the_job_with_a_clear_error() {
+    let text = cutter_job("miura.fold", "graphtec-ce");
+    let (result, state) = gpgl_run(&text, "gpgl-no-media", false);
+    let err = result.expect_err("no media must stop the job");
+    assert!(matches!(err, StreamError::NoMedia { .. }), "{err}");
+    assert!(err.to_string().contains("load the sheet"), "{err}");
+    // It asked before the first chunk and stopped: no job byte went, no endless polling.
+    assert!(state.received <= 2, "{} bytes sent", state.received);
 }
 
 #[test]
@@ -410,6 +339,50 @@ fn a_job_is_plotted_over_the_line_of_the_machine_it_was_made_for() {
     assert_eq!(
         state.path.segments,
         hpgl::interpret(&text).unwrap().segments
+    );
+}
+
+#[test]
+fn a_graphtec_job_is_plotted_as_gpgl_from_its_folder() {
+    // `fab --machine graphtec-ce` writes sheet.gpgl; `plot DIR` finds it, speaks GP-GL
+    // with the profile's RTS/CTS, and the cutter cuts exactly the file.
+    let dir = fab_job("miura.fold", "graphtec-ce", "graphtec");
+    let text = std::fs::read_to_string(dir.join("sheet.gpgl")).unwrap();
+    let link = scratch("graphtec").join("cutter");
+    let emulator = Emulator::start(
+        &link,
+        EmulatorConfig {
+            baud: 9600,
+            rate: 800.0,
+            flow: Flow::RtsCts,
+            language: Language::Gpgl,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let (code, err) = plot_cli(&dir, &link, &[]);
+    emulator.wait_idle(Duration::from_millis(300), Duration::from_secs(60));
+    let state = emulator.stop();
+    assert_eq!(code, Some(0), "{err}");
+    assert!(
+        err.contains("graphtec-ce") || err.contains("Graphtec"),
+        "{err}"
+    );
+    assert_eq!(state.lost, 0);
+    assert_eq!(
+        state.path.segments,
+        crease::output::gpgl::interpret(&text).unwrap().segments
+    );
+    // A GP-GL job offered to an HP-GL machine is refused before the port is opened.
+    let (code, err) = plot_cli(
+        &dir.join("sheet.gpgl"),
+        &link,
+        &["--machine", "generic-hpgl"],
+    );
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains(".gpgl job") && err.contains("--machine"),
+        "{err}"
     );
 }
 

@@ -1,19 +1,22 @@
 //! `crease plot` and `crease emulate`.
 
 use super::out;
+use crease::plotter::Language;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `crease plot`.
 #[derive(clap::Args)]
 pub struct PlotArgs {
-    /// An .hpgl file, or a `crease fab` output folder (its sheet.hpgl).
+    /// An .hpgl or .gpgl file, or a `crease fab` output folder (its sheet.hpgl or
+    /// sheet.gpgl, as its machine speaks).
     pub job: PathBuf,
     /// Serial port, e.g. /dev/ttyUSB0.
     #[arg(long)]
     pub port: PathBuf,
-    /// Machine profile for baud, flow control and buffer size (default: the machine the job
-    /// was made for, from the report.json beside it; generic-hpgl for a bare .hpgl file).
+    /// Machine profile for language, baud, flow control and buffer size (default: the
+    /// machine the job was made for, from the report.json beside it; generic-hpgl for a
+    /// bare .hpgl file, graphtec-ce for a bare .gpgl file).
     #[arg(long)]
     pub machine: Option<String>,
     /// Line speed (default: the machine's).
@@ -42,7 +45,7 @@ pub struct EmulateArgs {
     /// Input buffer size in bytes.
     #[arg(long, default_value_t = 1024)]
     pub buffer: usize,
-    /// Drawing rate in bytes of HP-GL per second.
+    /// Drawing rate in bytes of the job per second.
     #[arg(long, default_value_t = 600.0)]
     pub rate: f64,
     /// Line speed.
@@ -60,11 +63,18 @@ pub struct EmulateArgs {
     /// With --fail-after: switch the plotter off too (it forgets everything).
     #[arg(long)]
     pub power_cycle: bool,
+    /// The language it speaks: hpgl or gpgl.
+    #[arg(long, default_value = "hpgl")]
+    pub language: String,
+    /// A GP-GL cutter with no media loaded (its status says 2).
+    #[arg(long)]
+    pub no_media: bool,
 }
 
 /// The line a job is streamed over, and where those settings came from.
 struct LineSettings {
     source: String,
+    language: Language,
     baud: u32,
     flow: String,
     buffer: usize,
@@ -79,14 +89,15 @@ impl LineSettings {
                 m.name, m.connection
             )
         })?;
-        if m.protocol != "hpgl" {
-            return Err(format!(
-                "{name} ({}) speaks {}, and plot streams HP-GL only so far: send sheet.{} with the cutter's software",
-                m.name, m.protocol, m.protocol
-            ));
-        }
+        let language = Language::from_protocol(&m.protocol).ok_or_else(|| {
+            format!(
+                "{name} ({}) speaks {}, which is a file for its own software, not a stream",
+                m.name, m.protocol
+            )
+        })?;
         Ok(LineSettings {
             source: format!("{source} {name} ({})", m.name),
+            language,
             baud: line.baud,
             flow: line.flow_control,
             buffer: line.buffer_bytes,
@@ -121,17 +132,16 @@ impl LineSettings {
                 )),
             };
         }
-        if plotter["protocol"] != "hpgl" {
-            return Err(format!(
-                "{}: made for {machine}, which speaks {}; plot streams HP-GL only so far: send sheet.{} with the cutter's software",
-                folder.display(),
-                plotter["protocol"].as_str().unwrap_or("?"),
-                plotter["protocol"].as_str().unwrap_or("?")
-            ));
-        }
+        let protocol = plotter["protocol"].as_str().unwrap_or("?");
+        let language = Language::from_protocol(protocol).ok_or_else(|| {
+            bad(&format!(
+                "made for {machine}, whose protocol \"{protocol}\" is not streamed"
+            ))
+        })?;
         let number = |k: &str| plotter[k].as_u64().ok_or_else(|| bad(&format!("no {k}")));
         Ok(Some(LineSettings {
             source: format!("the job's machine ({machine}, from report.json)"),
+            language,
             baud: u32::try_from(number("baud")?).map_err(|_| bad("baud out of range"))?,
             flow: plotter["flow_control"]
                 .as_str()
@@ -160,26 +170,44 @@ fn open_job(
         Some(name) => LineSettings::from_profile(name, "--machine")?,
         None => match LineSettings::from_report(&folder)? {
             Some(s) => s,
+            None if job.extension().is_some_and(|e| e == "gpgl") => {
+                LineSettings::from_profile("graphtec-ce", "the default GP-GL machine")?
+            }
             None => LineSettings::from_profile("generic-hpgl", "the default machine")?,
         },
     };
+    let (name, extension) = match settings.language {
+        Language::Hpgl => ("HP-GL", "hpgl"),
+        Language::Gpgl => ("GP-GL", "gpgl"),
+    };
     let job_path = if job.is_dir() {
-        job.join("sheet.hpgl")
+        job.join(format!("sheet.{extension}"))
     } else {
         job
     };
+    let other = if extension == "hpgl" { "gpgl" } else { "hpgl" };
+    if job_path.extension().is_some_and(|e| e == other) {
+        return Err(format!(
+            "{}: a .{other} job, but {} speaks {name}; name a machine that speaks it with --machine",
+            job_path.display(),
+            settings.source
+        ));
+    }
     let bytes = std::fs::read(&job_path).map_err(|e| format!("{}: {e}", job_path.display()))?;
     let text = String::from_utf8(bytes)
-        .map_err(|_| format!("{}: not an HP-GL text file", job_path.display()))?;
+        .map_err(|_| format!("{}: not an {name} text file", job_path.display()))?;
     Ok((job_path, text, settings))
 }
 
-/// `crease plot`: stream an HP-GL job to a port.
+/// `crease plot`: stream an HP-GL or GP-GL job to a port.
 pub fn plot(args: PlotArgs) -> Result<u8, String> {
     use crease::plotter::{stream, FlowMode, StreamOptions};
     let (job_path, text, line) = open_job(args.job, args.machine.as_deref())?;
-    let path = crease::output::hpgl::interpret(&text)
-        .map_err(|e| format!("{}: {e}", job_path.display()))?;
+    let path = match line.language {
+        Language::Hpgl => crease::output::hpgl::interpret(&text),
+        Language::Gpgl => crease::output::gpgl::interpret(&text),
+    }
+    .map_err(|e| format!("{}: {e}", job_path.display()))?;
     let baud = args.baud.unwrap_or(line.baud);
     let flow = FlowMode::parse(args.flow.as_deref().unwrap_or(&line.flow))?;
     let unfinished = stream::unfinished(text.as_bytes(), &job_path);
@@ -218,6 +246,7 @@ pub fn plot(args: PlotArgs) -> Result<u8, String> {
     let options = StreamOptions {
         port: args.port,
         baud,
+        language: line.language,
         flow,
         buffer: line.buffer,
         resume: args.resume,
@@ -297,6 +326,8 @@ pub fn emulate(args: EmulateArgs) -> Result<u8, String> {
         fail_after,
         reconnect_after,
         power_cycle,
+        language,
+        no_media,
     } = args;
     use crease::plotter::{emulator, EmulatorConfig, Flow};
     if buffer == 0 || rate.is_nan() || rate <= 0.0 {
@@ -310,6 +341,9 @@ pub fn emulate(args: EmulateArgs) -> Result<u8, String> {
         fail_after,
         reconnect_after: reconnect_after.map(std::time::Duration::from_millis),
         power_cycle,
+        language: Language::from_protocol(&language)
+            .ok_or_else(|| format!("--language {language}: use hpgl or gpgl"))?,
+        media_loaded: !no_media,
     };
     let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
     let flag = stop.clone();

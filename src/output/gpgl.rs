@@ -173,3 +173,100 @@ fn snap_chain(points: &[(f64, f64)]) -> Vec<(i64, i64)> {
     }
     snapped
 }
+
+/// The name of a GP-GL command: two capitals (`FX`, `FC`, `FN`, `TB`) or one character
+/// (`M`, `D`, `J`, `Z`, `H`, `!`, `\`).
+pub fn command_name(cmd: &str) -> &str {
+    let b = cmd.as_bytes();
+    let two = b.len() >= 2 && b[0].is_ascii_uppercase() && b[1].is_ascii_uppercase();
+    &cmd[..if two { 2 } else { b.len().min(1) }]
+}
+
+/// A cutter executing GP-GL one command at a time, as the emulator and the sender's
+/// journal need it: `M` and `D` move (absolute, in the job's own axis order), `J` picks
+/// the tool holder, `H` goes home; set-up commands are accepted. Drawn segments are
+/// recorded as (tool holder, from, to) in cutter steps, as sent.
+#[derive(Clone, Debug, Default)]
+pub struct Interpreter {
+    /// Everything cut so far.
+    pub path: crate::output::hpgl::PenPath,
+    tool: u32,
+}
+
+impl Interpreter {
+    /// A cutter just reset (`ESC EOT`): at the origin, tool holder 1.
+    pub fn new() -> Interpreter {
+        Interpreter {
+            path: crate::output::hpgl::PenPath {
+                pen_up_at_end: true,
+                ..Default::default()
+            },
+            tool: 1,
+        }
+    }
+
+    /// Where the tool is (steps, as sent) and which holder is selected.
+    pub fn state(&self) -> ([i64; 2], u32) {
+        (self.path.end, self.tool)
+    }
+
+    /// Executes one command (without its ETX). GP-GL commands have no replies.
+    pub fn execute(&mut self, cmd: &str) -> Result<(), String> {
+        let cmd = cmd.trim();
+        if cmd.is_empty() {
+            return Ok(());
+        }
+        let name = command_name(cmd);
+        let numbers = || -> Result<Vec<i64>, String> {
+            cmd[name.len()..]
+                .split(',')
+                .map(str::trim)
+                .filter(|s| !s.is_empty())
+                .map(|s| s.parse::<i64>())
+                .collect::<Result<_, _>>()
+                .map_err(|_| format!("bad numbers in \"{cmd}\""))
+        };
+        match name {
+            "M" | "D" => {
+                let n = numbers()?;
+                if n.is_empty() || !n.len().is_multiple_of(2) || (name == "M" && n.len() != 2) {
+                    return Err(format!("wrong number of coordinates in \"{cmd}\""));
+                }
+                for p in n.chunks(2) {
+                    let next = [p[0], p[1]];
+                    if name == "D" && next != self.path.end {
+                        self.path.segments.push((self.tool, self.path.end, next));
+                    }
+                    self.path.end = next;
+                }
+                self.path.pen_up_at_end = name == "M";
+            }
+            "J" => {
+                self.tool = numbers()?
+                    .first()
+                    .copied()
+                    .filter(|t| (0..=2).contains(t))
+                    .ok_or_else(|| format!("bad tool holder in \"{cmd}\""))?
+                    as u32
+            }
+            "H" => {
+                self.path.end = [0, 0];
+                self.path.pen_up_at_end = true;
+            }
+            "FN" | "\\" | "Z" | "!" | "FX" | "FC" | "FE" | "TB" | "SO" => {
+                numbers()?;
+            }
+            _ => return Err(format!("unknown command \"{cmd}\"")),
+        }
+        Ok(())
+    }
+}
+
+/// Interprets a whole GP-GL job (after its reset). Errors name the command.
+pub fn interpret(job: &str) -> Result<crate::output::hpgl::PenPath, String> {
+    let mut cutter = Interpreter::new();
+    for cmd in job.trim_start_matches(RESET).split(ETX) {
+        cutter.execute(cmd)?;
+    }
+    Ok(cutter.path)
+}

@@ -7,10 +7,16 @@
 //! the host's termios has IXON, or when the emulator holds CTS low and the host's termios
 //! has CRTSCTS; the emulator reads those flags from its own handle on the slave. A sender
 //! that ignores flow control therefore overruns the finite input buffer, and the emulator
-//! counts every byte lost. The buffer drains at a drawing rate into an HP-GL interpreter
-//! that records the pen path and answers OA, OI and OS when it reaches them; the escape
-//! queries ESC.B, ESC.L, ESC.O, ESC.E and ESC.K act at once, as on HP plotters.
+//! counts every byte lost. The buffer drains at a drawing rate into an interpreter of the
+//! plotter's language that records the pen path. In HP-GL it answers OA, OI and OS when it
+//! reaches them, so an `OA;` reply confirms that everything before it is drawn; the escape
+//! queries ESC.B, ESC.L, ESC.O, ESC.E and ESC.K act at once, as on HP plotters. In GP-GL
+//! `ESC ENQ` answers at once (`0` ready: nothing left to cut, `1` moving, `2` no media)
+//! and `ESC EOT` resets the cutter. The drawing rate is a ceiling the plotter cannot
+//! exceed to make up for time it stood idle: idle time is lost, as on a real machine.
 
+use super::Language;
+use crate::output::gpgl;
 use crate::output::hpgl::{Interpreter, PenPath};
 use serialport::{SerialPort, TTYPort};
 use std::collections::VecDeque;
@@ -67,6 +73,10 @@ pub struct EmulatorConfig {
     pub reconnect_after: Option<Duration>,
     /// Switch the plotter off (lose all state) when the cable is pulled.
     pub power_cycle: bool,
+    /// The language it speaks.
+    pub language: Language,
+    /// Whether media is loaded (GP-GL's status says `2` when not).
+    pub media_loaded: bool,
 }
 
 impl Default for EmulatorConfig {
@@ -79,6 +89,8 @@ impl Default for EmulatorConfig {
             fail_after: None,
             reconnect_after: None,
             power_cycle: false,
+            language: Language::Hpgl,
+            media_loaded: true,
         }
     }
 }
@@ -148,10 +160,39 @@ fn host_flags(slave: &TTYPort) -> (bool, bool) {
     }
 }
 
+/// The command interpreter of either language.
+enum Machine {
+    Hpgl(Interpreter),
+    Gpgl(gpgl::Interpreter),
+}
+
+impl Machine {
+    fn new(language: Language) -> Machine {
+        match language {
+            Language::Hpgl => Machine::Hpgl(Interpreter::new()),
+            Language::Gpgl => Machine::Gpgl(gpgl::Interpreter::new()),
+        }
+    }
+
+    fn execute(&mut self, cmd: &str) -> Result<Option<String>, String> {
+        match self {
+            Machine::Hpgl(i) => i.execute(cmd),
+            Machine::Gpgl(i) => i.execute(cmd).map(|_| None),
+        }
+    }
+
+    fn path(&self) -> &PenPath {
+        match self {
+            Machine::Hpgl(i) => &i.path,
+            Machine::Gpgl(i) => &i.path,
+        }
+    }
+}
+
 struct Plotter {
     config: EmulatorConfig,
     buffer: VecDeque<u8>,
-    interpreter: Interpreter,
+    interpreter: Machine,
     command: Vec<u8>,
     escape: Vec<u8>,
     error: u8,
@@ -162,9 +203,9 @@ struct Plotter {
 impl Plotter {
     fn new(config: EmulatorConfig) -> Plotter {
         Plotter {
+            interpreter: Machine::new(config.language),
             config,
             buffer: VecDeque::new(),
-            interpreter: Interpreter::new(),
             command: Vec::new(),
             escape: Vec::new(),
             error: 0,
@@ -183,6 +224,23 @@ impl Plotter {
             // An escape always starts afresh, even after half of one lost on the wire.
             self.escape = vec![ESC];
             return None;
+        }
+        if !self.escape.is_empty() && self.config.language == Language::Gpgl {
+            self.escape.clear();
+            return match b {
+                0x05 => Some(format!("{}\u{3}", self.gpgl_status())),
+                0x04 => {
+                    // Reset: the buffer, a half-read command and the position are gone;
+                    // what was cut stays cut.
+                    self.buffer.clear();
+                    self.command.clear();
+                    let cut = std::mem::take(&mut state.path.segments);
+                    state.earlier.extend(cut);
+                    self.interpreter = Machine::new(Language::Gpgl);
+                    None
+                }
+                _ => None,
+            };
         }
         if !self.escape.is_empty() {
             self.escape.push(b);
@@ -218,6 +276,18 @@ impl Plotter {
         None
     }
 
+    /// GP-GL status: `2` no media, `1` still cutting, `0` ready.
+    fn gpgl_status(&self) -> char {
+        if !self.config.media_loaded {
+            '2'
+        } else if self.buffer.is_empty() {
+            // Nothing left to execute (a half-received command waits for its end).
+            '0'
+        } else {
+            '1'
+        }
+    }
+
     /// Executes up to `budget` buffered bytes; returns replies of output commands.
     fn draw(&mut self, budget: usize, state: &mut EmulatorState) -> Vec<String> {
         let mut replies = Vec::new();
@@ -225,7 +295,11 @@ impl Plotter {
             let Some(b) = self.buffer.pop_front() else {
                 break;
             };
-            if b == b';' {
+            let end = match self.config.language {
+                Language::Hpgl => b';',
+                Language::Gpgl => 0x03,
+            };
+            if b == end {
                 let cmd = String::from_utf8_lossy(&self.command).into_owned();
                 self.command.clear();
                 match self.interpreter.execute(&cmd) {
@@ -240,7 +314,7 @@ impl Plotter {
                 self.command.push(b);
             }
         }
-        state.path = self.interpreter.path.clone();
+        state.path = self.interpreter.path().clone();
         replies
     }
 }
@@ -342,8 +416,10 @@ fn run(
                 }
             }
         }
-        // Drawing continues while the plotter has power, cable or not.
-        draw_credit = (draw_credit + dt * config.rate).min(config.rate);
+        // Drawing continues while the plotter has power, cable or not. A plotter cannot
+        // make up time it stood idle: credit never outlasts a short scheduling hiccup, and
+        // an empty buffer forfeits it (see below).
+        draw_credit = (draw_credit + dt * config.rate).min(config.rate * 0.02 + 1.0);
         let budget = draw_credit.floor() as usize;
         let had = plotter.buffer.len();
         // Idle time counts only when more work follows it: the wait after the job's last
@@ -359,6 +435,9 @@ fn run(
         }
         let replies = plotter.draw(budget, &mut st);
         draw_credit -= (had - plotter.buffer.len()) as f64;
+        if plotter.buffer.is_empty() {
+            draw_credit = draw_credit.min(1.0);
+        }
         if let Some(s) = started {
             if had > 0 {
                 st.busy_span = last_work.duration_since(s);

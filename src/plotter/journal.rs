@@ -1,6 +1,8 @@
 //! The job as the sender sees it: its commands with where the pen ends after each, the
 //! tool state in force at any offset, and the journal of what the plotter confirmed.
 
+use super::Language;
+use crate::output::gpgl;
 use crate::output::hpgl::Interpreter;
 use std::path::{Path, PathBuf};
 
@@ -50,41 +52,72 @@ pub(crate) struct Command {
     pub(crate) moves: bool,
 }
 
-pub(crate) fn commands(job: &[u8]) -> Vec<Command> {
+/// The job's commands, run through an interpreter of its language.
+pub(crate) fn commands(job: &[u8], language: Language) -> Vec<Command> {
     let mut out = Vec::new();
-    let mut plotter = Interpreter::new();
+    let mut hpgl = Interpreter::new();
+    let mut gpgl = gpgl::Interpreter::new();
     let mut start = 0;
+    let end = language.terminator();
     for (i, &b) in job.iter().enumerate() {
-        if b == b';' {
-            let text = String::from_utf8_lossy(&job[start..i]);
-            let before = plotter.state().0;
-            let _ = plotter.execute(&text);
-            let name = text.trim().get(..2).unwrap_or("").to_ascii_uppercase();
-            out.push(Command {
-                end: i + 1,
-                position: plotter.state().0,
-                moves: matches!(name.as_str(), "PU" | "PD" | "PA" | "PR")
-                    && plotter.state().0 != before,
-            });
-            start = i + 1;
+        if b != end {
+            continue;
         }
+        let raw = String::from_utf8_lossy(&job[start..i]);
+        let text = raw.trim_start_matches(gpgl::RESET).trim();
+        let (before, after, moves) = match language {
+            Language::Hpgl => {
+                let before = hpgl.state().0;
+                let _ = hpgl.execute(text);
+                let name = text.get(..2).unwrap_or("").to_ascii_uppercase();
+                let moving = matches!(name.as_str(), "PU" | "PD" | "PA" | "PR");
+                (before, hpgl.state().0, moving)
+            }
+            Language::Gpgl => {
+                let before = gpgl.state().0;
+                let _ = gpgl.execute(text);
+                let moving = matches!(gpgl::command_name(text), "M" | "D" | "H");
+                (before, gpgl.state().0, moving)
+            }
+        };
+        out.push(Command {
+            end: i + 1,
+            position: after,
+            moves: moves && after != before,
+        });
+        start = i + 1;
     }
     out
 }
 
-/// Tool-state commands (SP, VS, FS) in force after byte `upto` of the job.
-pub(crate) fn tool_state(job: &[u8], upto: usize) -> String {
+/// The commands that set the plotter up and pick its tool, last of each kind, in force
+/// after byte `upto` of the job: HP-GL's SP, VS and FS; GP-GL's orientation, origin,
+/// limits, tool holder, speed, pressure and blade offset.
+pub(crate) fn tool_state(job: &[u8], upto: usize, language: Language) -> String {
     let text = String::from_utf8_lossy(&job[..upto]);
+    let end = language.terminator() as char;
     let mut state: Vec<(String, String)> = Vec::new();
-    for cmd in text.split(';') {
-        let c = cmd.trim();
-        let name = c.get(..2).unwrap_or("").to_ascii_uppercase();
-        if matches!(name.as_str(), "SP" | "VS" | "FS") {
+    for cmd in text.split(end) {
+        let c = cmd.trim_start_matches(gpgl::RESET).trim();
+        let name = match language {
+            Language::Hpgl => c.get(..2).unwrap_or("").to_ascii_uppercase(),
+            Language::Gpgl => gpgl::command_name(c).to_string(),
+        };
+        let keep = match language {
+            Language::Hpgl => ["SP", "VS", "FS"].contains(&name.as_str()),
+            Language::Gpgl => {
+                ["FN", "\\", "Z", "TB", "FE", "J", "!", "FX", "FC"].contains(&name.as_str())
+            }
+        };
+        if keep {
             state.retain(|(n, _)| *n != name);
             state.push((name, c.to_string()));
         }
     }
-    state.into_iter().map(|(_, c)| c + ";").collect()
+    state
+        .into_iter()
+        .map(|(_, c)| format!("{c}{end}"))
+        .collect()
 }
 
 /// Saves the journal through a temporary file, so a crash never leaves half of one.

@@ -3,9 +3,38 @@
 
 pub mod emulator;
 mod journal;
+mod link;
 pub mod machine;
 pub mod stream;
 
 pub use emulator::{Emulator, EmulatorConfig, EmulatorState, Flow};
 pub use machine::{Machine, MachineError};
 pub use stream::{stream, FlowMode, Journal, Progress, StreamError, StreamOptions, StreamReport};
+
+/// The language a plotter speaks, which decides how the sender asks it anything.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Language {
+    /// HP-GL/1: commands end with `;`, replies with CR; `ESC.B` and `OA;` queries.
+    Hpgl,
+    /// GP-GL: commands and replies end with ETX; `ESC ENQ` status.
+    Gpgl,
+}
+
+impl Language {
+    /// From a machine profile's `protocol` (hpgl, gpgl); other protocols are not streamed.
+    pub fn from_protocol(protocol: &str) -> Option<Language> {
+        match protocol {
+            "hpgl" => Some(Language::Hpgl),
+            "gpgl" => Some(Language::Gpgl),
+            _ => None,
+        }
+    }
+
+    /// The byte that ends every command.
+    pub fn terminator(self) -> u8 {
+        match self {
+            Language::Hpgl => b';',
+            Language::Gpgl => 0x03,
+        }
+    }
+}

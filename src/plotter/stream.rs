@@ -1,15 +1,18 @@
-//! Streaming an HP-GL job to a plotter over a serial port without losing a byte.
+//! Streaming an HP-GL or GP-GL job to a plotter over a serial port without losing a byte.
 //!
 //! Progress counts what the plotter has confirmed, never what was handed to the kernel: a
-//! reply to a query confirms every byte sent before the query. ESC.B (answered on receipt)
-//! confirms bytes received; OA; (answered when executed) confirms bytes drawn. Both are
-//! kept in a journal beside the job, which `--resume` uses to continue after a pulled cable
-//! or a power cut without drawing a segment twice or skipping one.
+//! reply to a query confirms every byte sent before the query. In HP-GL, ESC.B (answered
+//! on receipt) confirms bytes received, and an `OA;` left in the stream every quarter
+//! buffer (answered when executed) confirms bytes drawn without stopping the flow. In
+//! GP-GL, which has no position query, the job goes in chunks of whole commands and the
+//! next chunk follows when `ESC ENQ` says the cutter is ready, so every chunk boundary is
+//! confirmed drawn. Both are kept in a journal beside the job, which `--resume` uses to
+//! continue after a pulled cable or a power cut.
 
-use super::journal::{commands, hash, save_journal, tool_state};
+use super::journal::{commands, hash, save_journal, tool_state, Command};
 pub use super::journal::{journal_path, unfinished, Journal};
-use serialport::{FlowControl, TTYPort};
-use std::io::{ErrorKind, Read, Write};
+use super::link::{open, Link};
+use super::Language;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -49,6 +52,8 @@ pub struct StreamOptions {
     pub port: PathBuf,
     /// Line speed.
     pub baud: u32,
+    /// The job's language.
+    pub language: Language,
     /// Flow control.
     pub flow: FlowMode,
     /// The plotter's buffer size (bytes), from the machine profile.
@@ -91,6 +96,18 @@ pub enum StreamError {
         query: String,
         /// How long we waited.
         seconds: f64,
+        /// Bytes confirmed.
+        confirmed: usize,
+    },
+    /// The cutter says no media is loaded (GP-GL status 2).
+    #[error("the cutter reports no media loaded after {confirmed} confirmed bytes; load the sheet, then --resume")]
+    NoMedia {
+        /// Bytes confirmed.
+        confirmed: usize,
+    },
+    /// The job was cancelled on the cutter's panel (GP-GL status 4).
+    #[error("the job was cancelled on the cutter's panel after {confirmed} confirmed bytes; --resume continues, --restart starts again")]
+    Cancelled {
         /// Bytes confirmed.
         confirmed: usize,
     },
@@ -137,123 +154,6 @@ pub struct Progress {
     pub commands: usize,
 }
 
-struct Link {
-    port: TTYPort,
-    name: String,
-}
-
-impl Link {
-    fn vanished(&self, confirmed: usize, e: impl std::fmt::Display) -> StreamError {
-        StreamError::Vanished {
-            port: self.name.clone(),
-            confirmed,
-            cause: e.to_string(),
-        }
-    }
-
-    /// Writes everything, waiting out flow-control stops (a stopped port times out).
-    fn send(
-        &mut self,
-        bytes: &[u8],
-        confirmed: usize,
-        interrupted: &AtomicBool,
-    ) -> Result<(), StreamError> {
-        let mut rest = bytes;
-        while !rest.is_empty() {
-            if interrupted.load(Ordering::SeqCst) {
-                return Err(StreamError::Interrupted { confirmed });
-            }
-            match self.port.write(rest) {
-                Ok(0) => std::thread::sleep(Duration::from_millis(2)),
-                Ok(n) => rest = &rest[n..],
-                Err(e)
-                    if e.kind() == ErrorKind::TimedOut
-                        || e.kind() == ErrorKind::WouldBlock
-                        || e.kind() == ErrorKind::Interrupted => {}
-                Err(e) => return Err(self.vanished(confirmed, e)),
-            }
-        }
-        Ok(())
-    }
-
-    /// Reads one reply (up to CR), skipping flow-control bytes.
-    fn reply(
-        &mut self,
-        query: &str,
-        wait: Duration,
-        confirmed: usize,
-    ) -> Result<String, StreamError> {
-        let start = Instant::now();
-        let mut text = Vec::new();
-        let mut byte = [0u8; 1];
-        loop {
-            if start.elapsed() > wait {
-                return Err(StreamError::Silent {
-                    query: query.to_string(),
-                    seconds: wait.as_secs_f64(),
-                    confirmed,
-                });
-            }
-            match self.port.read(&mut byte) {
-                Ok(0) => {}
-                Ok(_) => match byte[0] {
-                    b'\r' => return Ok(String::from_utf8_lossy(&text).trim().to_string()),
-                    0x11 | 0x13 | b'\n' => {}
-                    b => text.push(b),
-                },
-                Err(e)
-                    if e.kind() == ErrorKind::TimedOut
-                        || e.kind() == ErrorKind::WouldBlock
-                        || e.kind() == ErrorKind::Interrupted => {}
-                Err(e) => return Err(self.vanished(confirmed, e)),
-            }
-        }
-    }
-}
-
-/// Opens the port with the flow control asked for. Errors name the port and say why.
-fn open(options: &StreamOptions) -> Result<Link, StreamError> {
-    let name = options.port.display().to_string();
-    if !BAUD_RATES.contains(&options.baud) {
-        return Err(StreamError::Input(format!(
-            "{} is not a serial speed (use one of {})",
-            options.baud,
-            BAUD_RATES.map(|b| b.to_string()).join(", ")
-        )));
-    }
-    let flow = match options.flow {
-        FlowMode::XonXoff => FlowControl::Software,
-        FlowMode::RtsCts => FlowControl::Hardware,
-        FlowMode::Query | FlowMode::None => FlowControl::None,
-    };
-    let port = serialport::new(name.clone(), options.baud)
-        .flow_control(flow)
-        .timeout(Duration::from_millis(50))
-        .open_native()
-        .map_err(|e| StreamError::Open {
-            port: name.clone(),
-            cause: {
-                let text = e.to_string();
-                let lower = text.to_lowercase();
-                // serialport reports an exclusively held port as "no device" with the
-                // system's words; tell the two apart by what the system said.
-                if lower.contains("busy")
-                    || lower.contains("lock")
-                    || lower.contains("resource temporarily")
-                {
-                    format!("the port is busy: another program has it open ({text})")
-                } else if !Path::new(&name).exists()
-                    || matches!(e.kind(), serialport::ErrorKind::Io(ErrorKind::NotFound))
-                {
-                    "no such port (is the plotter plugged in?)".to_string()
-                } else {
-                    text
-                }
-            },
-        })?;
-    Ok(Link { port, name })
-}
-
 /// What a finished job did.
 #[derive(Clone, Debug, PartialEq)]
 pub struct StreamReport {
@@ -267,7 +167,355 @@ pub struct StreamReport {
     pub elapsed: Duration,
 }
 
-/// Streams `job` (HP-GL bytes of the file at `job_path`) to the plotter.
+/// Where a resumed job continues and what must be sent first to get there.
+struct ResumePoint {
+    start: usize,
+    preamble: Vec<u8>,
+    note: String,
+}
+
+/// One run of the sender over one job.
+struct Session<'a> {
+    job: &'a [u8],
+    cmds: Vec<Command>,
+    options: &'a StreamOptions,
+    link: Link,
+    journal: Journal,
+    journal_file: PathBuf,
+    sent: usize,
+    /// Job bytes sent since the last drawing mark (HP-GL) or receipt check.
+    since_mark: usize,
+    since_check: usize,
+    interrupted: &'a AtomicBool,
+}
+
+impl Session<'_> {
+    /// How long a reply may take when `bytes` are ahead of it on the line.
+    fn wait(&self, bytes: usize) -> Duration {
+        self.options.answer_timeout
+            + Duration::from_secs_f64(bytes as f64 / (self.options.baud as f64 / 10.0))
+    }
+
+    /// The end of the last whole command within `max` bytes of `from` (at least one
+    /// command, however long), so no query ever lands inside a command.
+    fn chunk_end(&self, from: usize, max: usize) -> usize {
+        let limit = from + max;
+        let i = self.cmds.partition_point(|c| c.end <= limit);
+        match i.checked_sub(1).map(|k| self.cmds[k].end) {
+            Some(end) if end > from => end,
+            _ => self.cmds.get(i).map_or(self.job.len(), |c| c.end),
+        }
+    }
+
+    /// Job bytes between drawing marks (HP-GL): a sixteenth of the buffer, so a power cut
+    /// costs a few segments redrawn, while the marks take under a tenth of the line.
+    fn mark_every(&self) -> usize {
+        (self.options.buffer / 16).max(32)
+    }
+
+    /// Sends the job up to `to` (a command end), with an HP-GL `OA;` after every
+    /// `mark_every` bytes whose answer will say that much is drawn.
+    fn send_job(&mut self, to: usize) -> Result<(), StreamError> {
+        let marking =
+            self.options.language == Language::Hpgl && self.options.flow != FlowMode::None;
+        let every = self.mark_every();
+        while self.sent < to {
+            let piece = if marking {
+                self.chunk_end(self.sent, every.saturating_sub(self.since_mark).max(1))
+                    .min(to)
+            } else {
+                to
+            };
+            self.journal.sent = piece;
+            let bytes = &self.job[self.sent..piece];
+            self.link
+                .send(bytes, self.journal.received, self.interrupted)?;
+            self.since_mark += piece - self.sent;
+            self.since_check += piece - self.sent;
+            self.sent = piece;
+            if marking && self.since_mark >= every {
+                self.since_mark = 0;
+                self.link
+                    .mark(self.sent, self.journal.received, self.interrupted)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// ESC.B: free bytes in the plotter's buffer; its answer confirms all sent before it.
+    fn free_space(&mut self) -> Result<usize, StreamError> {
+        let before = self.sent;
+        self.link
+            .send(b"\x1b.B", self.journal.received, self.interrupted)?;
+        let wait = self.wait(self.options.buffer * 4);
+        let free = self
+            .link
+            .reply("ESC.B", wait, self.journal.received)?
+            .parse()
+            .unwrap_or(0);
+        self.journal.received = before;
+        Ok(free)
+    }
+
+    /// ESC ENQ: the cutter's status; its answer confirms all sent before it. Ready (`0`)
+    /// means everything received is cut.
+    fn cutter_status(&mut self) -> Result<char, StreamError> {
+        let before = self.sent;
+        self.link
+            .send(b"\x1b\x05", self.journal.received, self.interrupted)?;
+        let wait = self.wait(self.options.buffer * 4);
+        let status = self.link.reply("ESC ENQ", wait, self.journal.received)?;
+        self.journal.received = before;
+        let confirmed = self.journal.received;
+        match status.chars().next().unwrap_or('1') {
+            '0' => {
+                self.journal.drawn = before;
+                Ok('0')
+            }
+            '2' => Err(StreamError::NoMedia { confirmed }),
+            '4' => Err(StreamError::Cancelled { confirmed }),
+            c => Ok(c),
+        }
+    }
+
+    /// Polls the cutter every 20 ms until it is ready (paused and moving both wait).
+    fn until_ready(&mut self, patience: Duration) -> Result<(), StreamError> {
+        let start = Instant::now();
+        loop {
+            if self.interrupted.load(Ordering::SeqCst) {
+                return Err(StreamError::Interrupted {
+                    confirmed: self.journal.received,
+                });
+            }
+            if self.cutter_status()? == '0' {
+                return Ok(());
+            }
+            if start.elapsed() > patience {
+                return Err(StreamError::Silent {
+                    query: "ESC ENQ (still not ready)".into(),
+                    seconds: patience.as_secs_f64(),
+                    confirmed: self.journal.received,
+                });
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
+    /// Sends the next piece of the job the way the flow mode and language allow.
+    fn step(&mut self) -> Result<(), StreamError> {
+        let buffer = self.options.buffer;
+        let patience = self.wait(buffer) + Duration::from_secs(120);
+        if self.options.language == Language::Gpgl {
+            // Chunks of whole commands, each cut before the next goes: a quarter buffer
+            // (at most 1 KiB), so a resume cuts little again and the wait is short.
+            let end = self.chunk_end(self.sent, (buffer / 4).clamp(16, 1024));
+            self.send_job(end)?;
+            return self.until_ready(patience);
+        }
+        match self.options.flow {
+            FlowMode::Query => {
+                let free = self.free_space()?;
+                // A margin for the reply's own lag, and room for the drawing marks.
+                let every = self.mark_every();
+                let room = free.saturating_sub(32.min(buffer / 4) + 3) * every / (every + 3);
+                let end = self.chunk_end(self.sent, room.max(1));
+                let worth = (buffer / 8).max(16).min(self.job.len() - self.sent);
+                if end - self.sent > room || room < worth {
+                    // Too little room to be worth a round trip: let the plotter draw.
+                    std::thread::sleep(Duration::from_millis(10));
+                    return Ok(());
+                }
+                self.send_job(end)
+            }
+            FlowMode::None => {
+                // No flow control: half a buffer, then wait for an OA; to come back.
+                let end = self.chunk_end(self.sent, buffer / 2);
+                self.send_job(end)?;
+                self.link
+                    .mark(self.sent, self.journal.received, self.interrupted)?;
+                self.link.await_marks(patience, self.journal.received)?;
+                self.journal.received = self.sent;
+                Ok(())
+            }
+            FlowMode::XonXoff | FlowMode::RtsCts => {
+                // Small writes, so a stop takes effect within a few bytes of ours.
+                let end = self.chunk_end(self.sent, 64);
+                self.send_job(end)?;
+                if self.since_check >= buffer / 2 || self.sent == self.job.len() {
+                    self.since_check = 0;
+                    self.free_space()?;
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// Takes in drawing marks answered so far, saves the journal and reports.
+    fn settle(&mut self, progress: &mut dyn FnMut(Progress)) -> Result<(), StreamError> {
+        self.link.poll(self.journal.received)?;
+        self.journal.drawn = self.journal.drawn.max(self.link.drawn);
+        save_journal(&self.journal_file, &self.journal);
+        let received = self.journal.received;
+        progress(Progress {
+            confirmed: received,
+            drawn: self.journal.drawn,
+            total: self.job.len(),
+            commands: self.cmds.partition_point(|c| c.end <= received),
+        });
+        Ok(())
+    }
+
+    /// Everything is sent: wait until it is drawn, then ask for errors.
+    fn finish(&mut self) -> Result<(), StreamError> {
+        let total = self.job.len();
+        let patience = self.wait(self.options.buffer * 2) + Duration::from_secs(120);
+        if self.options.language == Language::Gpgl {
+            return self.until_ready(patience);
+        }
+        self.link
+            .mark(total, self.journal.received, self.interrupted)?;
+        self.link.await_marks(patience, self.journal.received)?;
+        self.journal.received = total;
+        self.journal.drawn = total;
+        self.link
+            .send(b"\x1b.E", self.journal.received, self.interrupted)?;
+        let code: u32 = self
+            .link
+            .reply("ESC.E", self.wait(0), self.journal.received)?
+            .parse()
+            .unwrap_or(0);
+        if code != 0 {
+            return Err(StreamError::Plotter {
+                code,
+                meaning: hpgl_error_meaning(code),
+            });
+        }
+        Ok(())
+    }
+
+    /// Where to continue an interrupted job, from its journal and what the plotter says.
+    fn resume_point(&mut self, old: &Journal) -> Result<ResumePoint, StreamError> {
+        match self.options.language {
+            Language::Hpgl => self.hpgl_resume_point(old),
+            Language::Gpgl => {
+                // GP-GL cannot say where the knife is. Let the cutter finish what it holds,
+                // then go on after the last chunk it reported cut, from a reset and the
+                // job's own set-up: at most one chunk is cut again, nothing is skipped.
+                self.until_ready(self.wait(self.options.buffer) + Duration::from_secs(120))?;
+                let k = self.cmds.iter().rposition(|c| c.end <= old.drawn);
+                let start = k.map_or(0, |k| self.cmds[k].end);
+                let mut preamble = crate::output::gpgl::RESET.as_bytes().to_vec();
+                preamble.extend(tool_state(self.job, start, Language::Gpgl).bytes());
+                if let Some(k) = k {
+                    let [a, b] = self.cmds[k].position;
+                    preamble.extend(format!("M{a},{b}\u{3}").bytes());
+                }
+                Ok(ResumePoint {
+                    start,
+                    preamble,
+                    note: format!(
+                        "GP-GL cannot report the knife's position: continuing after the last chunk the cutter reported cut ({start} of {} bytes)",
+                        self.job.len()
+                    ),
+                })
+            }
+        }
+    }
+
+    fn hpgl_resume_point(&mut self, old: &Journal) -> Result<ResumePoint, StreamError> {
+        let received = old.received;
+        // Drop any half-received command, then ask where the pen is.
+        self.link.send(b"\x1b.K", received, self.interrupted)?;
+        self.link.send(b"OA;", received, self.interrupted)?;
+        let at = self.link.reply("OA;", self.wait(64), received)?;
+        let xy: Vec<i64> = at
+            .split(',')
+            .filter_map(|v| v.trim().parse().ok())
+            .collect();
+        // A powered plotter executes every complete command it received, and it received
+        // at least what it confirmed and at most what was sent; its buffer can hold back no
+        // more than `buffer` bytes of that.
+        let low = old
+            .received
+            .max(old.drawn)
+            .saturating_sub(self.options.buffer);
+        let high = old.sent.max(old.received);
+        let found = (xy.len() >= 2)
+            .then(|| {
+                self.cmds
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, c)| c.end > low && c.end <= high)
+                    .find(|(_, c)| c.moves && c.position == [xy[0], xy[1]])
+                    .map(|(i, _)| i)
+            })
+            .flatten();
+        let total = self.cmds.len();
+        if let Some(i) = found {
+            let start = self.cmds[i].end;
+            return Ok(ResumePoint {
+                start,
+                preamble: tool_state(self.job, start, Language::Hpgl).into_bytes(),
+                note: format!(
+                    "the plotter is at {},{}: the end of command {} of {total}; continuing with the next",
+                    xy[0],
+                    xy[1],
+                    i + 1,
+                ),
+            });
+        }
+        // A plotter that was reset cannot say: start again after the last command it
+        // confirmed drawing, from a known state, with a pen-up move there.
+        let k = self.cmds.iter().rposition(|c| c.end <= old.drawn);
+        let start = k.map_or(0, |k| self.cmds[k].end);
+        let pos = k.map_or([0, 0], |k| self.cmds[k].position);
+        let state = tool_state(self.job, start, Language::Hpgl);
+        Ok(ResumePoint {
+            start,
+            preamble: format!("IN;{state}PA;PU{},{};PR;", pos[0], pos[1]).into_bytes(),
+            note: format!(
+                "the plotter does not know where it was (reset?); resuming after the last command it confirmed drawing ({start} of {} bytes)",
+                self.job.len()
+            ),
+        })
+    }
+}
+
+/// What an HP-GL ESC.E error code means.
+fn hpgl_error_meaning(code: u32) -> &'static str {
+    match code {
+        10 => "overlapping output instructions",
+        11 => "invalid byte after ESC",
+        12 => "invalid byte in a device-control instruction",
+        13 => "parameter out of range",
+        14 => "too many parameters",
+        15 => "framing, parity or overrun error",
+        16 => "input buffer overflow: bytes were lost",
+        _ => "see the plotter's manual",
+    }
+}
+
+/// The journal of the job at `journal_file`, for `--resume`.
+fn journal_to_resume(journal_file: &Path, job_hash: u64) -> Result<Journal, StreamError> {
+    let old: Journal = std::fs::read_to_string(journal_file)
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok())
+        .ok_or_else(|| {
+            StreamError::Input(format!(
+                "no journal for this job at {}; nothing to resume",
+                journal_file.display()
+            ))
+        })?;
+    if old.job_hash != job_hash {
+        return Err(StreamError::Input(format!(
+            "{} belongs to another job; nothing to resume",
+            journal_file.display()
+        )));
+    }
+    Ok(old)
+}
+
+/// Streams `job` (the bytes of the file at `job_path`) to the plotter.
 pub fn stream(
     job: &[u8],
     job_path: &Path,
@@ -276,226 +524,81 @@ pub fn stream(
     interrupted: &AtomicBool,
 ) -> Result<StreamReport, StreamError> {
     let started = Instant::now();
+    if options.language == Language::Gpgl && options.flow == FlowMode::Query {
+        return Err(StreamError::Input(
+            "flow control \"query\" is HP-GL's ESC.B handshake; a GP-GL cutter uses rtscts, xonxoff or none".into(),
+        ));
+    }
     let journal_file = journal_path(job_path);
-    let mut journal = Journal {
+    let journal = Journal {
         job_hash: hash(job),
         job_len: job.len(),
         ..Default::default()
     };
-    let cmds = commands(job);
-    let mut link = open(options)?;
-    let line_rate = options.baud as f64 / 10.0;
-    let wait =
-        |bytes: usize| options.answer_timeout + Duration::from_secs_f64(bytes as f64 / line_rate);
-    let mut start = 0usize;
-    let mut resume_note = None;
-    let mut preamble = Vec::new();
-    if options.resume {
-        let old: Journal = std::fs::read_to_string(&journal_file)
-            .ok()
-            .and_then(|t| serde_json::from_str(&t).ok())
-            .ok_or_else(|| {
-                StreamError::Input(format!(
-                    "no journal for this job at {}; nothing to resume",
-                    journal_file.display()
-                ))
-            })?;
-        if old.job_hash != journal.job_hash {
-            return Err(StreamError::Input(format!(
-                "{} belongs to another job; nothing to resume",
-                journal_file.display()
-            )));
-        }
-        journal = old.clone();
-        // Drop any half-received command, then ask where the pen is.
-        link.send(b"\x1b.K", journal.received, interrupted)?;
-        link.send(b"OA;", journal.received, interrupted)?;
-        let at = link.reply("OA;", wait(64), journal.received)?;
-        let xy: Vec<i64> = at
-            .split(',')
-            .filter_map(|v| v.trim().parse().ok())
-            .collect();
-        // A powered plotter executes every complete command it received, and it received
-        // at least what it confirmed and at most what was sent; its buffer can hold back no
-        // more than `buffer` bytes of that.
-        let low = old.received.max(old.drawn).saturating_sub(options.buffer);
-        let high = old.sent.max(old.received);
-        let found = if xy.len() >= 2 {
-            cmds.iter()
-                .enumerate()
-                .filter(|(_, c)| c.end > low && c.end <= high)
-                .find(|(_, c)| c.moves && c.position == [xy[0], xy[1]])
-                .map(|(i, _)| i)
-        } else {
-            None
-        };
-        match found {
-            Some(i) => {
-                start = cmds[i].end;
-                preamble = tool_state(job, start).into_bytes();
-                resume_note = Some(format!(
-                    "the plotter is at {},{}: the end of command {} of {}; continuing with the next",
-                    xy[0],
-                    xy[1],
-                    i + 1,
-                    cmds.len()
-                ));
-            }
-            None => {
-                // A plotter that was reset cannot say: start again after the last command it
-                // confirmed drawing, from a known state, with a pen-up move there.
-                let k = cmds.iter().rposition(|c| c.end <= old.drawn);
-                start = k.map(|k| cmds[k].end).unwrap_or(0);
-                let pos = k.map(|k| cmds[k].position).unwrap_or([0, 0]);
-                preamble = format!(
-                    "IN;{}PA;PU{},{};PR;",
-                    tool_state(job, start),
-                    pos[0],
-                    pos[1]
-                )
-                .into_bytes();
-                resume_note = Some(format!(
-                    "the plotter does not know where it was (reset?); resuming after the last command it confirmed drawing ({} of {} bytes)",
-                    start,
-                    job.len()
-                ));
-            }
-        }
-    }
-    journal.done = false;
-    save_journal(&journal_file, &journal);
-    if !preamble.is_empty() {
-        link.send(&preamble, journal.received, interrupted)?;
-    }
-    let mut sent = start;
-    let total = job.len();
-    let count_commands = |upto: usize| cmds.iter().filter(|c| c.end <= upto).count();
-    let mut report = |journal: &Journal| {
-        progress(Progress {
-            confirmed: journal.received,
-            drawn: journal.drawn,
-            total,
-            commands: count_commands(journal.received),
-        })
+    let old = if options.resume {
+        Some(journal_to_resume(&journal_file, journal.job_hash)?)
+    } else {
+        None
     };
-    let query_margin = 32usize.min(options.buffer / 4);
-    let mut since_query = 0usize;
-    while sent < total {
-        if interrupted.load(Ordering::SeqCst) {
-            let _ = link.send(b"\x1b.KPU;", journal.received, &AtomicBool::new(false));
-            save_journal(&journal_file, &journal);
-            return Err(StreamError::Interrupted {
-                confirmed: journal.received,
-            });
+    let mut session = Session {
+        job,
+        cmds: commands(job, options.language),
+        options,
+        link: open(options)?,
+        journal,
+        journal_file,
+        sent: 0,
+        since_mark: 0,
+        since_check: 0,
+        interrupted,
+    };
+    let run = |session: &mut Session, progress: &mut dyn FnMut(Progress)| {
+        let mut note = None;
+        if let Some(old) = &old {
+            session.journal = old.clone();
+            let point = session.resume_point(old)?;
+            session.sent = point.start;
+            session.link.drawn = old.drawn;
+            let received = session.journal.received;
+            session.link.send(&point.preamble, received, interrupted)?;
+            note = Some((point.start, point.note));
         }
-        let result = (|| -> Result<(), StreamError> {
-            match options.flow {
-                FlowMode::Query => {
-                    link.send(b"\x1b.B", journal.received, interrupted)?;
-                    let free: usize = link
-                        .reply("ESC.B", wait(0), journal.received)?
-                        .parse()
-                        .unwrap_or(0);
-                    journal.received = sent;
-                    let room = free.saturating_sub(query_margin);
-                    if room == 0 {
-                        std::thread::sleep(Duration::from_millis(20));
-                        return Ok(());
-                    }
-                    let n = room.min(total - sent);
-                    journal.sent = sent + n;
-                    link.send(&job[sent..sent + n], journal.received, interrupted)?;
-                    sent += n;
-                }
-                FlowMode::None => {
-                    // Whole commands only: the OA; that follows must not join a half one.
-                    let limit = (options.buffer / 2).min(total - sent);
-                    let n = job[sent..sent + limit]
-                        .iter()
-                        .rposition(|&b| b == b';')
-                        .map(|i| i + 1)
-                        .or_else(|| job[sent..].iter().position(|&b| b == b';').map(|i| i + 1))
-                        .unwrap_or(total - sent);
-                    journal.sent = sent + n;
-                    link.send(&job[sent..sent + n], journal.received, interrupted)?;
-                    sent += n;
-                    // OA; is answered when executed: the half buffer has been drawn.
-                    link.send(b"OA;", journal.received, interrupted)?;
-                    link.reply(
-                        "OA;",
-                        wait(options.buffer) + Duration::from_secs(60),
-                        journal.received,
-                    )?;
-                    journal.received = sent;
-                    journal.drawn = sent;
-                }
-                FlowMode::XonXoff | FlowMode::RtsCts => {
-                    // Small writes, so a stop takes effect within a few bytes of ours.
-                    let n = 64.min(total - sent);
-                    journal.sent = sent + n;
-                    link.send(&job[sent..sent + n], journal.received, interrupted)?;
-                    sent += n;
-                    since_query += n;
-                    if since_query >= options.buffer / 2 || sent == total {
-                        since_query = 0;
-                        link.send(b"\x1b.B", journal.received, interrupted)?;
-                        link.reply("ESC.B", wait(options.buffer * 4), journal.received)?;
-                        journal.received = sent;
-                    }
-                }
+        session.journal.done = false;
+        save_journal(&session.journal_file, &session.journal);
+        if options.language == Language::Gpgl && session.sent == 0 {
+            // No media, or a job cancelled on the panel, is said before the first cut.
+            session.cutter_status()?;
+        }
+        while session.sent < job.len() {
+            if interrupted.load(Ordering::SeqCst) {
+                let lift: &[u8] = match options.language {
+                    Language::Hpgl => b"\x1b.KPU;",
+                    Language::Gpgl => b"\x1b\x04",
+                };
+                let _ = session.link.send(lift, 0, &AtomicBool::new(false));
+                return Err(StreamError::Interrupted {
+                    confirmed: session.journal.received,
+                });
             }
-            Ok(())
-        })();
-        if let Err(e) = result {
-            save_journal(&journal_file, &journal);
-            return Err(e);
+            session.step()?;
+            session.settle(progress)?;
         }
-        save_journal(&journal_file, &journal);
-        report(&journal);
-    }
-    // Everything is sent: wait until it is drawn, then ask for errors.
-    let finish = (|| -> Result<(), StreamError> {
-        link.send(b"OA;", journal.received, interrupted)?;
-        link.reply(
-            "OA;",
-            wait(options.buffer * 2) + Duration::from_secs(120),
-            journal.received,
-        )?;
-        journal.received = total;
-        journal.drawn = total;
-        link.send(b"\x1b.E", journal.received, interrupted)?;
-        let code: u32 = link
-            .reply("ESC.E", wait(0), journal.received)?
-            .parse()
-            .unwrap_or(0);
-        if code != 0 {
-            return Err(StreamError::Plotter {
-                code,
-                meaning: match code {
-                    10 => "overlapping output instructions",
-                    11 => "invalid byte after ESC",
-                    12 => "invalid byte in a device-control instruction",
-                    13 => "parameter out of range",
-                    14 => "too many parameters",
-                    15 => "framing, parity or overrun error",
-                    16 => "input buffer overflow: bytes were lost",
-                    _ => "see the plotter's manual",
-                },
-            });
+        session.finish()?;
+        session.journal.done = true;
+        session.settle(progress)?;
+        Ok(note)
+    };
+    match run(&mut session, progress) {
+        Ok(note) => Ok(StreamReport {
+            sent: job.len() - note.as_ref().map_or(0, |n| n.0),
+            resumed_from: note.as_ref().map_or(0, |n| n.0),
+            resume_note: note.map(|n| n.1),
+            elapsed: started.elapsed(),
+        }),
+        Err(e) => {
+            session.journal.drawn = session.journal.drawn.max(session.link.drawn);
+            save_journal(&session.journal_file, &session.journal);
+            Err(e)
         }
-        Ok(())
-    })();
-    if let Err(e) = finish {
-        save_journal(&journal_file, &journal);
-        return Err(e);
     }
-    journal.done = true;
-    save_journal(&journal_file, &journal);
-    report(&journal);
-    Ok(StreamReport {
-        sent: total - start,
-        resumed_from: start,
-        resume_note,
-        elapsed: started.elapsed(),
-    })
 }

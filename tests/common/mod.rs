@@ -1,9 +1,13 @@
 //! Helpers shared by the integration tests (each test file is its own crate and includes
 //! this with `mod common;`).
 
+#[allow(dead_code)] // only the plotting tests use it
+pub mod plotting;
+
 use std::process::Command;
 
 /// Runs the `crease` binary with `args`: exit status (−1 if killed), stdout, stderr.
+#[allow(dead_code)] // the plotting tests drive the library, not the binary
 pub fn run_crease(args: &[&str]) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_crease"))
         .args(args)

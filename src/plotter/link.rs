@@ -1,0 +1,241 @@
+//! The serial line to the plotter: opening it with the flow control asked for, writing
+//! through flow-control stops, and reading replies.
+//!
+//! Replies to the queries a plotter answers on receipt (ESC.B, ESC.E, ESC ENQ) come back
+//! at once. An HP-GL `OA;` is answered only when the plotter has executed everything before
+//! it, so the sender leaves such marks in the stream without waiting for them; each reply
+//! is matched to the oldest mark still out and moves `drawn` on. That is how the journal
+//! learns what is on paper while the buffer stays full.
+
+use super::stream::{StreamError, BAUD_RATES};
+use super::{FlowMode, Language, StreamOptions};
+use serialport::{FlowControl, SerialPort, TTYPort};
+use std::collections::VecDeque;
+use std::io::{ErrorKind, Read, Write};
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+pub(crate) struct Link {
+    port: TTYPort,
+    pub(crate) name: String,
+    language: Language,
+    partial: Vec<u8>,
+    /// Job offsets of `OA;` marks sent and not yet answered, oldest first.
+    marks: VecDeque<usize>,
+    /// Job bytes the plotter confirmed drawing (through marks).
+    pub(crate) drawn: usize,
+}
+
+fn transient(e: &std::io::Error) -> bool {
+    matches!(
+        e.kind(),
+        ErrorKind::TimedOut | ErrorKind::WouldBlock | ErrorKind::Interrupted
+    )
+}
+
+impl Link {
+    pub(crate) fn vanished(&self, confirmed: usize, e: impl std::fmt::Display) -> StreamError {
+        StreamError::Vanished {
+            port: self.name.clone(),
+            confirmed,
+            cause: e.to_string(),
+        }
+    }
+
+    /// Writes everything, waiting out flow-control stops (a stopped port times out).
+    pub(crate) fn send(
+        &mut self,
+        bytes: &[u8],
+        confirmed: usize,
+        interrupted: &AtomicBool,
+    ) -> Result<(), StreamError> {
+        let mut rest = bytes;
+        while !rest.is_empty() {
+            if interrupted.load(Ordering::SeqCst) {
+                return Err(StreamError::Interrupted { confirmed });
+            }
+            match self.port.write(rest) {
+                Ok(0) => std::thread::sleep(Duration::from_millis(2)),
+                Ok(n) => rest = &rest[n..],
+                Err(e) if transient(&e) => {}
+                Err(e) => return Err(self.vanished(confirmed, e)),
+            }
+        }
+        Ok(())
+    }
+
+    /// Sends an HP-GL `OA;` that confirms, when answered, the job up to offset `at`.
+    pub(crate) fn mark(
+        &mut self,
+        at: usize,
+        confirmed: usize,
+        interrupted: &AtomicBool,
+    ) -> Result<(), StreamError> {
+        self.send(b"OA;", confirmed, interrupted)?;
+        self.marks.push_back(at);
+        Ok(())
+    }
+
+    /// A finished reply line, or a mark's answer taken in (then `None`).
+    fn line_done(&mut self) -> Option<String> {
+        let text = String::from_utf8_lossy(&self.partial).trim().to_string();
+        self.partial.clear();
+        if self.language == Language::Hpgl && text.contains(',') {
+            if let Some(at) = self.marks.pop_front() {
+                self.drawn = self.drawn.max(at);
+                return None;
+            }
+        }
+        Some(text)
+    }
+
+    /// Takes one byte off the line; a complete reply that is not a mark's comes back.
+    fn take(&mut self, b: u8) -> Option<String> {
+        let end = match self.language {
+            Language::Hpgl => b'\r',
+            Language::Gpgl => 0x03,
+        };
+        match b {
+            0x11 | 0x13 | b'\n' => None,
+            b'\r' if self.language == Language::Gpgl => None,
+            b if b == end => self.line_done(),
+            b => {
+                self.partial.push(b);
+                None
+            }
+        }
+    }
+
+    /// Reads whatever has arrived without waiting, taking in mark answers. A reply that is
+    /// not a mark's, arriving unasked, is dropped.
+    pub(crate) fn poll(&mut self, confirmed: usize) -> Result<(), StreamError> {
+        loop {
+            let waiting = self
+                .port
+                .bytes_to_read()
+                .map_err(|e| self.vanished(confirmed, e))?;
+            if waiting == 0 {
+                return Ok(());
+            }
+            let mut buf = vec![0u8; waiting as usize];
+            match self.port.read(&mut buf) {
+                Ok(n) => {
+                    for &b in &buf[..n] {
+                        let _ = self.take(b);
+                    }
+                }
+                Err(e) if transient(&e) => return Ok(()),
+                Err(e) => return Err(self.vanished(confirmed, e)),
+            }
+        }
+    }
+
+    /// Waits for the next reply that is not a mark's.
+    pub(crate) fn reply(
+        &mut self,
+        query: &str,
+        wait: Duration,
+        confirmed: usize,
+    ) -> Result<String, StreamError> {
+        let start = Instant::now();
+        let mut byte = [0u8; 1];
+        loop {
+            if start.elapsed() > wait {
+                return Err(StreamError::Silent {
+                    query: query.to_string(),
+                    seconds: wait.as_secs_f64(),
+                    confirmed,
+                });
+            }
+            match self.port.read(&mut byte) {
+                Ok(0) => {}
+                Ok(_) => {
+                    if let Some(text) = self.take(byte[0]) {
+                        return Ok(text);
+                    }
+                }
+                Err(e) if transient(&e) => {}
+                Err(e) => return Err(self.vanished(confirmed, e)),
+            }
+        }
+    }
+
+    /// Waits until every mark sent is answered: everything up to the last is drawn.
+    pub(crate) fn await_marks(
+        &mut self,
+        wait: Duration,
+        confirmed: usize,
+    ) -> Result<(), StreamError> {
+        let start = Instant::now();
+        let mut byte = [0u8; 1];
+        while !self.marks.is_empty() {
+            if start.elapsed() > wait {
+                return Err(StreamError::Silent {
+                    query: "OA;".into(),
+                    seconds: wait.as_secs_f64(),
+                    confirmed,
+                });
+            }
+            match self.port.read(&mut byte) {
+                Ok(0) => {}
+                Ok(_) => {
+                    let _ = self.take(byte[0]);
+                }
+                Err(e) if transient(&e) => {}
+                Err(e) => return Err(self.vanished(confirmed, e)),
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Opens the port with the flow control asked for. Errors name the port and say why.
+pub(crate) fn open(options: &StreamOptions) -> Result<Link, StreamError> {
+    let name = options.port.display().to_string();
+    if !BAUD_RATES.contains(&options.baud) {
+        return Err(StreamError::Input(format!(
+            "{} is not a serial speed (use one of {})",
+            options.baud,
+            BAUD_RATES.map(|b| b.to_string()).join(", ")
+        )));
+    }
+    let flow = match options.flow {
+        FlowMode::XonXoff => FlowControl::Software,
+        FlowMode::RtsCts => FlowControl::Hardware,
+        FlowMode::Query | FlowMode::None => FlowControl::None,
+    };
+    let port = serialport::new(name.clone(), options.baud)
+        .flow_control(flow)
+        .timeout(Duration::from_millis(50))
+        .open_native()
+        .map_err(|e| StreamError::Open {
+            port: name.clone(),
+            cause: {
+                let text = e.to_string();
+                let lower = text.to_lowercase();
+                // serialport reports an exclusively held port as "no device" with the
+                // system's words; tell the two apart by what the system said.
+                if lower.contains("busy")
+                    || lower.contains("lock")
+                    || lower.contains("resource temporarily")
+                {
+                    format!("the port is busy: another program has it open ({text})")
+                } else if !Path::new(&name).exists()
+                    || matches!(e.kind(), serialport::ErrorKind::Io(ErrorKind::NotFound))
+                {
+                    "no such port (is the plotter plugged in?)".to_string()
+                } else {
+                    text
+                }
+            },
+        })?;
+    Ok(Link {
+        port,
+        name,
+        language: options.language,
+        partial: Vec::new(),
+        marks: VecDeque::new(),
+        drawn: 0,
+    })
+}
