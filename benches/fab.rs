@@ -38,6 +38,7 @@ fn main() {
         .unwrap();
         let out = fabricate(&mesh, &machine, &options).unwrap();
         let strokes = score(&out.sheet, &machine.score_settings());
+        let tools = machine.hpgl_settings().tools;
         let figures = |s: Vec<crease::fab::Stroke>| {
             let t = Toolpath {
                 media: out.sheet.media.clone(),
@@ -50,8 +51,8 @@ fn main() {
         };
         let (a, b, c) = (
             figures(strokes.clone()),
-            figures(nearest_neighbour_only(&strokes)),
-            figures(route(&strokes)),
+            figures(nearest_neighbour_only(&strokes, &tools)),
+            figures(route(&strokes, &tools)),
         );
         println!(
             "{name:<22} {:>7} | {:>12.0} / {:>7} | {:>12.0} / {:>7} | {:>12.0} / {:>7}",

@@ -148,7 +148,7 @@ pub fn fabricate(
         });
     let toolpath = Toolpath {
         media: media.clone(),
-        strokes: route(&front),
+        strokes: route(&front, &machine.hpgl_settings().tools),
     };
     let back = options.mountains_from_back.then(|| {
         // Seen from the back the sheet is mirrored left to right.
@@ -162,7 +162,7 @@ pub fn fabricate(
             .collect();
         Toolpath {
             media: media.clone(),
-            strokes: route(&mirrored),
+            strokes: route(&mirrored, &machine.hpgl_settings().tools),
         }
     });
     // A tiled sheet is larger than the media: a cutter cannot take it, only pages print.
