@@ -1134,18 +1134,7 @@ fn no_dash_comes_within_the_clearance_of_the_cut_or_of_another_creases_dash() {
     // had dashes 0.20-0.46 mm from the cut or from a neighbour's dashes.
     let machine = Machine::load("generic-hpgl").unwrap();
     let clearance = machine.clearance_mm;
-    let anchors = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/anchors/data");
-    let mut designs = patterns();
-    for sub in ["fold", "origamisimulator"] {
-        for e in std::fs::read_dir(anchors.join(sub)).unwrap() {
-            let p = e.unwrap().path();
-            if matches!(p.extension().and_then(|e| e.to_str()), Some("fold" | "svg"))
-                && !p.to_string_lossy().ends_with(".schema.json")
-            {
-                designs.push(p);
-            }
-        }
-    }
+    let designs = designs_and_anchors();
     // Fitted to A3, and cut even where verification objects (box.fold, wavy_pleats):
     // scoring is what is measured here.
     let options = FabOptions {
@@ -1201,6 +1190,82 @@ fn no_dash_comes_within_the_clearance_of_the_cut_or_of_another_creases_dash() {
     assert!(
         pairs > 1000,
         "only {pairs} pairs near each other: the check checks nothing"
+    );
+}
+
+/// Every bundled design and every anchor file.
+fn designs_and_anchors() -> Vec<PathBuf> {
+    let anchors = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/anchors/data");
+    let mut designs = patterns();
+    for sub in ["fold", "origamisimulator"] {
+        for e in std::fs::read_dir(anchors.join(sub)).unwrap() {
+            let p = e.unwrap().path();
+            if matches!(p.extension().and_then(|e| e.to_str()), Some("fold" | "svg")) {
+                designs.push(p);
+            }
+        }
+    }
+    designs
+}
+
+#[test]
+fn mountain_and_valley_read_apart_on_every_crease_however_short() {
+    // On BoxPleatPyramid at 180 mm, 512 mountain dashes were 1.53 mm against the valleys'
+    // 1.5 mm on the same pen. Now a mountain mark is a dash at least 0.5 mm longer than
+    // any valley dash, or a close pair of short dashes, which valleys never make.
+    let machine = Machine::load("generic-hpgl").unwrap();
+    let settings = machine.score_settings();
+    let valley = settings.codes[&LineKind::Valley].unwrap().cut;
+    let options = FabOptions {
+        fit: true,
+        force: true,
+        ..a3()
+    };
+    let mut pairs = 0;
+    for path in designs_and_anchors() {
+        let mesh = crease::io::read(&path).unwrap();
+        let out = fabricate(&mesh, &machine, &options)
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let strokes = &out.toolpath.strokes;
+        // A close pair: two dashes of one line, each under half a valley dash, no further
+        // apart than the shorter is long.
+        let in_pair = |s: &Stroke| {
+            s.length() < valley / 2.0
+                && strokes.iter().any(|o| {
+                    o != s
+                        && o.line == s.line
+                        && o.length() < valley / 2.0
+                        && [o.from, o.to].iter().any(|p| {
+                            (p - s.from).norm().min((p - s.to).norm())
+                                <= s.length().max(o.length()) + 1e-6
+                        })
+                })
+        };
+        for s in strokes {
+            match s.kind {
+                LineKind::Mountain => {
+                    let long = s.length() >= valley + crease::fab::score::DISTINCT_MM - 1e-6;
+                    pairs += usize::from(!long);
+                    assert!(
+                        long || in_pair(s),
+                        "{}: a {:.2} mm mountain dash reads as a valley",
+                        path.display(),
+                        s.length()
+                    );
+                }
+                LineKind::Valley => assert!(
+                    s.length() <= valley + 1e-6 && !in_pair(s),
+                    "{}: a {:.2} mm valley dash reads as a mountain",
+                    path.display(),
+                    s.length()
+                ),
+                _ => {}
+            }
+        }
+    }
+    assert!(
+        pairs > 0,
+        "no short mountain on any design: the test checks nothing"
     );
 }
 

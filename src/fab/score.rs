@@ -107,6 +107,39 @@ impl Toolpath {
     }
 }
 
+/// How much longer than every other kind's dash a lone dash of the longer-dashed kind
+/// must be for a folder to tell them apart (mm).
+pub const DISTINCT_MM: f64 = 0.5;
+
+impl ScoreSettings {
+    /// For the kind whose dashes are longest (mountains, by default): the shortest lone
+    /// dash that still reads as that kind, the other kinds' longest dash plus
+    /// [`DISTINCT_MM`]. `None` for other kinds, whose short dashes read as their own.
+    pub fn lone_dash_floor(&self, kind: LineKind) -> Option<f64> {
+        let own = self.codes.get(&kind).copied().flatten()?;
+        let others = self
+            .codes
+            .iter()
+            .filter(|(k, _)| **k != kind)
+            .filter_map(|(_, c)| c.map(|c| c.cut))
+            .fold(f64::NEG_INFINITY, f64::max);
+        (others.is_finite() && own.cut > others).then_some(others + DISTINCT_MM)
+    }
+}
+
+/// Marks on a stretch of `len` mm too short for a full dash of a kind whose lone dashes
+/// must be at least `floor` long: one dash over the stretch if it is that long, else a
+/// pair of thirds (a pattern no other kind makes), else nothing (the crease is named).
+fn short_marks(len: f64, floor: f64, min_dash: f64) -> Vec<(f64, f64)> {
+    if len >= floor {
+        vec![(0.0, len)]
+    } else if len / 3.0 >= min_dash {
+        vec![(0.0, len / 3.0), (2.0 * len / 3.0, len)]
+    } else {
+        Vec::new()
+    }
+}
+
 /// Dashes `(start, end)` along a span of length `len`, symmetric about its middle.
 pub fn dashes(len: f64, code: DashCode, min_dash: f64) -> Vec<(f64, f64)> {
     if len < min_dash {
@@ -175,7 +208,11 @@ fn dash_lines(sheet: &Sheet, settings: &ScoreSettings) -> Vec<Stroke> {
             if hi <= lo {
                 continue;
             }
-            for (s, e) in dashes(hi - lo, *code, settings.min_dash) {
+            let marks = match settings.lone_dash_floor(line.kind) {
+                Some(floor) if hi - lo < code.cut => short_marks(hi - lo, floor, settings.min_dash),
+                _ => dashes(hi - lo, *code, settings.min_dash),
+            };
+            for (s, e) in marks {
                 strokes.push(Stroke {
                     kind: line.kind,
                     from: at(lo + s),
@@ -296,13 +333,35 @@ pub fn keep_clear(strokes: Vec<Stroke>, sheet: &Sheet, settings: &ScoreSettings)
             }
             start = start.max(b);
         }
+        // A piece trimmed shorter than a full dash must still read as its kind (a dash
+        // laid out short already does). A shorter-dashed kind keeps only the longest
+        // piece of a dash cut in two: two short pieces close together read as the
+        // longer-dashed kind's pair.
+        let code = settings.codes[&d.kind].expect("a dash has a code");
+        let floor = settings.lone_dash_floor(d.kind);
+        if floor.is_none() && pieces.len() > 1 {
+            let longest = pieces
+                .iter()
+                .copied()
+                .max_by(|x, y| (x.1 - x.0).total_cmp(&(y.1 - y.0)))
+                .expect("pieces");
+            pieces = vec![longest];
+        }
         for (a, b) in pieces {
-            let piece = Stroke {
-                from: d.from + u * a,
-                to: d.from + u * b,
-                ..d
+            let marks = match floor {
+                Some(floor) if b - a < len - 1e-9 && b - a < code.cut - 1e-9 => {
+                    short_marks(b - a, floor, settings.min_dash)
+                }
+                _ => vec![(0.0, b - a)],
             };
-            add(piece, &mut kept, &mut grid);
+            for (s, e) in marks {
+                let piece = Stroke {
+                    from: d.from + u * (a + s),
+                    to: d.from + u * (a + e),
+                    ..d
+                };
+                add(piece, &mut kept, &mut grid);
+            }
         }
     }
     kept
