@@ -496,6 +496,77 @@ fn an_oversized_sheet_is_tiled_over_media_pages_when_asked() {
 /// a small design far from the pen's origin ran out of rings ("an undone stroke remains").
 /// Now it starts at the grid and visits only cells in it, in the order a full sweep would.
 #[test]
+fn a_tiled_sheet_is_turned_to_print_on_the_fewest_pages() {
+    // resch.fold on 105 × 148 mm pages took 6 pages upright where 4 do turned a quarter.
+    // The test counts pages with its own formula: a page shows its size less the margins,
+    // and neighbours overlap by 10 mm.
+    let machine = Machine::load("generic-hpgl").unwrap();
+    let pages_for = |w: f64, h: f64, page: (f64, f64), m: f64| {
+        let count = |total: f64, usable: f64| {
+            let mut n = 1;
+            while usable + (n - 1) as f64 * (usable - 10.0) < total - 1e-6 {
+                n += 1;
+            }
+            n
+        };
+        count(w + 2.0 * m, page.0 - 2.0 * m) * count(h + 2.0 * m, page.1 - 2.0 * m)
+    };
+    let mut fewer = 0;
+    for (design, page) in [
+        ("resch.fold", (105.0, 148.0)),
+        ("plane.fold", (80.0, 100.0)),
+        ("waterbomb-curved.fold", (60.0, 90.0)),
+        ("miura-bent.fold", (148.0, 210.0)),
+    ] {
+        let mesh = crease::io::read(
+            &Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("patterns")
+                .join(design),
+        )
+        .unwrap();
+        let media = crease::fab::Media::parse(&format!("{}x{}mm", page.0, page.1)).unwrap();
+        let out = fabricate(
+            &mesh,
+            &machine,
+            &FabOptions {
+                media: Some(media),
+                tile: true,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let pdf = output(&out, "sheet.pdf");
+        let doc = printpdf::PdfDocument::parse(pdf, &Default::default(), &mut Vec::new()).unwrap();
+        // The design as drawn, turned back upright: its box upright and turned a quarter.
+        let t = -out.sheet.rotation;
+        let upright: Vec<Vec2> = out
+            .sheet
+            .vertices
+            .iter()
+            .map(|v| Vec2::new(v.x * t.cos() - v.y * t.sin(), v.x * t.sin() + v.y * t.cos()))
+            .collect();
+        let lo = upright
+            .iter()
+            .fold(Vec2::repeat(f64::INFINITY), |a, p| a.inf(p));
+        let hi = upright
+            .iter()
+            .fold(Vec2::repeat(f64::NEG_INFINITY), |a, p| a.sup(p));
+        let m = out.sheet.margin;
+        let (up, quarter) = (
+            pages_for(hi.x - lo.x, hi.y - lo.y, page, m),
+            pages_for(hi.y - lo.y, hi.x - lo.x, page, m),
+        );
+        let got = doc.pages.len();
+        assert!(
+            got <= up && got <= quarter,
+            "{design}: {got} pages, upright {up}, turned {quarter}"
+        );
+        fewer += usize::from(got < up);
+    }
+    assert!(fewer >= 2, "turning saved pages on {fewer} designs");
+}
+
+#[test]
 fn routing_a_small_design_far_from_the_pen_keeps_every_stroke() {
     let mut strokes = Vec::new();
     for i in 0..40 {

@@ -158,18 +158,7 @@ pub fn layout(
     sizing: Sizing,
 ) -> Result<Sheet, LayoutError> {
     let (lo, hi) = bounds(vertices);
-    if let Sizing::Width(w) = sizing {
-        if !(w.is_finite() && w > 0.0) {
-            return Err(LayoutError::Bad(format!(
-                "--width must be a positive length in mm (got {w})"
-            )));
-        }
-    }
-    if !(margin.is_finite() && margin >= 0.0) {
-        return Err(LayoutError::Bad(format!(
-            "--margin must be a length of 0 mm or more (got {margin})"
-        )));
-    }
+    check_sizes(sizing, margin)?;
     let usable = Vec2::new(media.width - 2.0 * margin, media.height - 2.0 * margin);
     if usable.x <= 0.0 || usable.y <= 0.0 {
         return Err(LayoutError::Bad(format!(
@@ -177,36 +166,8 @@ pub fn layout(
             media.name, media.width, media.height
         )));
     }
-    // Candidate turns: every hull edge laid flat (the least-area box is among them), each
-    // also turned a quarter. Each gets its own scale (a width is measured after turning);
-    // keep the fitting one of least area (with --fit: of largest scale), preferring no turn.
-    let unit: Vec<Vec2> = vertices.iter().map(|p| p - lo).collect();
-    let h = hull(&unit);
-    let mut candidates = vec![0.0, std::f64::consts::FRAC_PI_2];
-    for i in 0..h.len() {
-        let d = h[(i + 1) % h.len()] - h[i];
-        let a = -d.y.atan2(d.x);
-        candidates.extend([a, a + std::f64::consts::FRAC_PI_2]);
-    }
-    let unit_size = |angle: f64| {
-        let turned: Vec<Vec2> = h.iter().map(|&p| rotate(p, angle)).collect();
-        let (a, b) = bounds(&turned);
-        b - a
-    };
-    let scale_at = |s: Vec2| match sizing {
-        Sizing::Natural => 1.0,
-        Sizing::Width(w) => w / s.x.max(f64::MIN_POSITIVE),
-        Sizing::Fit => (usable.x / s.x).min(usable.y / s.y),
-    };
+    let options = turns(vertices, sizing, usable);
     let fits = |s: Vec2| s.x <= usable.x + 1e-9 && s.y <= usable.y + 1e-9;
-    let options: Vec<(f64, f64, Vec2)> = candidates
-        .iter()
-        .map(|&a| {
-            let s = unit_size(a);
-            let k = scale_at(s);
-            (a, k, s * k)
-        })
-        .collect();
     let best = options.iter().copied().filter(|(_, _, s)| fits(*s)).min_by(
         |(a1, k1, s1), (a2, k2, s2)| {
             let (x, y) = match sizing {
@@ -236,6 +197,75 @@ pub fn layout(
             media_h: media.height,
         });
     };
+    Ok(place_sheet(
+        vertices,
+        lines,
+        media,
+        margin,
+        (angle, scale, size),
+    ))
+}
+
+/// Refuses a width or margin that is not a length.
+fn check_sizes(sizing: Sizing, margin: f64) -> Result<(), LayoutError> {
+    if let Sizing::Width(w) = sizing {
+        if !(w.is_finite() && w > 0.0) {
+            return Err(LayoutError::Bad(format!(
+                "--width must be a positive length in mm (got {w})"
+            )));
+        }
+    }
+    if !(margin.is_finite() && margin >= 0.0) {
+        return Err(LayoutError::Bad(format!(
+            "--margin must be a length of 0 mm or more (got {margin})"
+        )));
+    }
+    Ok(())
+}
+
+/// Candidate turns of the pattern, each as (angle, scale, laid-out size): every hull edge
+/// laid flat (the least-area box is among them), each also turned a quarter. Each gets
+/// its own scale: a width is measured after turning, and --fit fills `usable`.
+fn turns(vertices: &[Vec2], sizing: Sizing, usable: Vec2) -> Vec<(f64, f64, Vec2)> {
+    let (lo, _) = bounds(vertices);
+    let unit: Vec<Vec2> = vertices.iter().map(|p| p - lo).collect();
+    let h = hull(&unit);
+    let mut candidates = vec![0.0, std::f64::consts::FRAC_PI_2];
+    for i in 0..h.len() {
+        let d = h[(i + 1) % h.len()] - h[i];
+        let a = -d.y.atan2(d.x);
+        candidates.extend([a, a + std::f64::consts::FRAC_PI_2]);
+    }
+    let unit_size = |angle: f64| {
+        let turned: Vec<Vec2> = h.iter().map(|&p| rotate(p, angle)).collect();
+        let (a, b) = bounds(&turned);
+        b - a
+    };
+    let scale_at = |s: Vec2| match sizing {
+        Sizing::Natural => 1.0,
+        Sizing::Width(w) => w / s.x.max(f64::MIN_POSITIVE),
+        Sizing::Fit => (usable.x / s.x).min(usable.y / s.y),
+    };
+    candidates
+        .iter()
+        .map(|&a| {
+            let s = unit_size(a);
+            let k = scale_at(s);
+            (a, k, s * k)
+        })
+        .collect()
+}
+
+/// Places the pattern turned by `angle` and scaled, centred on `media`.
+fn place_sheet(
+    vertices: &[Vec2],
+    lines: &[CreaseLine],
+    media: &Media,
+    margin: f64,
+    (angle, scale, size): (f64, f64, Vec2),
+) -> Sheet {
+    let (lo, _) = bounds(vertices);
+    let unit: Vec<Vec2> = vertices.iter().map(|p| p - lo).collect();
     let scaled: Vec<Vec2> = unit.iter().map(|&p| p * scale).collect();
     let turned: Vec<Vec2> = scaled.iter().map(|&p| rotate(p, angle)).collect();
     let (tlo, _) = bounds(&turned);
@@ -249,7 +279,7 @@ pub fn layout(
             ..l.clone()
         })
         .collect();
-    Ok(Sheet {
+    Sheet {
         media: media.clone(),
         margin,
         scale,
@@ -257,5 +287,69 @@ pub fn layout(
         lines: placed_lines,
         vertices: vertices.iter().map(|&p| place(p)).collect(),
         size: [size.x, size.y],
-    })
+    }
+}
+
+/// Pages (columns, rows) of `page` that show a sheet of `size`, each page's window inside
+/// `margin`, neighbours overlapping by `overlap` mm.
+pub fn tile_grid(size: [f64; 2], page: &Media, margin: f64, overlap: f64) -> (usize, usize) {
+    let (uw, uh) = (page.width - 2.0 * margin, page.height - 2.0 * margin);
+    // A micrometre of slack: the virtual sheet is padded by that much so it holds the
+    // pattern, and must not cost a row of pages.
+    let count = |total: f64, usable: f64, step: f64| {
+        ((((total - usable) / step) - 1e-6).ceil().max(0.0) as usize) + 1
+    };
+    (
+        count(size[0], uw, uw - overlap),
+        count(size[1], uh, uh - overlap),
+    )
+}
+
+/// Lays a pattern too large for `page` out for tiling: turned to need the fewest pages
+/// (then the least area, then the smallest turn), on a virtual sheet just large enough.
+pub fn layout_tiled(
+    vertices: &[Vec2],
+    lines: &[CreaseLine],
+    page: &Media,
+    margin: f64,
+    overlap: f64,
+    sizing: Sizing,
+) -> Result<Sheet, LayoutError> {
+    check_sizes(sizing, margin)?;
+    let usable = Vec2::new(page.width - 2.0 * margin, page.height - 2.0 * margin);
+    if usable.x <= overlap || usable.y <= overlap {
+        return Err(LayoutError::Bad(format!(
+            "the margin of {margin} mm and the overlap of {overlap} mm leave no room on {}",
+            page.name
+        )));
+    }
+    let pages = |s: Vec2| {
+        let (c, r) = tile_grid(
+            [s.x + 2.0 * margin, s.y + 2.0 * margin],
+            page,
+            margin,
+            overlap,
+        );
+        c * r
+    };
+    let best = turns(vertices, sizing, usable)
+        .into_iter()
+        .min_by(|x, y| {
+            (pages(x.2), x.2.x * x.2.y, x.0.abs())
+                .partial_cmp(&(pages(y.2), y.2.x * y.2.y, y.0.abs()))
+                .expect("finite sizes")
+        })
+        .expect("at least two turns");
+    let size = best.2;
+    let sheet_media = Media {
+        name: format!(
+            "{:.0}x{:.0}mm (tiled over {})",
+            size.x + 2.0 * margin,
+            size.y + 2.0 * margin,
+            page.name
+        ),
+        width: size.x + 2.0 * margin + 1e-6,
+        height: size.y + 2.0 * margin + 1e-6,
+    };
+    Ok(place_sheet(vertices, lines, &sheet_media, margin, best))
 }

@@ -165,12 +165,9 @@ pub fn to_bytes_tiled(
     summary: &[String],
 ) -> Vec<u8> {
     let (uw, uh) = (page.width - 2.0 * margin, page.height - 2.0 * margin);
-    let (sw, sh) = (sheet.media.width, sheet.media.height);
     let step = (uw - overlap, uh - overlap);
-    let count = |total: f64, usable: f64, step: f64| {
-        (((total - usable) / step).ceil().max(0.0) as usize) + 1
-    };
-    let (cols, rows) = (count(sw, uw, step.0), count(sh, uh, step.1));
+    let size = [sheet.media.width, sheet.media.height];
+    let (cols, rows) = crate::fab::layout::tile_grid(size, page, margin, overlap);
     let mut pages = Vec::new();
     for r in 0..rows {
         for c in 0..cols {

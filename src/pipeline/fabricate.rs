@@ -119,15 +119,11 @@ pub fn fabricate(
     };
     let sheet = match layout(&flat, &lines, &media, margin, sizing) {
         Ok(s) => s,
-        Err(LayoutError::TooLarge { need_w, need_h, .. }) if options.tile => {
-            // Lay it out on a virtual sheet just large enough; the PDF is tiled below.
+        Err(LayoutError::TooLarge { .. }) if options.tile => {
+            // Turned for the fewest pages, on a virtual sheet just large enough; the PDF
+            // is tiled below.
             tiled = true;
-            let big = Media {
-                name: format!("{need_w:.0}x{need_h:.0}mm (tiled over {})", media.name),
-                width: need_w + 1e-6,
-                height: need_h + 1e-6,
-            };
-            layout(&flat, &lines, &big, margin, sizing)
+            crate::fab::layout::layout_tiled(&flat, &lines, &media, margin, TILE_OVERLAP_MM, sizing)
                 .map_err(|e| FabError::Input(e.to_string()))?
         }
         Err(e @ LayoutError::TooLarge { .. }) => {
