@@ -1341,6 +1341,93 @@ fn mountain_and_valley_read_apart_on_every_crease_however_short() {
 }
 
 #[test]
+fn the_profile_chooses_what_folds_too_short_to_score_get() {
+    // miura-collapse has folds too short for a dash once the junction clearance is kept.
+    // With short_folds = "dash" each gets one dash centred on it; with "solid" a cut along
+    // it; the report names them either way, with what they got.
+    let mesh = crease::io::read(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura-collapse.fold"),
+    )
+    .unwrap();
+    let generic = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/generic-hpgl.toml"),
+    )
+    .unwrap();
+    let with = |choice: &str| {
+        let text = generic.replace(
+            "protocol = \"hpgl\"",
+            &format!("protocol = \"hpgl\"\nshort_folds = \"{choice}\""),
+        );
+        let machine = Machine::parse(&text).unwrap();
+        fabricate(&mesh, &machine, &a3()).unwrap()
+    };
+    let plain = with("nothing");
+    let short = plain.report["sheet"]["unscored_creases"]
+        .as_array()
+        .unwrap()
+        .clone();
+    assert!(!short.is_empty(), "miura-collapse has short folds");
+    let lines_of = |out: &crease::pipeline::FabOutput, i: usize| -> Vec<Stroke> {
+        out.toolpath
+            .strokes
+            .iter()
+            .copied()
+            .filter(|s| s.line == i)
+            .collect()
+    };
+    let short_lines: Vec<usize> = (0..plain.sheet.lines.len())
+        .filter(|&i| {
+            matches!(
+                plain.sheet.lines[i].kind,
+                LineKind::Mountain | LineKind::Valley
+            ) && lines_of(&plain, i).is_empty()
+        })
+        .collect();
+    assert_eq!(short_lines.len(), short.len());
+    for (choice, given) in [("dash", "a centred dash"), ("solid", "a solid cut")] {
+        let out = with(choice);
+        let listed = out.report["sheet"]["unscored_creases"].as_array().unwrap();
+        assert_eq!(listed.len(), short.len(), "{choice}: still named");
+        assert!(listed.iter().all(|u| u["given"] == given), "{choice}");
+        assert!(
+            out.warnings.iter().any(|w| w.contains(given)),
+            "{choice}: {:?}",
+            out.warnings
+        );
+        for &i in &short_lines {
+            let line = &out.sheet.lines[i];
+            let got = lines_of(&out, i);
+            assert_eq!(got.len(), 1, "{choice}: one mark on line {i}");
+            let s = got[0];
+            let middle = (line.a + line.b) / 2.0;
+            assert!(((s.from + s.to) / 2.0 - middle).norm() < 1e-9, "centred");
+            if choice == "solid" {
+                assert!(
+                    (s.length() - line.length()).abs() < 1e-9,
+                    "solid: the whole fold"
+                );
+            } else {
+                let code = machine_code(line.kind);
+                assert!(
+                    (s.length() - code.min(line.length())).abs() < 1e-9,
+                    "a dash"
+                );
+            }
+        }
+    }
+}
+
+/// The generic profile's dash length for a kind.
+fn machine_code(kind: LineKind) -> f64 {
+    Machine::load("generic-hpgl")
+        .unwrap()
+        .score_settings()
+        .codes[&kind]
+        .unwrap()
+        .cut
+}
+
+#[test]
 fn a_later_run_leaves_no_files_of_an_earlier_one_and_a_failed_run_touches_nothing() {
     let dir = std::env::temp_dir().join(format!("crease-fab-stale-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);

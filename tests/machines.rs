@@ -77,6 +77,12 @@ fn protocols_and_connections_are_checked_naming_their_key() {
         (&text, "baud = 9600\n", "", "needs baud"),
         (
             &text,
+            "protocol = \"hpgl\"",
+            "protocol = \"hpgl\"\nshort_folds = \"perforate\"",
+            "short_folds",
+        ),
+        (
+            &text,
             "flow_control = \"xonxoff\"",
             "flow_control = \"dtr\"",
             "flow_control",

@@ -19,6 +19,6 @@ pub use layout::{layout, LayoutError, Media, Sheet, Sizing};
 pub use lines::{crease_lines, CreaseLine, LineKind};
 pub use route::route;
 
-pub use score::{score, DashCode, ScoreSettings, Stroke, Toolpath};
+pub use score::{score, score_lines, DashCode, ScoreSettings, ShortFolds, Stroke, Toolpath};
 pub use unfold::{check_overlap, unfold, UnfoldError};
 pub use verify::{verify, FamilyReport, Report, Tolerances};

@@ -21,6 +21,40 @@ pub struct DashCode {
     pub gap: f64,
 }
 
+/// What a fold too short for any dash gets (a machine profile's `short_folds`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShortFolds {
+    /// No cut: it is named in the report, to be creased by hand.
+    Nothing,
+    /// One dash of its kind's length (at most the fold's), centred on it.
+    Dash,
+    /// Cut along its whole length.
+    Solid,
+}
+
+impl ShortFolds {
+    /// Parses nothing, dash or solid; the error names the key.
+    pub fn parse(s: &str) -> Result<ShortFolds, String> {
+        match s {
+            "nothing" => Ok(ShortFolds::Nothing),
+            "dash" => Ok(ShortFolds::Dash),
+            "solid" => Ok(ShortFolds::Solid),
+            _ => Err(format!(
+                "short_folds = \"{s}\" is not one of nothing, dash, solid"
+            )),
+        }
+    }
+
+    /// How the report says it.
+    pub fn name(self) -> &'static str {
+        match self {
+            ShortFolds::Nothing => "nothing",
+            ShortFolds::Dash => "a centred dash",
+            ShortFolds::Solid => "a solid cut",
+        }
+    }
+}
+
 /// How each kind of line is cut.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ScoreSettings {
@@ -31,6 +65,8 @@ pub struct ScoreSettings {
     pub clearance: f64,
     /// Shortest dash worth cutting (mm).
     pub min_dash: f64,
+    /// What folds too short for any dash get.
+    pub short_folds: ShortFolds,
 }
 
 impl Default for ScoreSettings {
@@ -43,6 +79,7 @@ impl Default for ScoreSettings {
             ]),
             clearance: 1.0,
             min_dash: 0.3,
+            short_folds: ShortFolds::Nothing,
         }
     }
 }
@@ -161,7 +198,48 @@ pub fn dashes(len: f64, code: DashCode, min_dash: f64) -> Vec<(f64, f64)> {
 /// Turns the sheet's lines into strokes (unordered; see [`super::route`]), every dash
 /// clear of the cut and of other creases' dashes ([`keep_clear`]).
 pub fn score(sheet: &Sheet, settings: &ScoreSettings) -> Vec<Stroke> {
-    keep_clear(dash_lines(sheet, settings), sheet, settings)
+    score_lines(sheet, settings).0
+}
+
+/// [`score`], and the mountain and valley lines too short for any dash, which got what
+/// `settings.short_folds` says.
+pub fn score_lines(sheet: &Sheet, settings: &ScoreSettings) -> (Vec<Stroke>, Vec<usize>) {
+    let mut strokes = keep_clear(dash_lines(sheet, settings), sheet, settings);
+    let mut scored = vec![false; sheet.lines.len()];
+    for s in &strokes {
+        scored[s.line] = true;
+    }
+    let short: Vec<usize> = (0..sheet.lines.len())
+        .filter(|&i| {
+            matches!(sheet.lines[i].kind, LineKind::Mountain | LineKind::Valley) && !scored[i]
+        })
+        .collect();
+    for &i in &short {
+        let line = &sheet.lines[i];
+        let Some(Some(code)) = settings.codes.get(&line.kind) else {
+            continue;
+        };
+        let len = line.length();
+        if len <= 0.0 {
+            continue;
+        }
+        let (from, to) = match settings.short_folds {
+            ShortFolds::Nothing => continue,
+            ShortFolds::Solid => (0.0, len),
+            ShortFolds::Dash => {
+                let dash = code.cut.min(len);
+                ((len - dash) / 2.0, (len + dash) / 2.0)
+            }
+        };
+        let u = (line.b - line.a) / len.max(f64::MIN_POSITIVE);
+        strokes.push(Stroke {
+            kind: line.kind,
+            from: line.a + u * from,
+            to: line.a + u * to,
+            line: i,
+        });
+    }
+    (strokes, short)
 }
 
 /// Dashes along each line, kept clear of junctions along the line itself.

@@ -67,8 +67,8 @@ pub fn fabricate(
     options: &FabOptions,
 ) -> Result<FabOutput, FabError> {
     use crate::fab::{
-        check_overlap, crease_lines, layout, route, score, verify, LayoutError, LineKind, Media,
-        Sizing, Tolerances, Toolpath,
+        check_overlap, crease_lines, layout, route, score_lines, verify, LayoutError, LineKind,
+        Media, Sizing, Tolerances, Toolpath,
     };
     if let Some(w) = options.width {
         if !(w.is_finite() && w >= MIN_WIDTH_MM) {
@@ -133,8 +133,8 @@ pub fn fabricate(
     };
     let page = media.clone();
     let media = sheet.media.clone();
-    let strokes = score(&sheet, &machine.score_settings());
-    let unscored = unscored_creases(&sheet, &strokes);
+    let settings = machine.score_settings();
+    let (strokes, unscored) = score_lines(&sheet, &settings);
     let (front, back): (Vec<_>, Vec<_>) = strokes
         .into_iter()
         // Two-sided: the outline is cut last in the last job, so the piece stays in the
@@ -241,11 +241,13 @@ pub fn fabricate(
         "isometry_max_relative_error": isometry_error,
         "mountains_from_back": options.mountains_from_back,
         "tiled": tiled,
-        // Folds with no dash (shorter than the clearance the junctions at their ends
-        // need): the maker has to score these by hand.
+        // Folds with no room for a dash (shorter than the clearance the junctions at
+        // their ends need), and what the profile's `short_folds` gave them: with
+        // "nothing" the maker has to score these by hand.
         "unscored_creases": unscored.iter().map(|&i| {
             let l = &sheet.lines[i];
             serde_json::json!({
+                "given": settings.short_folds.name(),
                 "kind": l.kind.name(),
                 "length_mm": l.length(),
                 "from_mm": [l.a.x, l.a.y],
@@ -266,7 +268,7 @@ pub fn fabricate(
         estimate,
         tiled,
     );
-    let warnings = unscored_warning(&sheet, &unscored)
+    let warnings = unscored_warning(&sheet, &unscored, settings.short_folds)
         .into_iter()
         .collect::<Vec<_>>();
     let mut summary =
@@ -380,8 +382,12 @@ fn job_summary(
     )
 }
 
-/// The note naming folds too short to score, if there are any.
-fn unscored_warning(sheet: &crate::fab::Sheet, unscored: &[usize]) -> Option<String> {
+/// The note naming folds too short to score, if there are any, and what they got.
+fn unscored_warning(
+    sheet: &crate::fab::Sheet,
+    unscored: &[usize],
+    given: crate::fab::ShortFolds,
+) -> Option<String> {
     if unscored.is_empty() {
         return None;
     }
@@ -395,26 +401,15 @@ fn unscored_warning(sheet: &crate::fab::Sheet, unscored: &[usize]) -> Option<Str
             )
         })
         .collect();
+    let what = match given {
+        crate::fab::ShortFolds::Nothing => "crease by hand".to_string(),
+        other => format!("given {} (the profile's short_folds)", other.name()),
+    };
     Some(format!(
-        "{} fold(s) too short to score, crease by hand: {} (report.json has their ends)",
+        "{} fold(s) too short to score, {what}: {} (report.json has their ends)",
         unscored.len(),
         lengths.join(", ")
     ))
-}
-
-/// Mountain and valley lines that got no stroke: too short for a dash once the clearance
-/// at their junctions is kept.
-fn unscored_creases(sheet: &crate::fab::Sheet, strokes: &[crate::fab::Stroke]) -> Vec<usize> {
-    use crate::fab::LineKind;
-    let mut scored = vec![false; sheet.lines.len()];
-    for s in strokes {
-        scored[s.line] = true;
-    }
-    (0..sheet.lines.len())
-        .filter(|&i| {
-            matches!(sheet.lines[i].kind, LineKind::Mountain | LineKind::Valley) && !scored[i]
-        })
-        .collect()
 }
 
 /// Every file a fabrication run can write, and the journals `plot` keeps beside the jobs.

@@ -1,7 +1,7 @@
 //! Machine profiles: data, not code (`machines/NAME.toml`). Unknown keys are an error, so a
 //! typo in a profile is caught instead of silently ignored.
 
-use crate::fab::{DashCode, LineKind, ScoreSettings};
+use crate::fab::{DashCode, LineKind, ScoreSettings, ShortFolds};
 use crate::output::{HpglSettings, ToolSetting};
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -64,6 +64,10 @@ pub struct Machine {
     pub pen_up_speed_mm_s: f64,
     /// Distance dashes keep from points where three or more creases meet, mm.
     pub clearance_mm: f64,
+    /// What a fold too short for any dash gets: "nothing" (named, to crease by hand),
+    /// "dash" (one dash centred on it) or "solid" (cut along its length).
+    #[serde(default = "nothing")]
+    pub short_folds: String,
     /// GP-GL details (protocol "gpgl" only).
     #[serde(default)]
     pub gpgl: Option<GpglProfile>,
@@ -73,6 +77,10 @@ pub struct Machine {
 
 fn serial() -> String {
     "serial".into()
+}
+
+fn nothing() -> String {
+    "nothing".into()
 }
 
 /// What differs between GP-GL cutters.
@@ -207,6 +215,7 @@ impl Machine {
         let m: Machine = toml::from_str(text).map_err(|e| crate::io::toml_error(text, &e))?;
         m.check_ranges()?;
         m.check_protocol()?;
+        ShortFolds::parse(&m.short_folds)?;
         for (k, t) in &m.tools {
             if Machine::kind(k).is_none() {
                 return Err(format!(
@@ -442,6 +451,8 @@ impl Machine {
                 })
                 .collect(),
             clearance: self.clearance_mm,
+            // Checked on load; a profile built in code with a bad value scores nothing.
+            short_folds: ShortFolds::parse(&self.short_folds).unwrap_or(ShortFolds::Nothing),
             ..ScoreSettings::default()
         }
     }
