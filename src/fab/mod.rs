@@ -1,6 +1,7 @@
 //! Fabrication: verify a design before anything is cut, unfold it, lay it out on the media,
 //! score it with dash codes and order the cuts.
 
+pub mod clearance;
 pub mod flat_fold;
 pub mod intersect;
 pub mod layers;

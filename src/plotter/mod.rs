@@ -5,6 +5,7 @@ pub mod emulator;
 mod journal;
 mod link;
 pub mod machine;
+mod session;
 pub mod stream;
 
 pub use emulator::{Emulator, EmulatorConfig, EmulatorState, Flow};
