@@ -232,7 +232,7 @@ pub fn score_lines(sheet: &Sheet, settings: &ScoreSettings) -> (Vec<Stroke>, Vec
                 ((len - dash) / 2.0, (len + dash) / 2.0)
             }
         };
-        let u = (line.b - line.a) / len.max(f64::MIN_POSITIVE);
+        let u = (line.b - line.a) / len;
         strokes.push(Stroke {
             kind: line.kind,
             from: line.a + u * from,

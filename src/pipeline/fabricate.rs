@@ -142,9 +142,10 @@ pub fn fabricate(
         .partition(|s| {
             !(options.mountains_from_back && matches!(s.kind, LineKind::Mountain | LineKind::Cut))
         });
+    let tools = machine.hpgl_settings().tools;
     let toolpath = Toolpath {
         media: media.clone(),
-        strokes: route(&front, &machine.hpgl_settings().tools),
+        strokes: route(&front, &tools),
     };
     let back = options.mountains_from_back.then(|| {
         // Seen from the back the sheet is mirrored left to right.
@@ -158,7 +159,7 @@ pub fn fabricate(
             .collect();
         Toolpath {
             media: media.clone(),
-            strokes: route(&mirrored, &machine.hpgl_settings().tools),
+            strokes: route(&mirrored, &tools),
         }
     });
     // A tiled sheet is larger than the media: a cutter cannot take it, only pages print.

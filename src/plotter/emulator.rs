@@ -295,11 +295,7 @@ impl Plotter {
             let Some(b) = self.buffer.pop_front() else {
                 break;
             };
-            let end = match self.config.language {
-                Language::Hpgl => b';',
-                Language::Gpgl => 0x03,
-            };
-            if b == end {
+            if b == self.config.language.terminator() {
                 let cmd = String::from_utf8_lossy(&self.command).into_owned();
                 self.command.clear();
                 match self.interpreter.execute(&cmd) {

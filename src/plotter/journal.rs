@@ -65,25 +65,26 @@ pub(crate) fn commands(job: &[u8], language: Language) -> Vec<Command> {
         }
         let raw = String::from_utf8_lossy(&job[start..i]);
         let text = raw.trim_start_matches(gpgl::RESET).trim();
-        let (before, after, moves) = match language {
+        let (before, after) = match language {
             Language::Hpgl => {
                 let before = hpgl.state().0;
                 let _ = hpgl.execute(text);
-                let name = text.get(..2).unwrap_or("").to_ascii_uppercase();
-                let moving = matches!(name.as_str(), "PU" | "PD" | "PA" | "PR");
-                (before, hpgl.state().0, moving)
+                (before, hpgl.state().0)
             }
             Language::Gpgl => {
                 let before = gpgl.state().0;
                 let _ = gpgl.execute(text);
-                let moving = matches!(gpgl::command_name(text), "M" | "D" | "H");
-                (before, gpgl.state().0, moving)
+                (before, gpgl.state().0)
             }
         };
+        let moving = matches!(
+            command_name(text, language).as_str(),
+            "PU" | "PD" | "PA" | "PR" | "M" | "D" | "H"
+        );
         out.push(Command {
             end: i + 1,
             position: after,
-            moves: moves && after != before,
+            moves: moving && after != before,
         });
         start = i + 1;
     }
@@ -99,10 +100,7 @@ pub(crate) fn tool_state(job: &[u8], upto: usize, language: Language) -> String 
     let mut state: Vec<(String, String)> = Vec::new();
     for cmd in text.split(end) {
         let c = cmd.trim_start_matches(gpgl::RESET).trim();
-        let name = match language {
-            Language::Hpgl => c.get(..2).unwrap_or("").to_ascii_uppercase(),
-            Language::Gpgl => gpgl::command_name(c).to_string(),
-        };
+        let name = command_name(c, language);
         let keep = match language {
             Language::Hpgl => ["SP", "VS", "FS"].contains(&name.as_str()),
             Language::Gpgl => {
@@ -118,6 +116,14 @@ pub(crate) fn tool_state(job: &[u8], upto: usize, language: Language) -> String 
         .into_iter()
         .map(|(_, c)| format!("{c}{end}"))
         .collect()
+}
+
+/// A command's name: HP-GL's two letters (upper case), GP-GL's one or two characters.
+fn command_name(cmd: &str, language: Language) -> String {
+    match language {
+        Language::Hpgl => cmd.get(..2).unwrap_or("").to_ascii_uppercase(),
+        Language::Gpgl => gpgl::command_name(cmd).to_string(),
+    }
 }
 
 /// Saves the journal through a temporary file, so a crash never leaves half of one.

@@ -131,6 +131,30 @@ impl Link {
         }
     }
 
+    /// One byte off the line, `None` if none came in the port's short timeout; an error
+    /// once `wait` has passed since `start` or the port is gone.
+    fn next_byte(
+        &mut self,
+        query: &str,
+        (start, wait): (Instant, Duration),
+        confirmed: usize,
+    ) -> Result<Option<u8>, StreamError> {
+        if start.elapsed() > wait {
+            return Err(StreamError::Silent {
+                query: query.to_string(),
+                seconds: wait.as_secs_f64(),
+                confirmed,
+            });
+        }
+        let mut byte = [0u8; 1];
+        match self.port.read(&mut byte) {
+            Ok(0) => Ok(None),
+            Ok(_) => Ok(Some(byte[0])),
+            Err(e) if transient(&e) => Ok(None),
+            Err(e) => Err(self.vanished(confirmed, e)),
+        }
+    }
+
     /// Waits for the next reply that is not a mark's.
     pub(crate) fn reply(
         &mut self,
@@ -139,24 +163,11 @@ impl Link {
         confirmed: usize,
     ) -> Result<String, StreamError> {
         let start = Instant::now();
-        let mut byte = [0u8; 1];
         loop {
-            if start.elapsed() > wait {
-                return Err(StreamError::Silent {
-                    query: query.to_string(),
-                    seconds: wait.as_secs_f64(),
-                    confirmed,
-                });
-            }
-            match self.port.read(&mut byte) {
-                Ok(0) => {}
-                Ok(_) => {
-                    if let Some(text) = self.take(byte[0]) {
-                        return Ok(text);
-                    }
+            if let Some(b) = self.next_byte(query, (start, wait), confirmed)? {
+                if let Some(text) = self.take(b) {
+                    return Ok(text);
                 }
-                Err(e) if transient(&e) => {}
-                Err(e) => return Err(self.vanished(confirmed, e)),
             }
         }
     }
@@ -168,22 +179,9 @@ impl Link {
         confirmed: usize,
     ) -> Result<(), StreamError> {
         let start = Instant::now();
-        let mut byte = [0u8; 1];
         while !self.marks.is_empty() {
-            if start.elapsed() > wait {
-                return Err(StreamError::Silent {
-                    query: "OA;".into(),
-                    seconds: wait.as_secs_f64(),
-                    confirmed,
-                });
-            }
-            match self.port.read(&mut byte) {
-                Ok(0) => {}
-                Ok(_) => {
-                    let _ = self.take(byte[0]);
-                }
-                Err(e) if transient(&e) => {}
-                Err(e) => return Err(self.vanished(confirmed, e)),
+            if let Some(b) = self.next_byte("OA;", (start, wait), confirmed)? {
+                let _ = self.take(b);
             }
         }
         Ok(())

@@ -38,6 +38,19 @@ impl Session<'_> {
             + Duration::from_secs_f64(bytes as f64 / (self.options.baud as f64 / 10.0))
     }
 
+    /// How long to wait for the plotter to work through `bytes` and answer: the line
+    /// time plus two minutes of drawing.
+    fn patience(&self, bytes: usize) -> Duration {
+        self.wait(bytes) + Duration::from_secs(120)
+    }
+
+    /// The last command wholly within the first `drawn` bytes, and where the job goes on
+    /// after it.
+    fn after_drawn(&self, drawn: usize) -> (Option<usize>, usize) {
+        let k = self.cmds.iter().rposition(|c| c.end <= drawn);
+        (k, k.map_or(0, |k| self.cmds[k].end))
+    }
+
     /// The end of the last whole command within `max` bytes of `from` (at least one
     /// command, however long), so no query ever lands inside a command.
     fn chunk_end(&self, from: usize, max: usize) -> usize {
@@ -146,7 +159,7 @@ impl Session<'_> {
     /// Sends the next piece of the job the way the flow mode and language allow.
     pub(super) fn step(&mut self) -> Result<(), StreamError> {
         let buffer = self.options.buffer;
-        let patience = self.wait(buffer) + Duration::from_secs(120);
+        let patience = self.patience(buffer);
         if self.options.language == Language::Gpgl {
             // Chunks of whole commands, each cut before the next goes: a quarter buffer
             // (at most 1 KiB), so a resume cuts little again and the wait is short.
@@ -210,7 +223,7 @@ impl Session<'_> {
     /// Everything is sent: wait until it is drawn, then ask for errors.
     pub(super) fn finish(&mut self) -> Result<(), StreamError> {
         let total = self.job.len();
-        let patience = self.wait(self.options.buffer * 2) + Duration::from_secs(120);
+        let patience = self.patience(self.options.buffer * 2);
         if self.options.language == Language::Gpgl {
             return self.until_ready(patience);
         }
@@ -243,9 +256,8 @@ impl Session<'_> {
                 // GP-GL cannot say where the knife is. Let the cutter finish what it holds,
                 // then go on after the last chunk it reported cut, from a reset and the
                 // job's own set-up: at most one chunk is cut again, nothing is skipped.
-                self.until_ready(self.wait(self.options.buffer) + Duration::from_secs(120))?;
-                let k = self.cmds.iter().rposition(|c| c.end <= old.drawn);
-                let start = k.map_or(0, |k| self.cmds[k].end);
+                self.until_ready(self.patience(self.options.buffer))?;
+                let (k, start) = self.after_drawn(old.drawn);
                 let mut preamble = crate::output::gpgl::RESET.as_bytes().to_vec();
                 preamble.extend(tool_state(self.job, start, Language::Gpgl).bytes());
                 if let Some(k) = k {
@@ -308,8 +320,7 @@ impl Session<'_> {
         }
         // A plotter that was reset cannot say: start again after the last command it
         // confirmed drawing, from a known state, with a pen-up move there.
-        let k = self.cmds.iter().rposition(|c| c.end <= old.drawn);
-        let start = k.map_or(0, |k| self.cmds[k].end);
+        let (k, start) = self.after_drawn(old.drawn);
         let pos = k.map_or([0, 0], |k| self.cmds[k].position);
         let state = tool_state(self.job, start, Language::Hpgl);
         Ok(ResumePoint {

@@ -10,7 +10,7 @@ use super::score::Stroke;
 use crate::mesh::Vec2;
 use crate::output::ToolSetting;
 use std::collections::{BTreeMap, HashMap};
-use tour::{improve, polish};
+use tour::improve;
 
 mod tour;
 
@@ -89,7 +89,7 @@ pub fn route(strokes: &[Stroke], tools: &BTreeMap<LineKind, ToolSetting>) -> Vec
         let mut order = nearest_neighbour(&ends, at);
         // The last tour ends at home; the others end wherever the next one starts best.
         let home = (k == last).then(Vec2::zeros);
-        improve(&mut order, at, home);
+        improve(&mut order, at, home, true);
         let mut tour = Vec::with_capacity(group.len());
         for e in &order {
             let chain = &lines[e.line];
@@ -100,7 +100,7 @@ pub fn route(strokes: &[Stroke], tools: &BTreeMap<LineKind, ToolSetting>) -> Vec
             }
         }
         // Then stroke by stroke, where entering a line part way along gains.
-        polish(&mut tour, at, home);
+        improve(&mut tour, at, home, false);
         at = tour.last().map(|s| s.to).unwrap_or(at);
         out.extend(tour);
     }

@@ -335,23 +335,10 @@ fn local_search(
     }
 }
 
-/// Improves a tour by 2-opt and Or-opt moves until none gains (no kicks).
-pub(super) fn polish(order: &mut Vec<Stroke>, start: Vec2, end: Option<Vec2>) {
-    let n = order.len();
-    if n < 2 {
-        return;
-    }
-    let input = order.clone();
-    let neighbours = nearest_ends(&input, 8);
-    let mut tour = Tour::new(input.clone(), start, end);
-    local_search(&mut tour, &input, &neighbours, &mut Worklist::all(n), true);
-    *order = tour.strokes;
-}
-
-/// Improves a tour by 2-opt and Or-opt moves until none gains, then by iterated local
-/// search: a seeded random double bridge (three nearby cuts, the two middle runs
-/// swapped), a local search around it, kept only if the tour got shorter.
-pub(super) fn improve(order: &mut Vec<Stroke>, start: Vec2, end: Option<Vec2>) {
+/// Improves a tour by 2-opt and Or-opt moves until none gains, then, if `kick`, by
+/// iterated local search: a seeded random double bridge (three nearby cuts, the two
+/// middle runs swapped), a local search around it, kept only if the tour got shorter.
+pub(super) fn improve(order: &mut Vec<Stroke>, start: Vec2, end: Option<Vec2>, kick: bool) {
     let n = order.len();
     if n < 2 {
         return;
@@ -362,7 +349,11 @@ pub(super) fn improve(order: &mut Vec<Stroke>, start: Vec2, end: Option<Vec2>) {
     local_search(&mut tour, &input, &neighbours, &mut Worklist::all(n), true);
     // Kicks cost about n each (a copy and a length) and a local repair: kept to about
     // a tenth of a second on a sheet of a thousand creases.
-    let kicks = if n >= 8 { (100_000 / n).min(1_000) } else { 0 };
+    let kicks = if kick && n >= 8 {
+        (100_000 / n).min(1_000)
+    } else {
+        0
+    };
     let mut best = tour.length();
     let mut seed = 0x9e3779b97f4a7c15u64;
     let mut random = |below: usize| {
