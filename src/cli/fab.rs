@@ -104,6 +104,12 @@ pub fn fab(args: FabArgs) -> Result<u8, String> {
         s["strokes"],
         result.job_line
     );
+    if !result.steps.is_empty() {
+        eprintln!("two-sided job:");
+        for step in &result.steps {
+            eprintln!("  {step}");
+        }
+    }
     for warning in &result.warnings {
         eprintln!("warning: {warning}");
     }

@@ -7,6 +7,7 @@ pub mod intersect;
 pub mod layers;
 pub mod layout;
 pub mod lines;
+pub mod registration;
 pub mod rounding;
 pub mod route;
 pub mod score;

@@ -3,6 +3,7 @@
 //! to check the printer did not scale, a legend, the title and the report's summary.
 
 use crate::fab::{LineKind, Media, Sheet};
+use crate::mesh::Vec2;
 use printpdf::{
     BuiltinFont, Color, Line, LineDashPattern, LinePoint, Mm, Op, PdfDocument, PdfFontHandle,
     PdfPage, PdfSaveOptions, Point, Pt, Rgb, TextItem,
@@ -139,6 +140,39 @@ fn page_ops(
     ops
 }
 
+/// A cross of arms `arm` mm end to end centred on `c`, in the current colour.
+fn cross(ops: &mut Vec<Op>, c: (f64, f64), arm: f64) {
+    let h = arm / 2.0;
+    ops.push(line((c.0 - h, c.1), (c.0 + h, c.1)));
+    ops.push(line((c.0, c.1 - h), (c.0, c.1 + h)));
+}
+
+fn solid_black(ops: &mut Vec<Op>) {
+    ops.push(Op::SetOutlineColor {
+        col: rgb(0.0, 0.0, 0.0),
+    });
+    ops.push(Op::SetLineDashPattern {
+        dash: LineDashPattern::solid(),
+    });
+}
+
+/// `s` broken at spaces into lines of at most `width` characters.
+fn wrap(s: &str, width: usize) -> Vec<String> {
+    let mut lines = vec![String::new()];
+    for word in s.split_whitespace() {
+        let last = lines.last_mut().expect("one line");
+        if !last.is_empty() && last.len() + 1 + word.len() > width {
+            lines.push(word.to_string());
+        } else {
+            if !last.is_empty() {
+                last.push(' ');
+            }
+            last.push_str(word);
+        }
+    }
+    lines
+}
+
 fn save(title: &str, pages: Vec<PdfPage>) -> Vec<u8> {
     PdfDocument::new(title)
         .with_pages(pages)
@@ -151,6 +185,80 @@ pub fn to_bytes(sheet: &Sheet, title: &str, summary: &[String]) -> Vec<u8> {
     let (w, h) = (sheet.media.width, sheet.media.height);
     let ops = page_ops(sheet, (0.0, 0.0), w, h, title, summary);
     save(title, vec![PdfPage::new(Mm(w as f32), Mm(h as f32), ops)])
+}
+
+/// A two-sided job's template: the sheet with the front job's registration crosses at
+/// `marks` (page 1), then a page with the `steps` — which job first, how to turn the sheet,
+/// how to check the registration — and a sketch of the sheet's two sides with the crosses.
+pub fn to_bytes_two_sided(
+    sheet: &Sheet,
+    title: &str,
+    summary: &[String],
+    marks: &[Vec2],
+    steps: &[String],
+) -> Vec<u8> {
+    let (w, h) = (sheet.media.width, sheet.media.height);
+    let mut ops = page_ops(sheet, (0.0, 0.0), w, h, title, summary);
+    solid_black(&mut ops);
+    for m in marks {
+        cross(&mut ops, (m.x, m.y), crate::fab::registration::MARK_ARM_MM);
+    }
+    let mut second = Vec::new();
+    text(
+        &mut second,
+        10.0,
+        h - 15.0,
+        12.0,
+        &format!("{title}: two-sided job"),
+    );
+    // Helvetica averages about half an em per character.
+    let per_line = ((w - 20.0) / (9.0 * 0.5 * 25.4 / 72.0)) as usize;
+    let mut y = h - 25.0;
+    for step in steps {
+        for l in wrap(step, per_line) {
+            text(&mut second, 10.0, y, 9.0, &l);
+            y -= 4.5;
+        }
+        y -= 2.0;
+    }
+    // The sheet's two sides, small: the front as it is cut, then turned over left to
+    // right, with the crosses where each job cuts them.
+    let k = ((w - 30.0) / 2.0 / w).min((y - 20.0) / h).max(0.05);
+    let mirrored: Vec<Vec2> = marks
+        .iter()
+        .map(|&m| crate::fab::registration::mirrored(w, m))
+        .collect();
+    solid_black(&mut second);
+    for (i, (label, points)) in [
+        ("front (first job)", marks),
+        ("back, turned left to right (second job)", &mirrored[..]),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let x0 = 10.0 + i as f64 * (w * k + 10.0);
+        let y0 = y - 5.0 - h * k;
+        let corners = [
+            (x0, y0),
+            (x0 + w * k, y0),
+            (x0 + w * k, y0 + h * k),
+            (x0, y0 + h * k),
+        ];
+        for j in 0..4 {
+            second.push(line(corners[j], corners[(j + 1) % 4]));
+        }
+        for p in points {
+            cross(&mut second, (x0 + p.x * k, y0 + p.y * k), 4.0);
+        }
+        text(&mut second, x0, y0 - 5.0, 8.0, label);
+    }
+    save(
+        title,
+        vec![
+            PdfPage::new(Mm(w as f32), Mm(h as f32), ops),
+            PdfPage::new(Mm(w as f32), Mm(h as f32), second),
+        ],
+    )
 }
 
 /// A sheet too large for the printer, split over `page` sized pages. Each page shows a
@@ -176,25 +284,18 @@ pub fn to_bytes_tiled(
             let shift = (margin - wx, margin - wy);
             let label = format!("{title}: page {} of {} (row {} of {rows}, column {} of {cols}); overlap {overlap} mm", r * cols + c + 1, rows * cols, r + 1, c + 1);
             let mut ops = page_ops(sheet, shift, page.width, page.height, &label, summary);
-            ops.push(Op::SetOutlineColor {
-                col: rgb(0.0, 0.0, 0.0),
-            });
-            ops.push(Op::SetLineDashPattern {
-                dash: LineDashPattern::solid(),
-            });
+            solid_black(&mut ops);
             // Registration crosses at the window's corners and at its overlap edges.
             let xs = [margin, margin + overlap, margin + uw - overlap, margin + uw];
             let ys = [margin, margin + overlap, margin + uh - overlap, margin + uh];
             for &x in &[xs[0], xs[3]] {
                 for &y in &[ys[0], ys[1], ys[2], ys[3]] {
-                    ops.push(line((x - 3.0, y), (x + 3.0, y)));
-                    ops.push(line((x, y - 3.0), (x, y + 3.0)));
+                    cross(&mut ops, (x, y), 6.0);
                 }
             }
             for &x in &[xs[1], xs[2]] {
                 for &y in &[ys[0], ys[3]] {
-                    ops.push(line((x - 3.0, y), (x + 3.0, y)));
-                    ops.push(line((x, y - 3.0), (x, y + 3.0)));
+                    cross(&mut ops, (x, y), 6.0);
                 }
             }
             pages.push(PdfPage::new(

@@ -42,6 +42,9 @@ pub struct FabOutput {
     pub job_line: String,
     /// What the maker must do by hand (as on the PDF), e.g. folds too short to score.
     pub warnings: Vec<String>,
+    /// For a two-sided job, what the maker does in order: which job first, how to turn
+    /// the sheet, how to check the registration (as on the PDF's second page).
+    pub steps: Vec<String>,
     /// The verification report.
     pub verification: crate::fab::Report,
     /// The placed sheet.
@@ -67,8 +70,8 @@ pub fn fabricate(
     options: &FabOptions,
 ) -> Result<FabOutput, FabError> {
     use crate::fab::{
-        check_overlap, crease_lines, layout, route, score_lines, verify, LayoutError, LineKind,
-        Media, Sizing, Tolerances, Toolpath,
+        check_overlap, crease_lines, layout, score_lines, verify, LayoutError, Media, Sizing,
+        Tolerances, Toolpath,
     };
     if let Some(w) = options.width {
         if !(w.is_finite() && w >= MIN_WIDTH_MM) {
@@ -117,7 +120,13 @@ pub fn fabricate(
         (false, Some(w)) => Sizing::Width(w),
         (false, None) => Sizing::Natural,
     };
-    let sheet = match layout(&flat, &lines, &media, margin, sizing) {
+    // A two-sided job keeps a band inside the margin for its registration crosses.
+    let band = if options.mountains_from_back {
+        crate::fab::registration::MARK_BAND_MM
+    } else {
+        0.0
+    };
+    let sheet = match layout(&flat, &lines, &media, margin + band, sizing) {
         Ok(s) => s,
         Err(LayoutError::TooLarge { .. }) if options.tile => {
             // Turned for the fewest pages, on a virtual sheet just large enough; the PDF
@@ -127,7 +136,12 @@ pub fn fabricate(
                 .map_err(|e| FabError::Input(e.to_string()))?
         }
         Err(e @ LayoutError::TooLarge { .. }) => {
-            return Err(FabError::Rejected(Rejected(e.to_string())))
+            let why = if band > 0.0 {
+                format!(" (a two-sided job keeps {band} mm more inside the margin for its registration crosses)")
+            } else {
+                String::new()
+            };
+            return Err(FabError::Rejected(Rejected(format!("{e}{why}"))));
         }
         Err(LayoutError::Bad(m)) => return Err(FabError::Input(m)),
     };
@@ -135,33 +149,8 @@ pub fn fabricate(
     let media = sheet.media.clone();
     let settings = machine.score_settings();
     let (strokes, unscored) = score_lines(&sheet, &settings);
-    let (front, back): (Vec<_>, Vec<_>) = strokes
-        .into_iter()
-        // Two-sided: the outline is cut last in the last job, so the piece stays in the
-        // sheet until both sides are scored.
-        .partition(|s| {
-            !(options.mountains_from_back && matches!(s.kind, LineKind::Mountain | LineKind::Cut))
-        });
     let tools = machine.hpgl_settings().tools;
-    let toolpath = Toolpath {
-        media: media.clone(),
-        strokes: route(&front, &tools),
-    };
-    let back = options.mountains_from_back.then(|| {
-        // Seen from the back the sheet is mirrored left to right.
-        let mirrored: Vec<_> = back
-            .iter()
-            .map(|s| crate::fab::Stroke {
-                from: crate::mesh::Vec2::new(media.width - s.from.x, s.from.y),
-                to: crate::mesh::Vec2::new(media.width - s.to.x, s.to.y),
-                ..*s
-            })
-            .collect();
-        Toolpath {
-            media: media.clone(),
-            strokes: route(&mirrored, &tools),
-        }
-    });
+    let (toolpath, back) = sides(strokes, &media, margin, &tools, options, tiled);
     // A tiled sheet is larger than the media: a cutter cannot take it, only pages print.
     let jobs_written = if tiled {
         Vec::new()
@@ -184,7 +173,24 @@ pub fn fabricate(
             "sheet-back.svg".to_string(),
             crate::output::svg::sheet_to_string(b).into_bytes(),
         ));
+        files.push((
+            "sheet-back.dxf".to_string(),
+            crate::output::dxf::to_string(b).into_bytes(),
+        ));
     }
+    let steps = match (&back, tiled) {
+        (Some(_), false) => {
+            let (front_file, back_file) = match jobs_written.as_slice() {
+                [f, b] => (f.0.as_str(), b.0.as_str()),
+                _ => (
+                    "sheet.svg (or sheet.dxf)",
+                    "sheet-back.svg (or sheet-back.dxf)",
+                ),
+            };
+            crate::fab::registration::steps(front_file, back_file)
+        }
+        _ => Vec::new(),
+    };
     let mut placed = mesh.clone();
     placed.set_flat(sheet.vertices.clone());
     let cp = crate::io::to_string(&placed, crate::io::Format::Svg).map_err(FabError::Input)?;
@@ -241,6 +247,12 @@ pub fn fabricate(
         "transfer_time_s": transfer,
         "isometry_max_relative_error": isometry_error,
         "mountains_from_back": options.mountains_from_back,
+        // How the two sides register: the crosses each job cuts first, and what to do.
+        "two_sided": (!steps.is_empty()).then(|| serde_json::json!({
+            "front_marks_mm": crate::fab::registration::front_centres(&media, margin).map(|p| [p.x, p.y]),
+            "back_marks_mm": crate::fab::registration::back_centres(&media, margin).map(|p| [p.x, p.y]),
+            "steps": steps,
+        })),
         "tiled": tiled,
         // Folds with no room for a dash (shorter than the clearance the junctions at
         // their ends need), and what the profile's `short_folds` gave them: with
@@ -287,9 +299,17 @@ pub fn fabricate(
         ),
             job_line.clone(),
         ];
+    if !steps.is_empty() {
+        summary.push(
+            "two-sided: the front job first, then turn the sheet over left to right; page 2 says how".into(),
+        );
+    }
     summary.extend(warnings.iter().cloned());
     let pdf = if tiled {
         crate::output::pdf::to_bytes_tiled(&sheet, &page, margin, TILE_OVERLAP_MM, &title, &summary)
+    } else if !steps.is_empty() {
+        let marks = crate::fab::registration::front_centres(&media, margin);
+        crate::output::pdf::to_bytes_two_sided(&sheet, &title, &summary, &marks, &steps)
     } else {
         crate::output::pdf::to_bytes(&sheet, &title, &summary)
     };
@@ -303,6 +323,7 @@ pub fn fabricate(
         report,
         job_line,
         warnings,
+        steps,
         verification,
         sheet,
         toolpath,
@@ -333,6 +354,54 @@ fn layer_order_of(design: &Mesh, placed: &Mesh) -> Option<Vec<[i64; 3]>> {
         Ok(crate::fab::LayerOrder::Found(orders)) => Some(orders),
         _ => None,
     }
+}
+
+/// The front job and, for a two-sided run, the mirrored back job. Two-sided: the front
+/// scores the valleys, the back the mountains and then the outline, so the piece stays in
+/// the sheet until both sides are scored; each job starts with the registration crosses
+/// ([`crate::fab::registration`]) unless the sheet is tiled (no machine takes it).
+fn sides(
+    strokes: Vec<crate::fab::Stroke>,
+    media: &crate::fab::Media,
+    margin: f64,
+    tools: &BTreeMap<crate::fab::LineKind, crate::output::ToolSetting>,
+    options: &FabOptions,
+    tiled: bool,
+) -> (crate::fab::Toolpath, Option<crate::fab::Toolpath>) {
+    use crate::fab::{registration, route, LineKind, Toolpath};
+    let (front, back): (Vec<_>, Vec<_>) = strokes.into_iter().partition(|s| {
+        !(options.mountains_from_back && matches!(s.kind, LineKind::Mountain | LineKind::Cut))
+    });
+    let marks = |centres: [crate::mesh::Vec2; 3]| {
+        if options.mountains_from_back && !tiled {
+            registration::cross_strokes(&centres)
+        } else {
+            Vec::new()
+        }
+    };
+    let mut front_strokes = marks(registration::front_centres(media, margin));
+    front_strokes.extend(route(&front, tools));
+    let front = Toolpath {
+        media: media.clone(),
+        strokes: front_strokes,
+    };
+    let back = options.mountains_from_back.then(|| {
+        let mirrored: Vec<_> = back
+            .iter()
+            .map(|s| crate::fab::Stroke {
+                from: registration::mirrored(media.width, s.from),
+                to: registration::mirrored(media.width, s.to),
+                ..*s
+            })
+            .collect();
+        let mut strokes = marks(registration::back_centres(media, margin));
+        strokes.extend(route(&mirrored, tools));
+        Toolpath {
+            media: media.clone(),
+            strokes,
+        }
+    });
+    (front, back)
 }
 
 /// The cutter's own job (sheet.hpgl or sheet.gpgl, and its `-back` twin for a two-sided
@@ -414,7 +483,7 @@ fn unscored_warning(
 }
 
 /// Every file a fabrication run can write, and the journals `plot` keeps beside the jobs.
-pub const OUTPUT_FILES: [&str; 14] = [
+pub const OUTPUT_FILES: [&str; 16] = [
     "sheet.svg",
     "sheet.hpgl",
     "sheet.gpgl",
@@ -422,6 +491,7 @@ pub const OUTPUT_FILES: [&str; 14] = [
     "sheet-back.hpgl",
     "sheet-back.gpgl",
     "sheet-back.svg",
+    "sheet-back.dxf",
     "crease-pattern.svg",
     "crease-pattern.fold",
     "sheet.pdf",
@@ -429,6 +499,7 @@ pub const OUTPUT_FILES: [&str; 14] = [
     "sheet.hpgl.journal",
     "sheet-back.hpgl.journal",
     "sheet.gpgl.journal",
+    "sheet-back.gpgl.journal",
 ];
 
 /// Files an earlier run left in `dir` that this run's `written` files do not replace (a
