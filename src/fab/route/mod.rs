@@ -125,91 +125,12 @@ pub fn nearest_neighbour_only(
 /// Greedy tour over stroke ends with a uniform grid, so each pick looks only nearby.
 fn nearest_neighbour(group: &[Stroke], start: Vec2) -> Vec<Stroke> {
     let n = group.len();
-    if n == 0 {
-        return Vec::new();
-    }
-    let (lo, hi) = group.iter().fold(
-        (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY)),
-        |(lo, hi), s| (lo.inf(&s.from).inf(&s.to), hi.sup(&s.from).sup(&s.to)),
-    );
-    let extent = (hi - lo).max().max(1e-9);
-    let cells_per_side = ((n as f64).sqrt().ceil() as i64).max(1);
-    let cell = extent / cells_per_side as f64;
-    let key = |p: Vec2| {
-        (
-            ((p.x - lo.x) / cell).floor() as i64,
-            ((p.y - lo.y) / cell).floor() as i64,
-        )
-    };
-    let mut grid: HashMap<(i64, i64), Vec<(usize, bool)>> = HashMap::new();
-    for (i, s) in group.iter().enumerate() {
-        grid.entry(key(s.from)).or_default().push((i, false));
-        grid.entry(key(s.to)).or_default().push((i, true));
-    }
+    let ends = EndGrid::new(group);
     let mut done = vec![false; n];
     let mut out = Vec::with_capacity(n);
     let mut at = start;
     for _ in 0..n {
-        let (cx, cy) = key(at);
-        let mut best: Option<(f64, usize, bool)> = None;
-        // The pen may start far outside the grid (its origin beside a small design): the
-        // rings nearer than the grid itself are empty, so the search starts at the grid.
-        let outside = |c: i64| (-c).max(c - cells_per_side).max(0);
-        let first_ring = outside(cx).max(outside(cy));
-        let mut ring = first_ring;
-        // Grid keys lie in 0..=cells_per_side on both axes; only cells there are visited,
-        // in the same order as a full sweep of the ring, and only the ring's perimeter.
-        let span = |c: i64, ring: i64| (-ring).max(-c)..=ring.min(cells_per_side - c);
-        loop {
-            for dx in span(cx, ring) {
-                let column: Vec<i64> = if dx.abs() == ring {
-                    span(cy, ring).collect()
-                } else {
-                    [-ring, ring]
-                        .into_iter()
-                        .filter(|dy| span(cy, ring).contains(dy))
-                        .collect()
-                };
-                for dy in column {
-                    let Some(list) = grid.get(&(cx + dx, cy + dy)) else {
-                        continue;
-                    };
-                    for &(i, reversed) in list {
-                        if done[i] {
-                            continue;
-                        }
-                        let end = if reversed { group[i].to } else { group[i].from };
-                        let d = (end - at).norm();
-                        if best.is_none_or(|(bd, _, _)| d < bd) {
-                            best = Some((d, i, reversed));
-                        }
-                    }
-                }
-            }
-            // Anything found within `ring` cells is closer than whatever lies beyond it.
-            if let Some((d, _, _)) = best {
-                if d <= ring as f64 * cell {
-                    break;
-                }
-            }
-            ring += 1;
-            if ring > first_ring + 2 * cells_per_side + 2 {
-                break;
-            }
-        }
-        // The rings cover the whole grid, so an undone stroke is always found; the scan is
-        // a guard against a grid that rounding left short.
-        let best = best.or_else(|| {
-            (0..n)
-                .filter(|&i| !done[i])
-                .flat_map(|i| [(i, false), (i, true)])
-                .map(|(i, r)| {
-                    let end = if r { group[i].to } else { group[i].from };
-                    ((end - at).norm(), i, r)
-                })
-                .min_by(|a, b| a.0.total_cmp(&b.0))
-        });
-        let Some((_, i, reversed)) = best else {
+        let Some((i, reversed)) = ends.nearest_undone(at, &done) else {
             break;
         };
         done[i] = true;
@@ -222,6 +143,111 @@ fn nearest_neighbour(group: &[Stroke], start: Vec2) -> Vec<Stroke> {
         out.push(s);
     }
     out
+}
+
+/// Both ends of every stroke of a group in a square grid of about one stroke per cell,
+/// for the nearest not-yet-drawn end.
+struct EndGrid<'a> {
+    group: &'a [Stroke],
+    lo: Vec2,
+    cell: f64,
+    cells_per_side: i64,
+    /// Stroke and whether it is entered at its `to` end, per cell.
+    cells: HashMap<(i64, i64), Vec<(usize, bool)>>,
+}
+
+impl<'a> EndGrid<'a> {
+    fn new(group: &'a [Stroke]) -> Self {
+        let (lo, hi) = group.iter().fold(
+            (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY)),
+            |(lo, hi), s| (lo.inf(&s.from).inf(&s.to), hi.sup(&s.from).sup(&s.to)),
+        );
+        let extent = (hi - lo).max().max(1e-9);
+        let cells_per_side = ((group.len() as f64).sqrt().ceil() as i64).max(1);
+        let mut grid = EndGrid {
+            group,
+            lo,
+            cell: extent / cells_per_side as f64,
+            cells_per_side,
+            cells: HashMap::new(),
+        };
+        for (i, s) in group.iter().enumerate() {
+            let (from, to) = (grid.key(s.from), grid.key(s.to));
+            grid.cells.entry(from).or_default().push((i, false));
+            grid.cells.entry(to).or_default().push((i, true));
+        }
+        grid
+    }
+
+    fn key(&self, p: Vec2) -> (i64, i64) {
+        (
+            ((p.x - self.lo.x) / self.cell).floor() as i64,
+            ((p.y - self.lo.y) / self.cell).floor() as i64,
+        )
+    }
+
+    /// The stroke (not `done`) with an end nearest `at`, and whether that end is its `to`.
+    /// Rings of cells are searched outwards until the best end found is nearer than any
+    /// cell not yet searched.
+    fn nearest_undone(&self, at: Vec2, done: &[bool]) -> Option<(usize, bool)> {
+        let (cx, cy) = self.key(at);
+        let side = self.cells_per_side;
+        let mut best: Option<(f64, usize, bool)> = None;
+        // The pen may start far outside the grid (its origin beside a small design): the
+        // rings nearer than the grid itself are empty, so the search starts at the grid.
+        let outside = |c: i64| (-c).max(c - side).max(0);
+        let first_ring = outside(cx).max(outside(cy));
+        // Grid keys lie in 0..=side on both axes; only cells there are visited, in the
+        // same order as a full sweep of the ring, and only the ring's perimeter.
+        let span = |c: i64, ring: i64| (-ring).max(-c)..=ring.min(side - c);
+        for ring in first_ring..=first_ring + 2 * side + 2 {
+            for dx in span(cx, ring) {
+                let column: Vec<i64> = if dx.abs() == ring {
+                    span(cy, ring).collect()
+                } else {
+                    [-ring, ring]
+                        .into_iter()
+                        .filter(|dy| span(cy, ring).contains(dy))
+                        .collect()
+                };
+                for dy in column {
+                    for &(i, reversed) in self.cells.get(&(cx + dx, cy + dy)).into_iter().flatten()
+                    {
+                        let end = if reversed {
+                            self.group[i].to
+                        } else {
+                            self.group[i].from
+                        };
+                        let d = (end - at).norm();
+                        if !done[i] && best.is_none_or(|(bd, _, _)| d < bd) {
+                            best = Some((d, i, reversed));
+                        }
+                    }
+                }
+            }
+            // Anything found within `ring` cells is closer than whatever lies beyond it.
+            if best.is_some_and(|(d, _, _)| d <= ring as f64 * self.cell) {
+                break;
+            }
+        }
+        // The rings cover the whole grid, so an undone stroke is always found; the scan is
+        // a guard against a grid that rounding left short.
+        best.or_else(|| {
+            (0..done.len())
+                .filter(|&i| !done[i])
+                .flat_map(|i| [(i, false), (i, true)])
+                .map(|(i, r)| {
+                    let end = if r {
+                        self.group[i].to
+                    } else {
+                        self.group[i].from
+                    };
+                    ((end - at).norm(), i, r)
+                })
+                .min_by(|a, b| a.0.total_cmp(&b.0))
+        })
+        .map(|(_, i, r)| (i, r))
+    }
 }
 
 #[cfg(test)]
