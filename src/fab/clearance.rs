@@ -50,6 +50,55 @@ fn too_close(p: Vec2, u: Vec2, len: f64, q0: Vec2, q1: Vec2, c: f64) -> Option<(
     (lo < hi).then_some((lo, hi))
 }
 
+/// The stretches of a dash `len` long left outside the `blocked` ones, as (start, end)
+/// along it, those at least `min_dash` long.
+fn free_pieces(mut blocked: Vec<(f64, f64)>, len: f64, min_dash: f64) -> Vec<(f64, f64)> {
+    blocked.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut start = 0.0;
+    let mut pieces = Vec::new();
+    for (a, b) in blocked.into_iter().chain([(len, len)]) {
+        if a - start >= min_dash {
+            pieces.push((start, a.min(len)));
+        }
+        start = start.max(b);
+    }
+    pieces
+}
+
+/// The strokes a dash `d` trimmed to `pieces` becomes. A piece trimmed shorter than a
+/// full dash must still read as its kind (a dash laid out short already does). A
+/// shorter-dashed kind keeps only the longest piece of a dash cut in two: two short
+/// pieces close together read as the longer-dashed kind's pair.
+fn read_as_kind(d: &Stroke, mut pieces: Vec<(f64, f64)>, settings: &ScoreSettings) -> Vec<Stroke> {
+    let len = d.length();
+    let u = (d.to - d.from) / len;
+    let code = settings.codes[&d.kind].expect("a dash has a code");
+    let floor = settings.lone_dash_floor(d.kind);
+    if floor.is_none() && pieces.len() > 1 {
+        let longest = pieces
+            .iter()
+            .copied()
+            .max_by(|x, y| (x.1 - x.0).total_cmp(&(y.1 - y.0)))
+            .expect("pieces");
+        pieces = vec![longest];
+    }
+    let mut out = Vec::new();
+    for (a, b) in pieces {
+        let marks = match floor {
+            Some(floor) if b - a < len - 1e-9 && b - a < code.cut - 1e-9 => {
+                short_marks(b - a, floor, settings.min_dash)
+            }
+            _ => vec![(0.0, b - a)],
+        };
+        out.extend(marks.into_iter().map(|(s, e)| Stroke {
+            from: d.from + u * (a + s),
+            to: d.from + u * (a + e),
+            ..*d
+        }));
+    }
+    out
+}
+
 /// Trims every dash so it keeps `clearance` from the cut, from solid creases and from the
 /// dashes of other creases, in the plane. Cuts and solid lines are never trimmed; among
 /// dashes the longer crease keeps its dashes and the shorter gives way, and what is left
@@ -104,44 +153,8 @@ pub fn keep_clear(strokes: Vec<Stroke>, sheet: &Sheet, settings: &ScoreSettings)
                 }
             }
         }
-        blocked.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut start = 0.0;
-        let mut pieces = Vec::new();
-        for (a, b) in blocked.into_iter().chain([(len, len)]) {
-            if a - start >= settings.min_dash {
-                pieces.push((start, a.min(len)));
-            }
-            start = start.max(b);
-        }
-        // A piece trimmed shorter than a full dash must still read as its kind (a dash
-        // laid out short already does). A shorter-dashed kind keeps only the longest
-        // piece of a dash cut in two: two short pieces close together read as the
-        // longer-dashed kind's pair.
-        let code = settings.codes[&d.kind].expect("a dash has a code");
-        let floor = settings.lone_dash_floor(d.kind);
-        if floor.is_none() && pieces.len() > 1 {
-            let longest = pieces
-                .iter()
-                .copied()
-                .max_by(|x, y| (x.1 - x.0).total_cmp(&(y.1 - y.0)))
-                .expect("pieces");
-            pieces = vec![longest];
-        }
-        for (a, b) in pieces {
-            let marks = match floor {
-                Some(floor) if b - a < len - 1e-9 && b - a < code.cut - 1e-9 => {
-                    short_marks(b - a, floor, settings.min_dash)
-                }
-                _ => vec![(0.0, b - a)],
-            };
-            for (s, e) in marks {
-                let piece = Stroke {
-                    from: d.from + u * (a + s),
-                    to: d.from + u * (a + e),
-                    ..d
-                };
-                add(piece, &mut kept, &mut grid);
-            }
+        for piece in read_as_kind(&d, free_pieces(blocked, len, settings.min_dash), settings) {
+            add(piece, &mut kept, &mut grid);
         }
     }
     kept
