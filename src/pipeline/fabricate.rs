@@ -1,5 +1,6 @@
 //! Fabrication: verify → unfold → lay out → score → route → SVG, PDF, HP-GL, report.
 
+use super::fab_report::Run;
 use crate::fab::unfold;
 use crate::mesh::Mesh;
 use std::collections::BTreeMap;
@@ -69,251 +70,62 @@ pub fn fabricate(
     machine: &crate::plotter::Machine,
     options: &FabOptions,
 ) -> Result<FabOutput, FabError> {
-    use crate::fab::{
-        check_overlap, crease_lines, layout, score_lines, verify, LayoutError, Media, Sizing,
-        Tolerances, Toolpath,
-    };
-    if let Some(w) = options.width {
-        if !(w.is_finite() && w >= MIN_WIDTH_MM) {
-            return Err(FabError::Input(format!(
-                "--width {w}: a sheet must be at least {MIN_WIDTH_MM} mm wide to be cut (below that every stroke is shorter than the machine's step)"
-            )));
-        }
-    }
+    use crate::fab::{crease_lines, score_lines, verify, Media, Tolerances};
+    let sizing = sizing_of(options)?;
     let verification = verify(mesh, None, Tolerances::default());
     if !verification.pass() && !options.force {
         return Err(FabError::Rejected(Rejected(format!(
             "the design fails verification (use --force to cut it anyway):\n{verification}"
         ))));
     }
-    let flat = if mesh.has_3d() {
-        unfold(mesh).map_err(|e| FabError::Rejected(Rejected(e.to_string())))?
-    } else {
-        mesh.flat()
-            .map(<[_]>::to_vec)
-            .unwrap_or_else(|| mesh.positions().iter().map(|p| p.xy()).collect())
-    };
-    let isometry_error = mesh
-        .edges()
-        .iter()
-        .map(|e| {
-            let [a, b] = e.vertices;
-            let l3 = (mesh.positions()[a] - mesh.positions()[b]).norm();
-            ((flat[a] - flat[b]).norm() - l3).abs() / l3
-        })
-        .fold(0.0, f64::max);
-    check_overlap(mesh.faces(), &flat).map_err(|e| FabError::Rejected(Rejected(e.to_string())))?;
-    let media = match &options.media {
+    let (flat, isometry_error) = flatten(mesh)?;
+    let page = match &options.media {
         Some(m) => m.clone(),
         None => Media::parse(&machine.media).map_err(FabError::Input)?,
     };
-    let lines = crease_lines(mesh, &flat);
-    let mut tiled = false;
     let margin = options.margin.unwrap_or(machine.margin_mm);
-    let sizing = match (options.fit, options.width) {
-        (true, Some(_)) => {
-            return Err(FabError::Input(
-                "--fit and --width both size the sheet: give one".into(),
-            ))
-        }
-        (true, None) => Sizing::Fit,
-        (false, Some(w)) => Sizing::Width(w),
-        (false, None) => Sizing::Natural,
-    };
-    // A two-sided job keeps a band inside the margin for its registration crosses.
-    let band = if options.mountains_from_back {
-        crate::fab::registration::MARK_BAND_MM
-    } else {
-        0.0
-    };
-    let sheet = match layout(&flat, &lines, &media, margin + band, sizing) {
-        Ok(s) => s,
-        Err(LayoutError::TooLarge { .. }) if options.tile => {
-            // Turned for the fewest pages, on a virtual sheet just large enough; the PDF
-            // is tiled below.
-            tiled = true;
-            crate::fab::layout::layout_tiled(&flat, &lines, &media, margin, TILE_OVERLAP_MM, sizing)
-                .map_err(|e| FabError::Input(e.to_string()))?
-        }
-        Err(e @ LayoutError::TooLarge { .. }) => {
-            let why = if band > 0.0 {
-                format!(" (a two-sided job keeps {band} mm more inside the margin for its registration crosses)")
-            } else {
-                String::new()
-            };
-            return Err(FabError::Rejected(Rejected(format!("{e}{why}"))));
-        }
-        Err(LayoutError::Bad(m)) => return Err(FabError::Input(m)),
-    };
-    let page = media.clone();
-    let media = sheet.media.clone();
+    let lines = crease_lines(mesh, &flat);
+    let (sheet, tiled) = lay_out(&flat, &lines, &page, margin, sizing, options)?;
     let settings = machine.score_settings();
     let (strokes, unscored) = score_lines(&sheet, &settings);
     let tools = machine.hpgl_settings().tools;
-    let (toolpath, back) = sides(strokes, &media, margin, &tools, options, tiled);
+    let (toolpath, back) = sides(strokes, &sheet.media, margin, &tools, options, tiled);
     // A tiled sheet is larger than the media: a cutter cannot take it, only pages print.
     let jobs_written = if tiled {
         Vec::new()
     } else {
         cutter_jobs(machine, &toolpath, back.as_ref())?
     };
-    let job_bytes: usize = jobs_written.iter().map(|(_, b)| b.len()).sum();
-    let mut files = vec![(
-        "sheet.svg".to_string(),
-        crate::output::svg::sheet_to_string(&toolpath).into_bytes(),
-    )];
-    files.extend(jobs_written.iter().take(1).cloned());
-    files.push((
-        "sheet.dxf".to_string(),
-        crate::output::dxf::to_string(&toolpath).into_bytes(),
-    ));
-    files.extend(jobs_written.iter().skip(1).cloned());
-    if let Some(b) = &back {
-        files.push((
-            "sheet-back.svg".to_string(),
-            crate::output::svg::sheet_to_string(b).into_bytes(),
-        ));
-        files.push((
-            "sheet-back.dxf".to_string(),
-            crate::output::dxf::to_string(b).into_bytes(),
-        ));
-    }
-    let steps = match (&back, tiled) {
-        (Some(_), false) => {
-            let (front_file, back_file) = match jobs_written.as_slice() {
-                [f, b] => (f.0.as_str(), b.0.as_str()),
-                _ => (
-                    "sheet.svg (or sheet.dxf)",
-                    "sheet-back.svg (or sheet-back.dxf)",
-                ),
-            };
-            crate::fab::registration::steps(front_file, back_file)
-        }
-        _ => Vec::new(),
-    };
-    let mut placed = mesh.clone();
-    placed.set_flat(sheet.vertices.clone());
-    let cp = crate::io::to_string(&placed, crate::io::Format::Svg).map_err(FabError::Input)?;
-    files.push(("crease-pattern.svg".to_string(), cp.into_bytes()));
-    files.push((
-        "crease-pattern.fold".to_string(),
-        crate::io::fold::to_string_with_orders(&placed, layer_order_of(mesh, &placed).as_deref())
-            .into_bytes(),
-    ));
-
-    // Figures for the report.
-    let mut line_length: BTreeMap<&str, f64> = BTreeMap::new();
-    for l in &sheet.lines {
-        *line_length.entry(l.kind.name()).or_default() += l.length();
-    }
-    let jobs: Vec<&Toolpath> = std::iter::once(&toolpath).chain(back.as_ref()).collect();
-    let mut cut_length: BTreeMap<&str, f64> = BTreeMap::new();
-    let mut motion = 0.0;
-    let mut travel = 0.0;
-    for job in &jobs {
-        for (k, len) in job.cut_length() {
-            *cut_length.entry(k.name()).or_default() += len;
-            motion += len / machine.speed(k);
-        }
-        travel += job.travel();
-    }
-    motion += travel / machine.pen_up_speed_mm_s;
-    let line = machine.serial_line();
-    let transfer = line
-        .as_ref()
-        .map_or(0.0, |l| job_bytes as f64 * 10.0 / l.baud as f64);
-    let estimate = motion.max(transfer);
-    let sheet_json = serde_json::json!({
-        "machine": machine.name,
-        // What `crease plot` needs to stream this job to the machine it was made for.
-        "plotter": line.as_ref().filter(|_| !jobs_written.is_empty()).map(|l| serde_json::json!({
-            "protocol": machine.protocol,
-            "baud": l.baud,
-            "flow_control": l.flow_control,
-            "buffer_bytes": l.buffer_bytes,
-        })),
-        "media": {"name": media.name, "width_mm": media.width, "height_mm": media.height},
-        "size_mm": sheet.size,
-        "scale": sheet.scale,
-        "rotation_deg": sheet.rotation.to_degrees(),
-        "line_length_mm": line_length,
-        "cut_length_mm": cut_length,
-        "strokes": jobs.iter().map(|j| j.strokes.len()).sum::<usize>(),
-        "pen_up_travel_mm": travel,
-        "job_files": jobs_written.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>(),
-        "job_bytes": job_bytes,
-        "estimated_plot_time_s": estimate,
-        "motion_time_s": motion,
-        "transfer_time_s": transfer,
-        "isometry_max_relative_error": isometry_error,
-        "mountains_from_back": options.mountains_from_back,
-        // How the two sides register: the crosses each job cuts first, and what to do.
-        "two_sided": (!steps.is_empty()).then(|| serde_json::json!({
-            "front_marks_mm": crate::fab::registration::front_centres(&media, margin).map(|p| [p.x, p.y]),
-            "back_marks_mm": crate::fab::registration::back_centres(&media, margin).map(|p| [p.x, p.y]),
-            "steps": steps,
-        })),
-        "tiled": tiled,
-        // Folds with no room for a dash (shorter than the clearance the junctions at
-        // their ends need), and what the profile's `short_folds` gave them: with
-        // "nothing" the maker has to score these by hand.
-        "unscored_creases": unscored.iter().map(|&i| {
-            let l = &sheet.lines[i];
-            serde_json::json!({
-                "given": settings.short_folds.name(),
-                "kind": l.kind.name(),
-                "length_mm": l.length(),
-                "from_mm": [l.a.x, l.a.y],
-                "to_mm": [l.b.x, l.b.y],
-            })
-        }).collect::<Vec<_>>(),
-    });
-    let report = serde_json::json!({"verification": verification.to_json(), "sheet": sheet_json});
-    let title = if mesh.title.is_empty() {
-        "crease pattern".to_string()
-    } else {
-        mesh.title.clone()
-    };
-    let job_line = job_summary(
-        &jobs_written,
-        cut_length.values().sum(),
-        travel,
-        estimate,
+    let steps = two_sided_steps(back.is_some() && !tiled, &jobs_written);
+    let mut files = sheet_files(&toolpath, back.as_ref(), &jobs_written);
+    files.extend(pattern_files(mesh, &sheet)?);
+    let run = Run {
+        machine,
+        options,
+        sheet: &sheet,
+        margin,
         tiled,
-    );
-    let warnings = unscored_warning(&sheet, &unscored, settings.short_folds)
-        .into_iter()
-        .collect::<Vec<_>>();
-    let mut summary =
-        vec![
-            format!(
-            "{} on {} ({:.0} x {:.0} mm), pattern {:.1} x {:.1} mm at scale {:.3}; verification {}",
-            machine.name,
-            media.name,
-            media.width,
-            media.height,
-            sheet.size[0],
-            sheet.size[1],
-            sheet.scale,
-            if verification.pass() { "passed" } else { "FAILED (forced)" }
-        ),
-            job_line.clone(),
-        ];
-    if !steps.is_empty() {
-        summary.push(
-            "two-sided: the front job first, then turn the sheet over left to right; page 2 says how".into(),
-        );
-    }
-    summary.extend(warnings.iter().cloned());
-    let pdf = if tiled {
-        crate::output::pdf::to_bytes_tiled(&sheet, &page, margin, TILE_OVERLAP_MM, &title, &summary)
-    } else if !steps.is_empty() {
-        let marks = crate::fab::registration::front_centres(&media, margin);
-        crate::output::pdf::to_bytes_two_sided(&sheet, &title, &summary, &marks, &steps)
-    } else {
-        crate::output::pdf::to_bytes(&sheet, &title, &summary)
+        jobs: std::iter::once(&toolpath).chain(back.as_ref()).collect(),
+        jobs_written: &jobs_written,
+        steps: &steps,
+        unscored: &unscored,
+        short_folds: settings.short_folds,
+        isometry_error,
     };
-    files.push(("sheet.pdf".to_string(), pdf));
+    let figures = run.figures();
+    let report = serde_json::json!({
+        "verification": verification.to_json(),
+        "sheet": run.sheet_json(&figures),
+    });
+    let job_line = run.job_line(&figures);
+    let warnings: Vec<String> = run.unscored_warning().into_iter().collect();
+    let summary = run.summary(verification.pass(), &job_line, &warnings);
+    let title = if mesh.title.is_empty() {
+        "crease pattern"
+    } else {
+        mesh.title.as_str()
+    };
+    files.push(("sheet.pdf".to_string(), run.pdf(&page, title, &summary)));
     files.push((
         "report.json".to_string(),
         (serde_json::to_string_pretty(&report).expect("json") + "\n").into_bytes(),
@@ -330,6 +142,150 @@ pub fn fabricate(
         back,
         isometry_error,
     })
+}
+
+/// How the options size the sheet; a width too small to cut, or both `--fit` and
+/// `--width`, is refused.
+fn sizing_of(options: &FabOptions) -> Result<crate::fab::Sizing, FabError> {
+    use crate::fab::Sizing;
+    if let Some(w) = options.width {
+        if !(w.is_finite() && w >= MIN_WIDTH_MM) {
+            return Err(FabError::Input(format!(
+                "--width {w}: a sheet must be at least {MIN_WIDTH_MM} mm wide to be cut (below that every stroke is shorter than the machine's step)"
+            )));
+        }
+    }
+    match (options.fit, options.width) {
+        (true, Some(_)) => Err(FabError::Input(
+            "--fit and --width both size the sheet: give one".into(),
+        )),
+        (true, None) => Ok(Sizing::Fit),
+        (false, Some(w)) => Ok(Sizing::Width(w)),
+        (false, None) => Ok(Sizing::Natural),
+    }
+}
+
+/// The design's flat state (unfolded if it has a 3D form) and the largest relative
+/// edge-length difference between it and the design; a sheet that overlaps itself is
+/// refused.
+fn flatten(mesh: &Mesh) -> Result<(Vec<crate::mesh::Vec2>, f64), FabError> {
+    let rejected = |e: String| FabError::Rejected(Rejected(e));
+    let flat = if mesh.has_3d() {
+        unfold(mesh).map_err(|e| rejected(e.to_string()))?
+    } else {
+        mesh.flat()
+            .map(<[_]>::to_vec)
+            .unwrap_or_else(|| mesh.positions().iter().map(|p| p.xy()).collect())
+    };
+    let isometry_error = mesh
+        .edges()
+        .iter()
+        .map(|e| {
+            let [a, b] = e.vertices;
+            let l3 = (mesh.positions()[a] - mesh.positions()[b]).norm();
+            ((flat[a] - flat[b]).norm() - l3).abs() / l3
+        })
+        .fold(0.0, f64::max);
+    crate::fab::check_overlap(mesh.faces(), &flat).map_err(|e| rejected(e.to_string()))?;
+    Ok((flat, isometry_error))
+}
+
+/// The sheet placed on `media` within `margin` (and, two-sided, the registration band
+/// inside it), or tiled on a virtual sheet when it does not fit and `--tile` asks for it;
+/// `true` when tiled.
+fn lay_out(
+    flat: &[crate::mesh::Vec2],
+    lines: &[crate::fab::CreaseLine],
+    media: &crate::fab::Media,
+    margin: f64,
+    sizing: crate::fab::Sizing,
+    options: &FabOptions,
+) -> Result<(crate::fab::Sheet, bool), FabError> {
+    use crate::fab::{layout, LayoutError};
+    // A two-sided job keeps a band inside the margin for its registration crosses.
+    let band = if options.mountains_from_back {
+        crate::fab::registration::MARK_BAND_MM
+    } else {
+        0.0
+    };
+    match layout(flat, lines, media, margin + band, sizing) {
+        Ok(s) => Ok((s, false)),
+        // Turned for the fewest pages, on a virtual sheet just large enough; the PDF is
+        // tiled.
+        Err(LayoutError::TooLarge { .. }) if options.tile => {
+            crate::fab::layout::layout_tiled(flat, lines, media, margin, TILE_OVERLAP_MM, sizing)
+                .map(|s| (s, true))
+                .map_err(|e| FabError::Input(e.to_string()))
+        }
+        Err(e @ LayoutError::TooLarge { .. }) => {
+            let why = if band > 0.0 {
+                format!(" (a two-sided job keeps {band} mm more inside the margin for its registration crosses)")
+            } else {
+                String::new()
+            };
+            Err(FabError::Rejected(Rejected(format!("{e}{why}"))))
+        }
+        Err(LayoutError::Bad(m)) => Err(FabError::Input(m)),
+    }
+}
+
+/// A two-sided job's steps for the maker (see [`crate::fab::registration::steps`]),
+/// naming the cutter's files, or for a laser its SVG and DXF; nothing for one side.
+fn two_sided_steps(two_sided: bool, jobs_written: &[(String, Vec<u8>)]) -> Vec<String> {
+    if !two_sided {
+        return Vec::new();
+    }
+    let (front, back) = match jobs_written {
+        [f, b] => (f.0.as_str(), b.0.as_str()),
+        _ => (
+            "sheet.svg (or sheet.dxf)",
+            "sheet-back.svg (or sheet-back.dxf)",
+        ),
+    };
+    crate::fab::registration::steps(front, back)
+}
+
+/// The jobs as files: sheet.svg, the cutter's job, sheet.dxf, then the back job's.
+fn sheet_files(
+    front: &crate::fab::Toolpath,
+    back: Option<&crate::fab::Toolpath>,
+    jobs_written: &[(String, Vec<u8>)],
+) -> Vec<(String, Vec<u8>)> {
+    use crate::output::{dxf, svg};
+    let mut files = vec![(
+        "sheet.svg".to_string(),
+        svg::sheet_to_string(front).into_bytes(),
+    )];
+    files.extend(jobs_written.iter().take(1).cloned());
+    files.push(("sheet.dxf".to_string(), dxf::to_string(front).into_bytes()));
+    files.extend(jobs_written.iter().skip(1).cloned());
+    if let Some(b) = back {
+        files.push((
+            "sheet-back.svg".to_string(),
+            svg::sheet_to_string(b).into_bytes(),
+        ));
+        files.push(("sheet-back.dxf".to_string(), dxf::to_string(b).into_bytes()));
+    }
+    files
+}
+
+/// The crease pattern as laid out on the sheet, as SVG and as FOLD (with the layer order
+/// of a flat-folding pattern).
+fn pattern_files(
+    mesh: &Mesh,
+    sheet: &crate::fab::Sheet,
+) -> Result<Vec<(String, Vec<u8>)>, FabError> {
+    let mut placed = mesh.clone();
+    placed.set_flat(sheet.vertices.clone());
+    let cp = crate::io::to_string(&placed, crate::io::Format::Svg).map_err(FabError::Input)?;
+    let orders = layer_order_of(mesh, &placed);
+    Ok(vec![
+        ("crease-pattern.svg".to_string(), cp.into_bytes()),
+        (
+            "crease-pattern.fold".to_string(),
+            crate::io::fold::to_string_with_orders(&placed, orders.as_deref()).into_bytes(),
+        ),
+    ])
 }
 
 /// Why fabrication failed: bad input (exit 2) or a design that cannot be made as asked
@@ -424,62 +380,6 @@ fn cutter_jobs(
         files.push((name, text.into_bytes()));
     }
     Ok(files)
-}
-
-/// The summary's line on the cutter job: its size and time, or why there is none.
-fn job_summary(
-    jobs: &[(String, Vec<u8>)],
-    cut_mm: f64,
-    travel_mm: f64,
-    seconds: f64,
-    tiled: bool,
-) -> String {
-    if tiled {
-        return format!(
-            "cut {cut_mm:.0} mm; tiled over pages to print and cut by hand, so no cutter job"
-        );
-    }
-    if jobs.is_empty() {
-        return format!(
-            "cut {cut_mm:.0} mm, pen-up travel {travel_mm:.0} mm, about {seconds:.0} s of motion; no cutter job: sheet.dxf or sheet.svg goes to the laser's software"
-        );
-    }
-    let names: Vec<&str> = jobs.iter().map(|(n, _)| n.as_str()).collect();
-    let bytes: usize = jobs.iter().map(|(_, b)| b.len()).sum();
-    format!(
-        "cut {cut_mm:.0} mm, pen-up travel {travel_mm:.0} mm, {bytes} bytes in {}, about {seconds:.0} s to plot",
-        names.join(" and ")
-    )
-}
-
-/// The note naming folds too short to score, if there are any, and what they got.
-fn unscored_warning(
-    sheet: &crate::fab::Sheet,
-    unscored: &[usize],
-    given: crate::fab::ShortFolds,
-) -> Option<String> {
-    if unscored.is_empty() {
-        return None;
-    }
-    let lengths: Vec<String> = unscored
-        .iter()
-        .map(|&i| {
-            format!(
-                "{} {:.1} mm",
-                sheet.lines[i].kind.name(),
-                sheet.lines[i].length()
-            )
-        })
-        .collect();
-    let what = match given {
-        crate::fab::ShortFolds::Nothing => "crease by hand".to_string(),
-        other => format!("given {} (the profile's short_folds)", other.name()),
-    };
-    Some(format!(
-        "{} fold(s) too short to score, {what}: {} (report.json has their ends)",
-        unscored.len(),
-        lengths.join(", ")
-    ))
 }
 
 /// Every file a fabrication run can write, and the journals `plot` keeps beside the jobs.

@@ -2,6 +2,7 @@
 //! both run exactly the same thing: folding a pattern, running a design script
 //! (this file), and fabricating a design ([`fabricate`]).
 
+mod fab_report;
 mod fabricate;
 
 pub use fabricate::{
