@@ -72,7 +72,6 @@ pub fn route(strokes: &[Stroke], tools: &BTreeMap<LineKind, ToolSetting>) -> Vec
     let groups = tool_groups(strokes, tools);
     let mut out = Vec::with_capacity(strokes.len());
     let mut at = Vec2::zeros();
-    let last = groups.len().saturating_sub(1);
     for (k, group) in groups.iter().enumerate() {
         // Each line stands in the tour as one stroke from its first end to its last.
         let lines = chains(group);
@@ -87,9 +86,13 @@ pub fn route(strokes: &[Stroke], tools: &BTreeMap<LineKind, ToolSetting>) -> Vec
             })
             .collect();
         let mut order = nearest_neighbour(&ends, at);
-        // The last tour ends at home; the others end wherever the next one starts best.
-        let home = (k == last).then(Vec2::zeros);
-        improve(&mut order, at, home, true);
+        // The last tour ends at home; the others go on to the next tool's nearest stroke.
+        let next = groups.get(k + 1).map(|g| EndGrid::new(g));
+        let leave = |p: Vec2| match &next {
+            None => p.norm(),
+            Some(grid) => grid.distance(p),
+        };
+        improve(&mut order, at, &leave, true);
         let mut tour = Vec::with_capacity(group.len());
         for e in &order {
             let chain = &lines[e.line];
@@ -100,7 +103,7 @@ pub fn route(strokes: &[Stroke], tools: &BTreeMap<LineKind, ToolSetting>) -> Vec
             }
         }
         // Then stroke by stroke, where entering a line part way along gains.
-        improve(&mut tour, at, home, false);
+        improve(&mut tour, at, &leave, false);
         at = tour.last().map(|s| s.to).unwrap_or(at);
         out.extend(tour);
     }
@@ -154,6 +157,8 @@ struct EndGrid<'a> {
     cells_per_side: i64,
     /// Stroke and whether it is entered at its `to` end, per cell.
     cells: HashMap<(i64, i64), Vec<(usize, bool)>>,
+    /// No stroke done, for [`EndGrid::distance`].
+    none_done: Vec<bool>,
 }
 
 impl<'a> EndGrid<'a> {
@@ -170,6 +175,7 @@ impl<'a> EndGrid<'a> {
             cell: extent / cells_per_side as f64,
             cells_per_side,
             cells: HashMap::new(),
+            none_done: vec![false; group.len()],
         };
         for (i, s) in group.iter().enumerate() {
             let (from, to) = (grid.key(s.from), grid.key(s.to));
@@ -184,6 +190,15 @@ impl<'a> EndGrid<'a> {
             ((p.x - self.lo.x) / self.cell).floor() as i64,
             ((p.y - self.lo.y) / self.cell).floor() as i64,
         )
+    }
+
+    /// Distance from `at` to the nearest end of any stroke.
+    fn distance(&self, at: Vec2) -> f64 {
+        self.nearest_undone(at, &self.none_done)
+            .map_or(0.0, |(i, to)| {
+                let s = &self.group[i];
+                (if to { s.to } else { s.from } - at).norm()
+            })
     }
 
     /// The stroke (not `done`) with an end nearest `at`, and whether that end is its `to`.

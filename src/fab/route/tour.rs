@@ -1,38 +1,41 @@
 //! Improving a tour of reversible strokes: 2-opt (reverse a run) and Or-opt (move a run
 //! of up to three strokes, either way round) between each end's nearest ends, every
 //! 2-opt that removes one of the longest jumps, and iterated local search with seeded
-//! double-bridge kicks. The tour runs from a fixed start to a fixed end or a free one.
+//! double-bridge kicks. The tour runs from a fixed start, and leaving it from its last
+//! stroke costs what the caller says: the way home, the way on to the next tool's
+//! strokes, or nothing.
 
 use super::super::score::Stroke;
 use crate::mesh::Vec2;
 use std::collections::HashMap;
 
-/// A tour of oriented strokes from a fixed start to a fixed end (or a free one), with
-/// each stroke's position so moves can be found from neighbouring ends.
-struct Tour {
+/// A tour of oriented strokes from a fixed start, with each stroke's position so moves
+/// can be found from neighbouring ends.
+struct Tour<'a> {
     strokes: Vec<Stroke>,
     /// Position in `strokes` of each stroke by its original index.
     pos: Vec<usize>,
     /// Original index of the stroke at each position.
     id: Vec<usize>,
     start: Vec2,
-    end: Option<Vec2>,
+    /// What leaving the tour from a point costs.
+    leave: &'a dyn Fn(Vec2) -> f64,
     /// Longest run a 2-opt may reverse: the whole tour up to 5,000 strokes; on larger
     /// sheets reversals cost a pass O(n) each, so they are kept to what a 100k-stroke
     /// sheet routes in seconds with.
     max_reverse: usize,
 }
 
-impl Tour {
+impl<'a> Tour<'a> {
     /// The strokes in the order given.
-    fn new(strokes: Vec<Stroke>, start: Vec2, end: Option<Vec2>) -> Tour {
+    fn new(strokes: Vec<Stroke>, start: Vec2, leave: &'a dyn Fn(Vec2) -> f64) -> Tour<'a> {
         let n = strokes.len();
         Tour {
             strokes,
             pos: (0..n).collect(),
             id: (0..n).collect(),
             start,
-            end,
+            leave,
             max_reverse: n.min((25_000_000 / n.max(1)).max(5_000)),
         }
     }
@@ -46,11 +49,11 @@ impl Tour {
         }
     }
 
-    /// Travel from `p` to the stroke at position `i`, or home (free: nothing) for i = n.
+    /// Travel from `p` to the stroke at position `i`, or on from the tour for i = n.
     fn to_next(&self, p: Vec2, i: usize) -> f64 {
         match self.strokes.get(i) {
             Some(s) => (s.from - p).norm(),
-            None => self.end.map_or(0.0, |e| (e - p).norm()),
+            None => (self.leave)(p),
         }
     }
 
@@ -98,7 +101,7 @@ impl Tour {
     /// of the runs it reversed.
     fn remove_long_jumps(&mut self, count: usize) -> Vec<usize> {
         let n = self.strokes.len();
-        // Jump k leads into position k; jump n leads home (or nowhere, if the end is free).
+        // Jump k leads into position k; jump n leaves the tour.
         let mut jumps: Vec<(f64, usize)> = (0..=n).map(|k| (self.gap(k), k)).collect();
         jumps.sort_by(|a, b| b.0.total_cmp(&a.0));
         jumps.truncate(count);
@@ -338,14 +341,19 @@ fn local_search(
 /// Improves a tour by 2-opt and Or-opt moves until none gains, then, if `kick`, by
 /// iterated local search: a seeded random double bridge (three nearby cuts, the two
 /// middle runs swapped), a local search around it, kept only if the tour got shorter.
-pub(super) fn improve(order: &mut Vec<Stroke>, start: Vec2, end: Option<Vec2>, kick: bool) {
+pub(super) fn improve(
+    order: &mut Vec<Stroke>,
+    start: Vec2,
+    leave: &dyn Fn(Vec2) -> f64,
+    kick: bool,
+) {
     let n = order.len();
     if n < 2 {
         return;
     }
     let input = order.clone();
     let neighbours = nearest_ends(&input, 8);
-    let mut tour = Tour::new(input.clone(), start, end);
+    let mut tour = Tour::new(input.clone(), start, leave);
     local_search(&mut tour, &input, &neighbours, &mut Worklist::all(n), true);
     // A kick costs about n (a copy and a length) and a local repair of ~0.3 ms: about
     // half a second on a sheet of a few hundred creases, where kicks still find gains
