@@ -103,7 +103,7 @@ pub fn route(strokes: &[Stroke], tools: &BTreeMap<LineKind, ToolSetting>) -> Vec
             }
         }
         // Then stroke by stroke, where entering a line part way along gains.
-        improve(&mut tour, at, &leave, false);
+        improve(&mut tour, at, &leave, true);
         at = tour.last().map(|s| s.to).unwrap_or(at);
         out.extend(tour);
     }
