@@ -1,6 +1,8 @@
 //! Helpers shared by the integration tests (each test file is its own crate and includes
 //! this with `mod common;`).
 
+#[allow(dead_code)] // only the fabrication tests use it
+pub mod fabbing;
 #[allow(dead_code)] // only the plotting tests use it
 pub mod plotting;
 

@@ -1,0 +1,47 @@
+//! Helpers for the fabrication tests: the bundled designs, A3 options, and the files a
+//! run produced.
+
+use crease::fab::Stroke;
+use crease::mesh::Vec2;
+use crease::pipeline::FabOptions;
+use std::path::{Path, PathBuf};
+
+pub fn patterns() -> Vec<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns");
+    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "fold"))
+        .collect();
+    v.sort();
+    assert!(v.len() >= 10);
+    v
+}
+
+pub fn a3() -> FabOptions {
+    FabOptions {
+        media: Some(crease::fab::Media::parse("a3").unwrap()),
+        ..Default::default()
+    }
+}
+
+/// The bytes of one file a fabrication run produced.
+pub fn output<'a>(out: &'a crease::pipeline::FabOutput, name: &str) -> &'a [u8] {
+    &out.files
+        .iter()
+        .find(|f| f.0 == name)
+        .unwrap_or_else(|| panic!("fab wrote no {name}"))
+        .1
+}
+
+/// One text file a fabrication run produced.
+pub fn output_text<'a>(out: &'a crease::pipeline::FabOutput, name: &str) -> &'a str {
+    std::str::from_utf8(output(out, name)).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+/// Distance from `p` to the stroke `s` in the plane.
+pub fn distance_to_segment(p: Vec2, s: &Stroke) -> f64 {
+    let d = s.to - s.from;
+    let t = ((p - s.from).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
+    (s.from + d * t - p).norm()
+}
