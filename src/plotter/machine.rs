@@ -235,13 +235,6 @@ impl Machine {
     }
 
     fn check_ranges(&self) -> Result<(), String> {
-        let within = |key: &str, v: f64, lo: f64, hi: f64, what: &str| {
-            if v.is_finite() && v >= lo && v <= hi {
-                Ok(())
-            } else {
-                Err(format!("{key} = {v}: {what}"))
-            }
-        };
         within(
             "units_per_mm",
             self.units_per_mm,
@@ -289,43 +282,7 @@ impl Machine {
             )?;
         }
         for (k, t) in &self.tools {
-            if !(1..=MAX_PEN).contains(&t.pen) {
-                return Err(format!(
-                    "tools.{k}.pen = {}: must be a pen from 1 to {MAX_PEN}",
-                    t.pen
-                ));
-            }
-            if let Some(v) = t.speed_mm_s {
-                within(
-                    &format!("tools.{k}.speed_mm_s"),
-                    v,
-                    1e-3,
-                    10_000.0,
-                    "must be a positive speed up to 10 m/s",
-                )?;
-            }
-            if let Some(v) = t.force {
-                within(
-                    &format!("tools.{k}.force"),
-                    v,
-                    1e-6,
-                    1e6,
-                    "must be a positive force",
-                )?;
-            }
-            if let Some(d) = t.dash {
-                for v in d {
-                    within(
-                        &format!("tools.{k}.dash"),
-                        v,
-                        MIN_DASH_MM,
-                        1000.0,
-                        &format!(
-                            "cut and gap must each be at least {MIN_DASH_MM} mm (a blade cannot make shorter ones)"
-                        ),
-                    )?;
-                }
-            }
+            check_tool(k, t)?;
         }
         Ok(())
     }
@@ -485,4 +442,55 @@ impl Machine {
             .and_then(|t| t.speed_mm_s)
             .unwrap_or(self.pen_up_speed_mm_s)
     }
+}
+
+/// `v` within `lo..=hi`, else the error naming the profile's `key` and `what` it must be.
+fn within(key: &str, v: f64, lo: f64, hi: f64, what: &str) -> Result<(), String> {
+    if v.is_finite() && v >= lo && v <= hi {
+        Ok(())
+    } else {
+        Err(format!("{key} = {v}: {what}"))
+    }
+}
+
+/// A tool's pen, speed, force and dash within what a machine can do.
+fn check_tool(k: &str, t: &Tool) -> Result<(), String> {
+    if !(1..=MAX_PEN).contains(&t.pen) {
+        return Err(format!(
+            "tools.{k}.pen = {}: must be a pen from 1 to {MAX_PEN}",
+            t.pen
+        ));
+    }
+    if let Some(v) = t.speed_mm_s {
+        within(
+            &format!("tools.{k}.speed_mm_s"),
+            v,
+            1e-3,
+            10_000.0,
+            "must be a positive speed up to 10 m/s",
+        )?;
+    }
+    if let Some(v) = t.force {
+        within(
+            &format!("tools.{k}.force"),
+            v,
+            1e-6,
+            1e6,
+            "must be a positive force",
+        )?;
+    }
+    if let Some(d) = t.dash {
+        for v in d {
+            within(
+                    &format!("tools.{k}.dash"),
+                    v,
+                    MIN_DASH_MM,
+                    1000.0,
+                    &format!(
+                        "cut and gap must each be at least {MIN_DASH_MM} mm (a blade cannot make shorter ones)"
+                    ),
+                )?;
+        }
+    }
+    Ok(())
 }
