@@ -150,6 +150,9 @@ pub fn report_notes(report: &PlanarReport, notes: &mut Vec<String>) {
     }
 }
 
+/// An element's attributes, as the `svg` crate's parser gives them.
+type Attributes = std::collections::HashMap<String, svg::node::Value>;
+
 pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, String> {
     if text.trim().is_empty() {
         return Err("the file is empty".into());
@@ -178,61 +181,16 @@ pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, String> {
             stack.pop();
             continue;
         }
-        let parent = stack.last().cloned().unwrap_or(root_style.clone());
-        let get = |k: &str| attrs.get(k).map(|v| v.to_string());
-        let style_attr = get("style").unwrap_or_default();
-        let prop = |k: &str| style_property(&style_attr, k).or_else(|| get(k));
-        let mut style = parent.clone();
-        if let Some(s) = prop("stroke") {
-            style.stroke = Some(s);
-        }
-        if let Some(o) = prop("opacity") {
-            style.opacity *= o
-                .parse::<f64>()
-                .map_err(|_| format!("bad opacity \"{o}\""))?;
-        }
-        if let Some(o) = prop("stroke-opacity") {
-            style.stroke_opacity = o
-                .parse::<f64>()
-                .map_err(|_| format!("bad stroke-opacity \"{o}\""))?;
-        }
-        if prop("display").as_deref() == Some("none") {
-            style.hidden = true;
-        }
-        if matches!(
-            name,
-            "defs" | "clipPath" | "mask" | "symbol" | "marker" | "pattern"
-        ) {
-            style.hidden = true;
-        }
+        let parent = stack.last().unwrap_or(&root_style);
+        let mut style = inherited_style(parent, name, &attrs)?;
         if name == "svg" && !saw_svg {
             saw_svg = true;
+            root_scale = root_units(&attrs, notes)?;
             // User units to mm, then flip y.
-            let view: Option<Vec<f64>> = get("viewBox").map(|v| {
-                v.split(|c: char| c == ',' || c.is_whitespace())
-                    .filter(|s| !s.is_empty())
-                    .filter_map(|s| s.parse().ok())
-                    .collect()
-            });
-            let width = root_width(get("width").as_deref(), notes)?;
-            if let Some(&[_, _, w, h]) = view.as_deref() {
-                if !(w > 0.0 && h > 0.0 && w.is_finite() && h.is_finite()) {
-                    return Err(format!(
-                        "the root viewBox has a width of {w} and a height of {h}: both must be positive"
-                    ));
-                }
-            }
-            // The viewBox origin only frames the picture; coordinates keep their origin so
-            // a pattern written by crease reads back in place.
-            let scale = match (view.as_deref(), width) {
-                (Some([_, _, w, _]), Some(wmm)) => wmm / w,
-                _ => MM_PER_PX,
-            };
-            style.transform = Affine([scale, 0.0, 0.0, -scale, 0.0, 0.0]);
-            root_scale = scale;
+            style.transform = Affine([root_scale, 0.0, 0.0, -root_scale, 0.0, 0.0]);
         }
-        if let Some(t) = get("transform") {
-            style.transform = style.transform.then_inner(&parse_transform(&t)?);
+        if let Some(t) = attrs.get("transform") {
+            style.transform = style.transform.then_inner(&parse_transform(t)?);
         }
         if kind == Type::Start {
             stack.push(style.clone());
@@ -241,77 +199,18 @@ pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, String> {
         if style.hidden || !shapes.contains(&name) {
             continue;
         }
-        let stroke = match style.stroke.as_deref() {
-            None | Some("none") => continue,
-            Some(s) => s,
-        };
-        let rgb = parse_colour(stroke).ok_or_else(|| {
-            format!(
-                "<{name}> (element {element_index}) has an unreadable stroke colour \"{}\"",
-                stroke.escape_debug()
-            )
-        })?;
-        let assignment = assignment_of_colour(rgb).ok_or_else(|| {
-            format!(
-                "<{name}> (element {element_index}) has stroke colour \"{stroke}\", which is not a crease colour \
-                 (black border, red mountain, blue valley, green cut, yellow flat, magenta unassigned)"
-            )
-        })?;
-        let fold_angle = match assignment {
-            Assignment::Mountain => PI * style.opacity * style.stroke_opacity,
-            Assignment::Valley => -PI * style.opacity * style.stroke_opacity,
-            _ => 0.0,
-        };
-        let num = |k: &str| -> Result<f64, String> {
-            match get(k) {
-                None => Ok(0.0),
-                Some(v) => v.trim().trim_end_matches("px").parse().map_err(|_| {
-                    format!("<{name}> (element {element_index}) has a bad {k} \"{v}\"")
-                }),
-            }
+        let Some((assignment, fold_angle)) = crease_of(name, element_index, &style)? else {
+            continue;
         };
         for k in [
             "d", "x1", "y1", "x2", "y2", "x", "y", "width", "height", "points",
         ] {
-            if let Some(v) = get(k) {
-                geometry_text.push_str(&v);
+            if let Some(v) = attrs.get(k) {
+                geometry_text.push_str(v);
                 geometry_text.push(' ');
             }
         }
-        let m = &style.transform;
-        let polylines: Vec<Vec<Vec2>> = match name {
-            "line" => vec![vec![
-                m.apply(Vec2::new(num("x1")?, num("y1")?)),
-                m.apply(Vec2::new(num("x2")?, num("y2")?)),
-            ]],
-            "rect" => {
-                let (x, y, w, h) = (num("x")?, num("y")?, num("width")?, num("height")?);
-                let c = [(x, y), (x + w, y), (x + w, y + h), (x, y + h), (x, y)];
-                vec![c.iter().map(|&(a, b)| m.apply(Vec2::new(a, b))).collect()]
-            }
-            "polygon" | "polyline" => {
-                let values: Vec<f64> = get("points")
-                    .unwrap_or_default()
-                    .split(|c: char| c == ',' || c.is_whitespace())
-                    .filter(|s| !s.is_empty())
-                    .map(|s| {
-                        s.parse::<f64>()
-                            .map_err(|_| format!("bad number \"{s}\" in <{name}> points"))
-                    })
-                    .collect::<Result<_, _>>()?;
-                let mut pts: Vec<Vec2> = values
-                    .chunks_exact(2)
-                    .map(|c| m.apply(Vec2::new(c[0], c[1])))
-                    .collect();
-                if name == "polygon" && !pts.is_empty() {
-                    pts.push(pts[0]);
-                }
-                vec![pts]
-            }
-            _ => flatten_path(&get("d").unwrap_or_default(), m)
-                .map_err(|e| format!("<path> (element {element_index}): {e}"))?,
-        };
-        for line in polylines {
+        for line in shape_polylines(name, element_index, &attrs, &style.transform)? {
             for w in line.windows(2) {
                 segments.push(Segment {
                     a: w[0],
@@ -339,4 +238,147 @@ pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, String> {
     // the rounding of one number.
     mesh.coordinate_precision = 2.0 * super::decimal_quantum(&geometry_text) * root_scale;
     Ok(mesh)
+}
+
+/// An element's style: its parent's, with the element's own stroke, opacities and
+/// display (from its `style` attribute or presentation attributes); what never draws
+/// (definitions, clip paths, masks, symbols, markers, patterns) is hidden.
+fn inherited_style(parent: &Style, name: &str, attrs: &Attributes) -> Result<Style, String> {
+    let style_attr = attrs
+        .get("style")
+        .map(|v| v.to_string())
+        .unwrap_or_default();
+    let prop =
+        |k: &str| style_property(&style_attr, k).or_else(|| attrs.get(k).map(|v| v.to_string()));
+    let mut style = parent.clone();
+    if let Some(s) = prop("stroke") {
+        style.stroke = Some(s);
+    }
+    if let Some(o) = prop("opacity") {
+        style.opacity *= o
+            .parse::<f64>()
+            .map_err(|_| format!("bad opacity \"{o}\""))?;
+    }
+    if let Some(o) = prop("stroke-opacity") {
+        style.stroke_opacity = o
+            .parse::<f64>()
+            .map_err(|_| format!("bad stroke-opacity \"{o}\""))?;
+    }
+    if prop("display").as_deref() == Some("none") {
+        style.hidden = true;
+    }
+    if matches!(
+        name,
+        "defs" | "clipPath" | "mask" | "symbol" | "marker" | "pattern"
+    ) {
+        style.hidden = true;
+    }
+    Ok(style)
+}
+
+/// Millimetres per user unit of the root `<svg>`: its width over its viewBox's width, or
+/// CSS pixels when either is missing.
+fn root_units(attrs: &Attributes, notes: &mut Vec<String>) -> Result<f64, String> {
+    let view: Option<Vec<f64>> = attrs.get("viewBox").map(|v| {
+        v.split(|c: char| c == ',' || c.is_whitespace())
+            .filter(|s| !s.is_empty())
+            .filter_map(|s| s.parse().ok())
+            .collect()
+    });
+    let width = root_width(attrs.get("width").map(|v| v.to_string()).as_deref(), notes)?;
+    if let Some(&[_, _, w, h]) = view.as_deref() {
+        if !(w > 0.0 && h > 0.0 && w.is_finite() && h.is_finite()) {
+            return Err(format!(
+                "the root viewBox has a width of {w} and a height of {h}: both must be positive"
+            ));
+        }
+    }
+    // The viewBox origin only frames the picture; coordinates keep their origin so a
+    // pattern written by crease reads back in place.
+    Ok(match (view.as_deref(), width) {
+        (Some([_, _, w, _]), Some(wmm)) => wmm / w,
+        _ => MM_PER_PX,
+    })
+}
+
+/// The crease a stroked shape draws: its assignment by stroke colour, and its fold angle
+/// (the paper's sign: mountain +π) scaled by opacity; `None` for a shape with no stroke.
+fn crease_of(
+    name: &str,
+    element_index: usize,
+    style: &Style,
+) -> Result<Option<(Assignment, f64)>, String> {
+    let stroke = match style.stroke.as_deref() {
+        None | Some("none") => return Ok(None),
+        Some(s) => s,
+    };
+    let rgb = parse_colour(stroke).ok_or_else(|| {
+        format!(
+            "<{name}> (element {element_index}) has an unreadable stroke colour \"{}\"",
+            stroke.escape_debug()
+        )
+    })?;
+    let assignment = assignment_of_colour(rgb).ok_or_else(|| {
+        format!(
+            "<{name}> (element {element_index}) has stroke colour \"{stroke}\", which is not a crease colour \
+             (black border, red mountain, blue valley, green cut, yellow flat, magenta unassigned)"
+        )
+    })?;
+    let fold_angle = match assignment {
+        Assignment::Mountain => PI * style.opacity * style.stroke_opacity,
+        Assignment::Valley => -PI * style.opacity * style.stroke_opacity,
+        _ => 0.0,
+    };
+    Ok(Some((assignment, fold_angle)))
+}
+
+/// The polylines a `line`, `rect`, `polygon`, `polyline` or `path` draws, through `m`.
+fn shape_polylines(
+    name: &str,
+    element_index: usize,
+    attrs: &Attributes,
+    m: &Affine,
+) -> Result<Vec<Vec<Vec2>>, String> {
+    let get = |k: &str| attrs.get(k).map(|v| v.to_string());
+    let num =
+        |k: &str| -> Result<f64, String> {
+            match get(k) {
+                None => Ok(0.0),
+                Some(v) => v.trim().trim_end_matches("px").parse().map_err(|_| {
+                    format!("<{name}> (element {element_index}) has a bad {k} \"{v}\"")
+                }),
+            }
+        };
+    Ok(match name {
+        "line" => vec![vec![
+            m.apply(Vec2::new(num("x1")?, num("y1")?)),
+            m.apply(Vec2::new(num("x2")?, num("y2")?)),
+        ]],
+        "rect" => {
+            let (x, y, w, h) = (num("x")?, num("y")?, num("width")?, num("height")?);
+            let c = [(x, y), (x + w, y), (x + w, y + h), (x, y + h), (x, y)];
+            vec![c.iter().map(|&(a, b)| m.apply(Vec2::new(a, b))).collect()]
+        }
+        "polygon" | "polyline" => {
+            let values: Vec<f64> = get("points")
+                .unwrap_or_default()
+                .split(|c: char| c == ',' || c.is_whitespace())
+                .filter(|s| !s.is_empty())
+                .map(|s| {
+                    s.parse::<f64>()
+                        .map_err(|_| format!("bad number \"{s}\" in <{name}> points"))
+                })
+                .collect::<Result<_, _>>()?;
+            let mut pts: Vec<Vec2> = values
+                .chunks_exact(2)
+                .map(|c| m.apply(Vec2::new(c[0], c[1])))
+                .collect();
+            if name == "polygon" && !pts.is_empty() {
+                pts.push(pts[0]);
+            }
+            vec![pts]
+        }
+        _ => flatten_path(&get("d").unwrap_or_default(), m)
+            .map_err(|e| format!("<path> (element {element_index}): {e}"))?,
+    })
 }
