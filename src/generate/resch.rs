@@ -106,78 +106,130 @@ pub fn resch(p: &Params) -> Result<Mesh, GenerateError> {
         .collect();
     let (lattice, lattice_faces) = rows_zipper(&rows, l * SQRT3 / 2.0);
     let ax: Vec<Axial> = lattice.iter().map(|&q| axial_of(q, l)).collect();
-
-    let mut flat = lattice.clone();
-    let mut folded: Vec<Vec3> = ax.iter().map(|&a| folded_vertex(tuck_of(a), l)).collect();
-    let mut roles: HashMap<(usize, usize), Role> = HashMap::new();
-    // Midpoint of a tuck side: the fin's fold line ends there; fully folded it hangs
-    // √3/4·l under the folded edge, a quarter of the way along it (the fin is a right
-    // triangle with legs l/2 and √3/2·l).
-    let mut midpoints: HashMap<(usize, usize), usize> = HashMap::new();
-    let mut midpoint =
-        |a: usize, b: usize, apex: Axial, flat: &mut Vec<Vec2>, folded: &mut Vec<Vec3>| {
-            *midpoints.entry(key(a, b)).or_insert_with(|| {
-                let v = folded_vertex(tuck_of(ax[a]), l);
-                let w = folded_vertex(tuck_of(apex), l);
-                flat.push((lattice[a] + lattice[b]) / 2.0);
-                folded.push(v + (w - v) / 4.0 - Vec3::new(0.0, 0.0, l * SQRT3 / 4.0));
-                flat.len() - 1
-            })
-        };
-    let mut faces = Vec::new();
-    for &[a, b, c] in &lattice_faces {
-        let corners = [a, b, c];
+    let mut b = Builder {
+        flat: lattice.clone(),
+        folded: ax.iter().map(|&a| folded_vertex(tuck_of(a), l)).collect(),
+        lattice,
+        ax,
+        l,
+        roles: HashMap::new(),
+        midpoints: HashMap::new(),
+        faces: Vec::new(),
+    };
+    for &corners in &lattice_faces {
         let low = corners
             .iter()
-            .map(|&v| ax[v].1)
+            .map(|&v| b.ax[v].1)
             .min()
             .expect("three corners");
-        let upward = corners.iter().filter(|&&v| ax[v].1 == low).count() == 2;
+        let upward = corners.iter().filter(|&&v| b.ax[v].1 == low).count() == 2;
         if upward {
-            let base = upward_base(corners.map(|v| ax[v]));
-            if !is_tuck(base) {
-                faces.push(corners);
-                continue;
-            }
-            let g = flat.len();
-            flat.push((lattice[a] + lattice[b] + lattice[c]) / 3.0);
-            folded.push(folded_vertex(base, l) - Vec3::new(0.0, 0.0, l / SQRT3));
-            for k in 0..3 {
-                let (u, v, opposite) = (corners[k], corners[(k + 1) % 3], corners[(k + 2) % 3]);
-                let apex = across(ax[u], ax[v], ax[opposite]);
-                let m = midpoint(u, v, apex, &mut flat, &mut folded);
-                faces.extend([[u, m, g], [m, v, g]]);
-                roles.insert(key(g, u), Role::TuckSpoke);
-                roles.insert(key(g, m), Role::TuckMidline);
-                roles.insert(key(u, m), Role::TuckSide);
-                roles.insert(key(m, v), Role::TuckSide);
-            }
+            b.upward(corners);
         } else {
-            // A fin: the side whose far neighbour is a tuck is its base.
-            let k = (0..3)
-                .find(|&k| {
-                    let (u, v, apex) = (corners[k], corners[(k + 1) % 3], corners[(k + 2) % 3]);
-                    let far = across(ax[u], ax[v], ax[apex]);
-                    is_tuck(upward_base([ax[u], ax[v], far]))
-                })
-                .expect("one side of every downward triangle faces a tuck");
-            let (u, v, apex) = (corners[k], corners[(k + 1) % 3], corners[(k + 2) % 3]);
-            let m = midpoint(u, v, ax[apex], &mut flat, &mut folded);
-            faces.extend([[u, m, apex], [m, v, apex]]);
-            roles.insert(key(apex, m), Role::FinMedian);
-            roles.entry(key(apex, u)).or_insert(Role::TileEdge);
-            roles.entry(key(apex, v)).or_insert(Role::TileEdge);
-            roles.insert(key(u, m), Role::TuckSide);
-            roles.insert(key(m, v), Role::TuckSide);
+            b.fin(corners);
+        }
+    }
+    let mut parts = build(b.flat, b.faces, |_, _| Assignment::Unassigned, 0.0);
+    let probe = Mesh::new(MeshParts {
+        positions: Some(b.folded.clone()),
+        ..parts.clone()
+    })?;
+    assign_by_role(&mut parts, &b.roles, &crate::geometry::fold_angles(&probe));
+    if p.fold.is_some() {
+        parts.positions = Some(b.folded);
+    }
+    let mut mesh = Mesh::new(parts)?;
+    // The lattice points come first, in order; those of one tuck meet when folded.
+    let mut groups: HashMap<Axial, Vec<usize>> = HashMap::new();
+    for (v, &a) in b.ax.iter().enumerate() {
+        groups.entry(tuck_of(a)).or_default().push(v);
+    }
+    let mut coincident: Vec<Vec<usize>> = groups.into_values().filter(|g| g.len() > 1).collect();
+    coincident.sort();
+    mesh.coincident = coincident;
+    Ok(mesh)
+}
+
+/// The pattern as it is built: vertices flat and fully folded, faces, and each crease's
+/// role.
+struct Builder {
+    lattice: Vec<Vec2>,
+    ax: Vec<Axial>,
+    l: f64,
+    flat: Vec<Vec2>,
+    folded: Vec<Vec3>,
+    faces: Vec<[usize; 3]>,
+    roles: HashMap<(usize, usize), Role>,
+    midpoints: HashMap<(usize, usize), usize>,
+}
+
+impl Builder {
+    /// Midpoint of a tuck side: the fin's fold line ends there; fully folded it hangs
+    /// √3/4·l under the folded edge, a quarter of the way along it (the fin is a right
+    /// triangle with legs l/2 and √3/2·l).
+    fn midpoint(&mut self, a: usize, b: usize, apex: Axial) -> usize {
+        let l = self.l;
+        *self.midpoints.entry(key(a, b)).or_insert_with(|| {
+            let v = folded_vertex(tuck_of(self.ax[a]), l);
+            let w = folded_vertex(tuck_of(apex), l);
+            self.flat.push((self.lattice[a] + self.lattice[b]) / 2.0);
+            self.folded
+                .push(v + (w - v) / 4.0 - Vec3::new(0.0, 0.0, l * SQRT3 / 4.0));
+            self.flat.len() - 1
+        })
+    }
+
+    /// An upward lattice triangle: a plain tile, or a tuck split about its centre into
+    /// six triangles.
+    fn upward(&mut self, corners: [usize; 3]) {
+        let base = upward_base(corners.map(|v| self.ax[v]));
+        if !is_tuck(base) {
+            self.faces.push(corners);
+            return;
+        }
+        let [a, b, c] = corners;
+        let g = self.flat.len();
+        self.flat
+            .push((self.lattice[a] + self.lattice[b] + self.lattice[c]) / 3.0);
+        self.folded
+            .push(folded_vertex(base, self.l) - Vec3::new(0.0, 0.0, self.l / SQRT3));
+        for k in 0..3 {
+            let (u, v, opposite) = (corners[k], corners[(k + 1) % 3], corners[(k + 2) % 3]);
+            let apex = across(self.ax[u], self.ax[v], self.ax[opposite]);
+            let m = self.midpoint(u, v, apex);
+            self.faces.extend([[u, m, g], [m, v, g]]);
+            self.roles.insert(key(g, u), Role::TuckSpoke);
+            self.roles.insert(key(g, m), Role::TuckMidline);
+            self.roles.insert(key(u, m), Role::TuckSide);
+            self.roles.insert(key(m, v), Role::TuckSide);
         }
     }
 
-    let mut parts = build(flat, faces, |_, _| Assignment::Unassigned, 0.0);
-    let probe = Mesh::new(MeshParts {
-        positions: Some(folded.clone()),
-        ..parts.clone()
-    })?;
-    let full = crate::geometry::fold_angles(&probe);
+    /// A downward lattice triangle, a fin: split along its median from the side whose
+    /// far neighbour is a tuck (its base).
+    fn fin(&mut self, corners: [usize; 3]) {
+        let ax = &self.ax;
+        let k = (0..3)
+            .find(|&k| {
+                let (u, v, apex) = (corners[k], corners[(k + 1) % 3], corners[(k + 2) % 3]);
+                let far = across(ax[u], ax[v], ax[apex]);
+                is_tuck(upward_base([ax[u], ax[v], far]))
+            })
+            .expect("one side of every downward triangle faces a tuck");
+        let (u, v, apex) = (corners[k], corners[(k + 1) % 3], corners[(k + 2) % 3]);
+        let m = self.midpoint(u, v, self.ax[apex]);
+        self.faces.extend([[u, m, apex], [m, v, apex]]);
+        self.roles.insert(key(apex, m), Role::FinMedian);
+        self.roles.entry(key(apex, u)).or_insert(Role::TileEdge);
+        self.roles.entry(key(apex, v)).or_insert(Role::TileEdge);
+        self.roles.insert(key(u, m), Role::TuckSide);
+        self.roles.insert(key(m, v), Role::TuckSide);
+    }
+}
+
+/// Each crease's assignment and target by its role; `full` holds the fold angles of the
+/// fully folded state, which give the tile edges and tuck spokes theirs.
+fn assign_by_role(parts: &mut MeshParts, roles: &HashMap<(usize, usize), Role>, full: &[f64]) {
     for (e, edge) in parts.edges.iter_mut().enumerate() {
         if edge.assignment == Assignment::Boundary {
             continue;
@@ -202,17 +254,4 @@ pub fn resch(p: &Params) -> Result<Mesh, GenerateError> {
         edge.target = target;
         edge.fold_angle = target;
     }
-    if p.fold.is_some() {
-        parts.positions = Some(folded);
-    }
-    let mut mesh = Mesh::new(parts)?;
-    // The lattice points come first, in order; those of one tuck meet when folded.
-    let mut groups: HashMap<Axial, Vec<usize>> = HashMap::new();
-    for (v, &a) in ax.iter().enumerate() {
-        groups.entry(tuck_of(a)).or_default().push(v);
-    }
-    let mut coincident: Vec<Vec<usize>> = groups.into_values().filter(|g| g.len() > 1).collect();
-    coincident.sort();
-    mesh.coincident = coincident;
-    Ok(mesh)
 }
