@@ -178,11 +178,14 @@ pub fn flatten_path(d: &str, to_mm: &Affine) -> Result<Vec<Vec<Vec2>>, String> {
         s: d.as_bytes(),
         i: 0,
     };
-    let tol = CURVE_TOLERANCE_MM;
-    let mut paths: Vec<Vec<Vec2>> = Vec::new();
-    let mut current: Vec<Vec2> = Vec::new();
-    let (mut pos, mut start) = (Vec2::zeros(), Vec2::zeros());
-    let mut last_control: Option<(u8, Vec2)> = None;
+    let mut pen = Pen {
+        to_mm,
+        paths: Vec::new(),
+        current: Vec::new(),
+        pos: Vec2::zeros(),
+        start: Vec2::zeros(),
+        last_control: None,
+    };
     let mut cmd = t
         .command()
         .ok_or("path data does not start with a command")?;
@@ -191,110 +194,23 @@ pub fn flatten_path(d: &str, to_mm: &Affine) -> Result<Vec<Vec<Vec2>>, String> {
     }
     loop {
         let rel = cmd.is_ascii_lowercase();
-        let base = if rel { pos } else { Vec2::zeros() };
-        let point = |t: &mut Tokens, base: Vec2| -> Result<Vec2, String> {
-            Ok(base + Vec2::new(t.number()?, t.number()?))
-        };
-        match cmd.to_ascii_uppercase() {
-            b'M' => {
-                if current.len() > 1 {
-                    paths.push(std::mem::take(&mut current));
+        let base = if rel { pen.pos } else { Vec2::zeros() };
+        let upper = cmd.to_ascii_uppercase();
+        if upper == b'M' {
+            pen.move_to(Vec2::new(t.number()?, t.number()?) + base);
+            // Further pairs after a move are line-tos.
+            cmd = if rel { b'l' } else { b'L' };
+            if !t.at_number() {
+                match t.command() {
+                    Some(c) => cmd = c,
+                    None => break,
                 }
-                pos = point(&mut t, base)?;
-                start = pos;
-                current = vec![to_mm.apply(pos)];
-                // Further pairs after a move are line-tos.
-                cmd = if rel { b'l' } else { b'L' };
-                last_control = None;
-                if !t.at_number() {
-                    match t.command() {
-                        Some(c) => {
-                            cmd = c;
-                            continue;
-                        }
-                        None => break,
-                    }
-                }
-                continue;
             }
-            b'L' => pos = point(&mut t, base)?,
-            b'H' => pos = Vec2::new(t.number()? + if rel { pos.x } else { 0.0 }, pos.y),
-            b'V' => pos = Vec2::new(pos.x, t.number()? + if rel { pos.y } else { 0.0 }),
-            b'C' | b'S' => {
-                let c1 = if cmd.eq_ignore_ascii_case(&b'C') {
-                    point(&mut t, base)?
-                } else {
-                    match last_control {
-                        Some((b'C', c)) => pos * 2.0 - c,
-                        _ => pos,
-                    }
-                };
-                let c2 = point(&mut t, base)?;
-                let end = point(&mut t, base)?;
-                let ctrl = [pos, c1, c2, end].map(|p| to_mm.apply(p));
-                cubic(ctrl, tol, 0, &mut current);
-                last_control = Some((b'C', c2));
-                pos = end;
-            }
-            b'Q' | b'T' => {
-                let c = if cmd.eq_ignore_ascii_case(&b'Q') {
-                    point(&mut t, base)?
-                } else {
-                    match last_control {
-                        Some((b'Q', c)) => pos * 2.0 - c,
-                        _ => pos,
-                    }
-                };
-                let end = point(&mut t, base)?;
-                // Degree elevation: a quadratic is a cubic with these controls.
-                let c1 = pos + (c - pos) * (2.0 / 3.0);
-                let c2 = end + (c - end) * (2.0 / 3.0);
-                cubic(
-                    [pos, c1, c2, end].map(|p| to_mm.apply(p)),
-                    tol,
-                    0,
-                    &mut current,
-                );
-                last_control = Some((b'Q', c));
-                pos = end;
-            }
-            b'A' => {
-                let (rx, ry, phi) = (t.number()?, t.number()?, t.number()?);
-                let (large, sweep) = (t.flag()?, t.flag()?);
-                let end = point(&mut t, base)?;
-                for p in arc(
-                    pos,
-                    end,
-                    rx,
-                    ry,
-                    phi,
-                    large,
-                    sweep,
-                    tol / to_mm.scale().max(1e-300),
-                ) {
-                    current.push(to_mm.apply(p));
-                }
-                pos = end;
-            }
-            b'Z' => {
-                pos = start;
-                current.push(to_mm.apply(start));
-                paths.push(std::mem::take(&mut current));
-                current = vec![to_mm.apply(start)];
-            }
-            other => return Err(format!("unknown path command '{}'", other as char)),
+            continue;
         }
-        if !matches!(cmd.to_ascii_uppercase(), b'C' | b'S' | b'Q' | b'T' | b'Z') {
-            last_control = None;
-        }
-        if !matches!(
-            cmd.to_ascii_uppercase(),
-            b'C' | b'S' | b'Q' | b'T' | b'A' | b'Z'
-        ) {
-            current.push(to_mm.apply(pos));
-        }
+        pen.draw(upper, rel, base, &mut t)?;
         // Repeated parameters continue the same command; Z takes none.
-        if cmd.eq_ignore_ascii_case(&b'Z') || !t.at_number() {
+        if upper == b'Z' || !t.at_number() {
             match t.command() {
                 Some(c) => cmd = c,
                 None => break,
@@ -307,10 +223,110 @@ pub fn flatten_path(d: &str, to_mm: &Affine) -> Result<Vec<Vec<Vec2>>, String> {
             return Err(format!("unexpected character in path data at {}", t.i));
         }
     }
-    if current.len() > 1 {
-        paths.push(current);
+    if pen.current.len() > 1 {
+        pen.paths.push(pen.current);
     }
-    Ok(paths)
+    Ok(pen.paths)
+}
+
+/// Where a path's drawing stands: the subpaths done, the one being drawn (in mm), the
+/// current point and the subpath's start (in path units), and the last curve's second
+/// control point, which a smooth curve (`S`, `T`) reflects.
+struct Pen<'a> {
+    to_mm: &'a Affine,
+    paths: Vec<Vec<Vec2>>,
+    current: Vec<Vec2>,
+    pos: Vec2,
+    start: Vec2,
+    last_control: Option<(u8, Vec2)>,
+}
+
+impl Pen<'_> {
+    /// `M`: ends the subpath being drawn and starts one at `p`.
+    fn move_to(&mut self, p: Vec2) {
+        if self.current.len() > 1 {
+            self.paths.push(std::mem::take(&mut self.current));
+        }
+        self.pos = p;
+        self.start = p;
+        self.current = vec![self.to_mm.apply(p)];
+        self.last_control = None;
+    }
+
+    /// One drawing command (`upper`: L, H, V, C, S, Q, T, A or Z), its parameters read
+    /// from `t`, relative to `base` when `rel`.
+    fn draw(&mut self, upper: u8, rel: bool, base: Vec2, t: &mut Tokens) -> Result<(), String> {
+        let point = |t: &mut Tokens| -> Result<Vec2, String> {
+            Ok(base + Vec2::new(t.number()?, t.number()?))
+        };
+        let pos = self.pos;
+        // The reflected control point of a smooth curve following a curve of `kind`.
+        let smooth = |kind: u8, last: Option<(u8, Vec2)>| match last {
+            Some((k, c)) if k == kind => pos * 2.0 - c,
+            _ => pos,
+        };
+        match upper {
+            b'L' => self.pos = point(t)?,
+            b'H' => self.pos = Vec2::new(t.number()? + if rel { pos.x } else { 0.0 }, pos.y),
+            b'V' => self.pos = Vec2::new(pos.x, t.number()? + if rel { pos.y } else { 0.0 }),
+            b'C' | b'S' => {
+                let c1 = if upper == b'C' {
+                    point(t)?
+                } else {
+                    smooth(b'C', self.last_control)
+                };
+                let c2 = point(t)?;
+                let end = point(t)?;
+                self.cubic_to(c1, c2, end);
+                self.last_control = Some((b'C', c2));
+            }
+            b'Q' | b'T' => {
+                let c = if upper == b'Q' {
+                    point(t)?
+                } else {
+                    smooth(b'Q', self.last_control)
+                };
+                let end = point(t)?;
+                // Degree elevation: a quadratic is a cubic with these controls.
+                let c1 = pos + (c - pos) * (2.0 / 3.0);
+                let c2 = end + (c - end) * (2.0 / 3.0);
+                self.cubic_to(c1, c2, end);
+                self.last_control = Some((b'Q', c));
+            }
+            b'A' => {
+                let (rx, ry, phi) = (t.number()?, t.number()?, t.number()?);
+                let (large, sweep) = (t.flag()?, t.flag()?);
+                let end = point(t)?;
+                let tol = CURVE_TOLERANCE_MM / self.to_mm.scale().max(1e-300);
+                for p in arc(pos, end, rx, ry, phi, large, sweep, tol) {
+                    self.current.push(self.to_mm.apply(p));
+                }
+                self.pos = end;
+            }
+            b'Z' => {
+                self.pos = self.start;
+                let start = self.to_mm.apply(self.start);
+                self.current.push(start);
+                self.paths.push(std::mem::take(&mut self.current));
+                self.current = vec![start];
+            }
+            other => return Err(format!("unknown path command '{}'", other as char)),
+        }
+        if !matches!(upper, b'C' | b'S' | b'Q' | b'T' | b'Z') {
+            self.last_control = None;
+        }
+        if !matches!(upper, b'C' | b'S' | b'Q' | b'T' | b'A' | b'Z') {
+            self.current.push(self.to_mm.apply(self.pos));
+        }
+        Ok(())
+    }
+
+    /// A cubic Bézier from the current point, subdivided in millimetres.
+    fn cubic_to(&mut self, c1: Vec2, c2: Vec2, end: Vec2) {
+        let ctrl = [self.pos, c1, c2, end].map(|p| self.to_mm.apply(p));
+        cubic(ctrl, CURVE_TOLERANCE_MM, 0, &mut self.current);
+        self.pos = end;
+    }
 }
 
 /// Adaptive subdivision until the control polygon is within `tol` of the chord; appends
