@@ -430,6 +430,7 @@ fn a_later_run_leaves_no_files_of_an_earlier_one_and_a_failed_run_touches_nothin
     for stale in [
         "sheet-back.hpgl",
         "sheet-back.svg",
+        "sheet-back.dxf",
         "sheet-back.hpgl.journal",
     ] {
         assert!(!dir.join(stale).exists(), "{stale} left over");
@@ -438,5 +439,14 @@ fn a_later_run_leaves_no_files_of_an_earlier_one_and_a_failed_run_touches_nothin
     let (code, _, err) = fab(&["--machine", "graphtec-ce"]);
     assert_eq!(code, 0, "{err}");
     assert!(dir.join("sheet.gpgl").is_file() && !dir.join("sheet.hpgl").exists());
+    // And a GP-GL back job goes with its journal when a later run has none.
+    let (code, _, err) = fab(&["--machine", "graphtec-ce", "--mountains-from-back"]);
+    assert_eq!(code, 0, "{err}");
+    std::fs::write(dir.join("sheet-back.gpgl.journal"), "{}").unwrap();
+    let (code, _, err) = fab(&["--machine", "graphtec-ce"]);
+    assert_eq!(code, 0, "{err}");
+    for stale in ["sheet-back.gpgl", "sheet-back.gpgl.journal"] {
+        assert!(!dir.join(stale).exists(), "{stale} left over");
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
