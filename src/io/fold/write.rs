@@ -47,46 +47,111 @@ pub fn to_string(mesh: &Mesh) -> String {
 /// written faces takes its first triangle pair's.
 pub fn to_string_with_orders(mesh: &Mesh, orders: Option<&[[i64; 3]]>) -> String {
     let source: Option<&SourceRecord> = mesh.source.as_deref();
-    let num = |x: f64| {
-        let x = if x == 0.0 { 0.0 } else { x };
-        serde_json::to_string(&x).expect("finite number")
-    };
-    let list = |items: Vec<String>| -> String {
-        if items.is_empty() {
-            return "[]".into();
+    let mut w = Fields(String::from("{\n"));
+    let scale = write_frame(&mut w, mesh, source);
+    let faces = Faces::of(mesh);
+    write_edges(&mut w, mesh, &faces);
+    if mesh.lock_topology {
+        w.field("crease:lockTopology", "true".into());
+    }
+    if !mesh.coincident.is_empty() {
+        let groups = mesh.coincident.iter().map(|g| id_list(g)).collect();
+        w.field("crease:coincidentVertices", list(groups));
+    }
+    let polygons = faces.polygons.iter().map(|p| id_list(p)).collect();
+    w.field("faces_vertices", list(polygons));
+    if let Some(orders) = orders {
+        let mut seen = std::collections::HashSet::new();
+        let written: Vec<String> = orders
+            .iter()
+            .filter_map(|&[f, g, s]| {
+                let (p, q) = (faces.polygon_of[f as usize], faces.polygon_of[g as usize]);
+                (p != q && seen.insert((p.min(q), p.max(q)))).then(|| format!("[{p}, {q}, {s}]"))
+            })
+            .collect();
+        w.field("faceOrders", list(written));
+    }
+    if let Some(s) = source.filter(|s| faces.as_in_source && s.describes(mesh)) {
+        for (name, value) in &s.extras {
+            if orders.is_some() && name == "faceOrders" {
+                continue;
+            }
+            w.field(name, serde_json::to_string(value).expect("JSON value"));
         }
-        format!("[\n    {}\n  ]", items.join(",\n    "))
+    }
+    let frames = match (mesh.has_3d(), mesh.flat()) {
+        (true, Some(flat)) => format!(
+            "[\n    {{\n      \"frame_classes\": [\"creasePattern\"],\n      \"frame_attributes\": [\"2D\"],\n      \"frame_inherit\": true,\n      \"frame_parent\": 0,\n      \"vertices_coords\": [\n        {}\n      ]\n    }}\n  ]",
+            flat.iter()
+                .map(|p| format!("[{}, {}]", num(p.x / scale), num(p.y / scale)))
+                .collect::<Vec<_>>()
+                .join(",\n        ")
+        ),
+        _ => "[]".into(),
     };
-    let mut out = String::from("{\n");
-    let mut field = |name: &str, value: String| {
-        let _ = writeln!(out, "  \"{name}\": {value},");
-    };
-    field("file_spec", "1.1".into());
-    field("file_creator", "\"crease\"".into());
-    field("file_classes", "[\"singleModel\"]".into());
+    let mut out = w.0;
+    let _ = write!(out, "  \"file_frames\": {frames}\n}}\n");
+    out
+}
+
+/// The top-level fields of a FOLD object being written, one per line.
+struct Fields(String);
+
+impl Fields {
+    fn field(&mut self, name: &str, value: String) {
+        let _ = writeln!(self.0, "  \"{name}\": {value},");
+    }
+}
+
+/// A number as JSON, with no negative zero.
+fn num(x: f64) -> String {
+    let x = if x == 0.0 { 0.0 } else { x };
+    serde_json::to_string(&x).expect("finite number")
+}
+
+/// A JSON array of `items`, one per line.
+fn list(items: Vec<String>) -> String {
+    if items.is_empty() {
+        return "[]".into();
+    }
+    format!("[\n    {}\n  ]", items.join(",\n    "))
+}
+
+/// A JSON array of indices on one line.
+fn id_list(ids: &[usize]) -> String {
+    let ids: Vec<String> = ids.iter().map(|v| v.to_string()).collect();
+    format!("[{}]", ids.join(", "))
+}
+
+/// The file's description, frame 0's classes and unit, and the vertices in that unit;
+/// returns the unit in millimetres. An unchanged mesh keeps the file's own frame
+/// description and coordinates.
+fn write_frame(w: &mut Fields, mesh: &Mesh, source: Option<&SourceRecord>) -> f64 {
+    w.field("file_spec", "1.1".into());
+    w.field("file_creator", "\"crease\"".into());
+    w.field("file_classes", "[\"singleModel\"]".into());
     for (name, value) in source.iter().flat_map(|s| &s.metadata) {
-        field(name, serde_json::to_string(value).expect("JSON value"));
+        w.field(name, serde_json::to_string(value).expect("JSON value"));
     }
     if !mesh.title.is_empty() {
-        field("frame_title", serde_json::to_string(&mesh.title).unwrap());
+        w.field("frame_title", serde_json::to_string(&mesh.title).unwrap());
     }
     let (class, attr) = if mesh.has_3d() {
         ("foldedForm", "3D")
     } else {
         ("creasePattern", "2D")
     };
-    // An unchanged mesh keeps the file's own frame description and coordinates.
     let verbatim = source.filter(|s| s.describes(mesh) && !s.frame.is_empty());
     let given = |name: &str| {
         verbatim
             .and_then(|s| s.frame.iter().find(|(n, _)| n == name))
             .map(|(_, v)| serde_json::to_string(v).expect("JSON value"))
     };
-    field(
+    w.field(
         "frame_classes",
         given("frame_classes").unwrap_or(format!("[\"{class}\"]")),
     );
-    field(
+    w.field(
         "frame_attributes",
         given("frame_attributes").unwrap_or(format!("[\"{attr}\"]")),
     );
@@ -96,7 +161,7 @@ pub fn to_string_with_orders(mesh: &Mesh, orders: Option<&[[i64; 3]]>) -> String
         None => Some("mm".to_string()),
     };
     if let Some(u) = &unit {
-        field("frame_unit", serde_json::to_string(u).unwrap());
+        w.field("frame_unit", serde_json::to_string(u).unwrap());
     }
     let scale = unit_scale(unit.as_deref()).unwrap_or(1.0);
     let coords: Vec<String> = if mesh.has_3d() {
@@ -126,11 +191,16 @@ pub fn to_string_with_orders(mesh: &Mesh, orders: Option<&[[i64; 3]]>) -> String
             == serde_json::from_str::<serde_json::Value>(&ours).ok()
     };
     match given("vertices_coords").filter(|t| !same(t)) {
-        Some(text) => field("vertices_coords", text),
-        None => field("vertices_coords", list(coords)),
+        Some(text) => w.field("vertices_coords", text),
+        None => w.field("vertices_coords", list(coords)),
     }
+    scale
+}
 
-    let faces = Faces::of(mesh);
+/// The edges the file keeps (synthetic flat ones inside a written polygon are left out):
+/// their vertices, assignments, fold angles (FOLD's degrees, valley positive), targets
+/// and twist allowances.
+fn write_edges(w: &mut Fields, mesh: &Mesh, faces: &Faces) {
     let edges: Vec<usize> = (0..mesh.edges().len())
         .filter(|&e| faces.keeps_edge(mesh, e))
         .collect();
@@ -144,25 +214,21 @@ pub fn to_string_with_orders(mesh: &Mesh, orders: Option<&[[i64; 3]]>) -> String
                 .join(", ")
         )
     };
-    field(
-        "edges_vertices",
-        list(
-            edges
-                .iter()
-                .map(|&e| {
-                    let [a, b] = mesh.edges()[e].vertices;
-                    format!("[{a}, {b}]")
-                })
-                .collect(),
-        ),
-    );
-    field(
+    let ends = edges
+        .iter()
+        .map(|&e| {
+            let [a, b] = mesh.edges()[e].vertices;
+            format!("[{a}, {b}]")
+        })
+        .collect();
+    w.field("edges_vertices", list(ends));
+    w.field(
         "edges_assignment",
         per_edge(&|e| format!("\"{}\"", mesh.edges()[e].assignment.fold_letter())),
     );
     // FOLD's range is [−180°, 180°], and lines that do not fold carry 0 (twist of a
     // facet line is in the coordinates, and its allowance in crease:alpha).
-    field(
+    w.field(
         "edges_foldAngle",
         per_edge(&|e| {
             let edge = &mesh.edges()[e];
@@ -175,72 +241,11 @@ pub fn to_string_with_orders(mesh: &Mesh, orders: Option<&[[i64; 3]]>) -> String
             num(degrees)
         }),
     );
-    field(
+    w.field(
         "crease:targetAngle",
         per_edge(&|e| num(angle_to_fold(mesh.edges()[e].target))),
     );
-    field("crease:alpha", per_edge(&|e| num(mesh.edges()[e].alpha)));
-    if mesh.lock_topology {
-        field("crease:lockTopology", "true".into());
-    }
-    if !mesh.coincident.is_empty() {
-        field(
-            "crease:coincidentVertices",
-            list(
-                mesh.coincident
-                    .iter()
-                    .map(|g| {
-                        let ids: Vec<String> = g.iter().map(|v| v.to_string()).collect();
-                        format!("[{}]", ids.join(", "))
-                    })
-                    .collect(),
-            ),
-        );
-    }
-    field(
-        "faces_vertices",
-        list(
-            faces
-                .polygons
-                .iter()
-                .map(|p| {
-                    let ids: Vec<String> = p.iter().map(|v| v.to_string()).collect();
-                    format!("[{}]", ids.join(", "))
-                })
-                .collect(),
-        ),
-    );
-    if let Some(orders) = orders {
-        let mut seen = std::collections::HashSet::new();
-        let written: Vec<String> = orders
-            .iter()
-            .filter_map(|&[f, g, s]| {
-                let (p, q) = (faces.polygon_of[f as usize], faces.polygon_of[g as usize]);
-                (p != q && seen.insert((p.min(q), p.max(q)))).then(|| format!("[{p}, {q}, {s}]"))
-            })
-            .collect();
-        field("faceOrders", list(written));
-    }
-    if let Some(s) = source.filter(|s| faces.as_in_source && s.describes(mesh)) {
-        for (name, value) in &s.extras {
-            if orders.is_some() && name == "faceOrders" {
-                continue;
-            }
-            field(name, serde_json::to_string(value).expect("JSON value"));
-        }
-    }
-    let frames = match (mesh.has_3d(), mesh.flat()) {
-        (true, Some(flat)) => format!(
-            "[\n    {{\n      \"frame_classes\": [\"creasePattern\"],\n      \"frame_attributes\": [\"2D\"],\n      \"frame_inherit\": true,\n      \"frame_parent\": 0,\n      \"vertices_coords\": [\n        {}\n      ]\n    }}\n  ]",
-            flat.iter()
-                .map(|p| format!("[{}, {}]", num(p.x / scale), num(p.y / scale)))
-                .collect::<Vec<_>>()
-                .join(",\n        ")
-        ),
-        _ => "[]".into(),
-    };
-    let _ = write!(out, "  \"file_frames\": {frames}\n}}\n");
-    out
+    w.field("crease:alpha", per_edge(&|e| num(mesh.edges()[e].alpha)));
 }
 
 /// The faces written: polygons merged back across flat synthetic edges.
