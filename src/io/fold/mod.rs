@@ -157,51 +157,10 @@ pub fn parse(text: &str) -> Result<Mesh, String> {
     }
     let file: FoldFile =
         serde_json::from_str(text).map_err(|e| format!("not valid FOLD JSON: {e}"))?;
-    let mut frames = vec![file.frame.clone()];
-    for (k, f) in file.file_frames.iter().flatten().enumerate() {
-        let mut f = f.clone();
-        if f.frame_inherit == Some(true) {
-            let parent = f.frame_parent.unwrap_or(0);
-            let p = frames
-                .get(parent)
-                .ok_or(format!(
-                    "frame {} inherits from missing frame {parent}",
-                    k + 1
-                ))?
-                .clone();
-            f.inherit_from(&p);
-        }
-        frames.push(f);
-    }
+    let frames = frames_of(&file)?;
     let top = &frames[0];
     let face_lists = top.faces_vertices.clone().unwrap_or_default();
-    let with_coords = |f: &&Frame| f.vertices_coords.is_some();
-    let cp_frame = frames
-        .iter()
-        .filter(with_coords)
-        .find(|f| f.has_class("creasePattern"));
-    let folded_frame = frames
-        .iter()
-        .filter(with_coords)
-        .find(|f| !f.has_class("creasePattern"));
-    let mut flat: Option<Vec<Vec2>> = None;
-    let mut folded: Option<Vec<Vec3>> = None;
-    if let Some(f) = cp_frame {
-        let p = coords(f)?;
-        match planar_layout(&p, &face_lists) {
-            Some(layout) => flat = Some(layout),
-            None => folded = Some(p),
-        }
-    }
-    if let Some(f) = folded_frame {
-        let p = coords(f)?;
-        // A "folded form" lying flat without overlaps is a crease pattern (cube-cp.fold,
-        // Origami Simulator's exports); one with overlapping faces is flat-folded.
-        match (flat.is_none(), planar_layout(&p, &face_lists)) {
-            (true, Some(layout)) => flat = Some(layout),
-            _ => folded = Some(p),
-        }
-    }
+    let (flat, folded) = layouts(&frames, &face_lists)?;
     let n = flat
         .as_ref()
         .map(|f| f.len())
@@ -213,36 +172,7 @@ pub fn parse(text: &str) -> Result<Mesh, String> {
         .clone()
         .or(file.file_title.clone())
         .unwrap_or_default();
-
-    let mut parts = if face_lists.is_empty() {
-        let flat = flat.ok_or("edges-only FOLD files need a flat crease pattern to find faces")?;
-        let segments: Vec<Segment> = edges
-            .iter()
-            .map(|e| Segment {
-                a: flat[e.vertices[0]],
-                b: flat[e.vertices[1]],
-                assignment: e.assignment,
-                fold_angle: e.fold_angle,
-            })
-            .collect();
-        keep_file_numbering(mesh_from_segments(&segments)?.0, &flat)
-    } else {
-        let mut faces = Vec::with_capacity(face_lists.len());
-        for (i, poly) in face_lists.iter().enumerate() {
-            if let Some(&v) = poly.iter().find(|&&v| v >= n) {
-                return Err(format!(
-                    "face {i} refers to vertex {v}, but there are only {n} vertices"
-                ));
-            }
-            triangulate_face(i, poly, flat.as_deref(), folded.as_deref(), &mut faces)?;
-        }
-        MeshParts {
-            positions: folded,
-            flat,
-            faces,
-            edges,
-        }
-    };
+    let mut parts = mesh_parts(&face_lists, edges, flat, folded, n)?;
     split_along_cuts(&mut parts);
     let mut mesh = Mesh::new(parts).map_err(|e| e.to_string())?;
     mesh.coordinate_precision =
@@ -262,6 +192,102 @@ pub fn parse(text: &str) -> Result<Mesh, String> {
         top.frame_unit.clone(),
     )));
     Ok(mesh)
+}
+
+/// The file's frames, frame 0 (the file's own) first, each inheriting what it says from
+/// its parent.
+fn frames_of(file: &FoldFile) -> Result<Vec<Frame>, String> {
+    let mut frames = vec![file.frame.clone()];
+    for (k, f) in file.file_frames.iter().flatten().enumerate() {
+        let mut f = f.clone();
+        if f.frame_inherit == Some(true) {
+            let parent = f.frame_parent.unwrap_or(0);
+            let p = frames
+                .get(parent)
+                .ok_or(format!(
+                    "frame {} inherits from missing frame {parent}",
+                    k + 1
+                ))?
+                .clone();
+            f.inherit_from(&p);
+        }
+        frames.push(f);
+    }
+    Ok(frames)
+}
+
+/// A file's crease pattern (flat, in the plane) and folded form, each if it has one.
+type Layouts = (Option<Vec<Vec2>>, Option<Vec<Vec3>>);
+
+/// The crease pattern and the folded form the frames hold.
+fn layouts(frames: &[Frame], face_lists: &[Vec<usize>]) -> Result<Layouts, String> {
+    let with_coords = |f: &&Frame| f.vertices_coords.is_some();
+    let cp_frame = frames
+        .iter()
+        .filter(with_coords)
+        .find(|f| f.has_class("creasePattern"));
+    let folded_frame = frames
+        .iter()
+        .filter(with_coords)
+        .find(|f| !f.has_class("creasePattern"));
+    let mut flat: Option<Vec<Vec2>> = None;
+    let mut folded: Option<Vec<Vec3>> = None;
+    if let Some(f) = cp_frame {
+        let p = coords(f)?;
+        match planar_layout(&p, face_lists) {
+            Some(layout) => flat = Some(layout),
+            None => folded = Some(p),
+        }
+    }
+    if let Some(f) = folded_frame {
+        let p = coords(f)?;
+        // A "folded form" lying flat without overlaps is a crease pattern (cube-cp.fold,
+        // Origami Simulator's exports); one with overlapping faces is flat-folded.
+        match (flat.is_none(), planar_layout(&p, face_lists)) {
+            (true, Some(layout)) => flat = Some(layout),
+            _ => folded = Some(p),
+        }
+    }
+    Ok((flat, folded))
+}
+
+/// Faces triangulated from `faces_vertices`, or, for an edges-only file, found from the
+/// crease pattern's segments (keeping the file's vertex numbers).
+fn mesh_parts(
+    face_lists: &[Vec<usize>],
+    edges: Vec<Edge>,
+    flat: Option<Vec<Vec2>>,
+    folded: Option<Vec<Vec3>>,
+    n: usize,
+) -> Result<MeshParts, String> {
+    if face_lists.is_empty() {
+        let flat = flat.ok_or("edges-only FOLD files need a flat crease pattern to find faces")?;
+        let segments: Vec<Segment> = edges
+            .iter()
+            .map(|e| Segment {
+                a: flat[e.vertices[0]],
+                b: flat[e.vertices[1]],
+                assignment: e.assignment,
+                fold_angle: e.fold_angle,
+            })
+            .collect();
+        return Ok(keep_file_numbering(mesh_from_segments(&segments)?.0, &flat));
+    }
+    let mut faces = Vec::with_capacity(face_lists.len());
+    for (i, poly) in face_lists.iter().enumerate() {
+        if let Some(&v) = poly.iter().find(|&&v| v >= n) {
+            return Err(format!(
+                "face {i} refers to vertex {v}, but there are only {n} vertices"
+            ));
+        }
+        triangulate_face(i, poly, flat.as_deref(), folded.as_deref(), &mut faces)?;
+    }
+    Ok(MeshParts {
+        positions: folded,
+        flat,
+        faces,
+        edges,
+    })
 }
 
 /// `crease:coincidentVertices`: disjoint groups of at least two existing vertices.
