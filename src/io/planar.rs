@@ -79,31 +79,7 @@ fn priority(a: Assignment) -> u8 {
 /// Builds a flat mesh from drawn segments. Errors are plain causes; the caller adds the
 /// file name.
 pub fn mesh_from_segments(segments: &[Segment]) -> Result<(MeshParts, PlanarReport), String> {
-    if segments.is_empty() {
-        return Err("no crease or boundary lines found".into());
-    }
-    let mut lo = Vec2::repeat(f64::INFINITY);
-    let mut hi = Vec2::repeat(f64::NEG_INFINITY);
-    for s in segments {
-        for p in [s.a, s.b] {
-            if !p.x.is_finite() || !p.y.is_finite() {
-                return Err("a line has a coordinate that is not a finite number".into());
-            }
-            let far = p.x.abs().max(p.y.abs());
-            if far > crate::mesh::MAX_COORDINATE_MM {
-                return Err(format!(
-                    "a line reaches {far:.3e} mm, which is not a finite length within 1 km"
-                ));
-            }
-            lo = lo.inf(&p);
-            hi = hi.sup(&p);
-        }
-    }
-    let diag = (hi - lo).norm();
-    if diag == 0.0 {
-        return Err("all lines have zero length".into());
-    }
-    let tol = MERGE_TOLERANCE * diag;
+    let tol = merge_tolerance(segments)?;
     let segs: Vec<&Segment> = segments
         .iter()
         .filter(|s| (s.b - s.a).norm() > tol)
@@ -113,69 +89,9 @@ pub fn mesh_from_segments(segments: &[Segment]) -> Result<(MeshParts, PlanarRepo
         grid: HashMap::new(),
         tol,
     };
-    // A line drawn again (a copied shape, a crease under a cut) joins the same two points:
-    // keep one per pair, the one that wins by priority, before the quadratic parts below.
-    let mut unique: HashMap<(usize, usize), &Segment> = HashMap::new();
-    for s in &segs {
-        let (a, b) = (pool.insert(s.a), pool.insert(s.b));
-        let entry = unique.entry((a.min(b), a.max(b))).or_insert(s);
-        if (priority(s.assignment), s.assignment) > (priority(entry.assignment), entry.assignment) {
-            *entry = s;
-        }
-    }
-    let mut pairs: Vec<((usize, usize), &Segment)> = unique.into_iter().collect();
-    pairs.sort_unstable_by_key(|(k, _)| *k);
-    let segs: Vec<&Segment> = pairs.into_iter().map(|(_, s)| s).collect();
-    // Proper crossings; sweep by x so only overlapping spans are compared.
-    let mut order: Vec<usize> = (0..segs.len()).collect();
-    let min_x = |s: &Segment| s.a.x.min(s.b.x);
-    let max_x = |s: &Segment| s.a.x.max(s.b.x);
-    order.sort_by(|&i, &j| min_x(segs[i]).total_cmp(&min_x(segs[j])));
-    for (oi, &i) in order.iter().enumerate() {
-        for &j in &order[oi + 1..] {
-            if min_x(segs[j]) > max_x(segs[i]) + tol {
-                break;
-            }
-            if let Some(p) = crossing(segs[i], segs[j], tol) {
-                pool.insert(p);
-            }
-        }
-    }
-    // Split every segment at the points lying on it.
-    let mut by_x: Vec<usize> = (0..pool.points.len()).collect();
-    by_x.sort_by(|&i, &j| pool.points[i].x.total_cmp(&pool.points[j].x));
-    let xs: Vec<f64> = by_x.iter().map(|&i| pool.points[i].x).collect();
-    let mut graph: HashMap<(usize, usize), (Assignment, f64)> = HashMap::new();
-    for s in &segs {
-        let d = s.b - s.a;
-        let len = d.norm();
-        let u = d / len;
-        let from = xs.partition_point(|&x| x < min_x(s) - tol);
-        let to = xs.partition_point(|&x| x <= max_x(s) + tol);
-        let mut on: Vec<(f64, usize)> = by_x[from..to]
-            .iter()
-            .filter_map(|&k| {
-                let r = pool.points[k] - s.a;
-                let t = r.dot(&u);
-                (t > -tol && t < len + tol && u.perp(&r).abs() <= tol).then_some((t, k))
-            })
-            .collect();
-        on.sort_by(|a, b| a.0.total_cmp(&b.0));
-        on.dedup_by_key(|x| x.1);
-        for w in on.windows(2) {
-            let (p, q) = (w[0].1, w[1].1);
-            if p == q {
-                continue;
-            }
-            let k = (p.min(q), p.max(q));
-            let entry = graph.entry(k).or_insert((s.assignment, s.fold_angle));
-            // Higher priority wins; between equals the larger assignment, so the result
-            // does not depend on drawing order.
-            if (priority(s.assignment), s.assignment) > (priority(entry.0), entry.0) {
-                *entry = (s.assignment, s.fold_angle);
-            }
-        }
-    }
+    let segs = unique_segments(&segs, &mut pool);
+    insert_crossings(&segs, &mut pool);
+    let mut graph = split_at_points(&segs, &pool);
     let mut report = PlanarReport::default();
     prune_dangling(&mut graph, &mut report);
     if graph.is_empty() {
@@ -208,6 +124,124 @@ pub fn mesh_from_segments(segments: &[Segment]) -> Result<(MeshParts, PlanarRepo
         },
         report,
     ))
+}
+
+/// The distance within which points are one: [`MERGE_TOLERANCE`] of the drawing's
+/// diagonal. Refuses coordinates that are not finite or lie beyond a kilometre, and a
+/// drawing of zero size.
+fn merge_tolerance(segments: &[Segment]) -> Result<f64, String> {
+    if segments.is_empty() {
+        return Err("no crease or boundary lines found".into());
+    }
+    let mut lo = Vec2::repeat(f64::INFINITY);
+    let mut hi = Vec2::repeat(f64::NEG_INFINITY);
+    for s in segments {
+        for p in [s.a, s.b] {
+            if !p.x.is_finite() || !p.y.is_finite() {
+                return Err("a line has a coordinate that is not a finite number".into());
+            }
+            let far = p.x.abs().max(p.y.abs());
+            if far > crate::mesh::MAX_COORDINATE_MM {
+                return Err(format!(
+                    "a line reaches {far:.3e} mm, which is not a finite length within 1 km"
+                ));
+            }
+            lo = lo.inf(&p);
+            hi = hi.sup(&p);
+        }
+    }
+    let diag = (hi - lo).norm();
+    if diag == 0.0 {
+        return Err("all lines have zero length".into());
+    }
+    Ok(MERGE_TOLERANCE * diag)
+}
+
+/// One segment per pair of end points, the one that wins by priority: a line drawn again
+/// (a copied shape, a crease under a cut) joins the same two points. Sorted by the pair,
+/// so the result does not depend on drawing order.
+fn unique_segments<'a>(segs: &[&'a Segment], pool: &mut VertexPool) -> Vec<&'a Segment> {
+    let mut unique: HashMap<(usize, usize), &Segment> = HashMap::new();
+    for s in segs {
+        let (a, b) = (pool.insert(s.a), pool.insert(s.b));
+        let entry = unique.entry((a.min(b), a.max(b))).or_insert(s);
+        if (priority(s.assignment), s.assignment) > (priority(entry.assignment), entry.assignment) {
+            *entry = s;
+        }
+    }
+    let mut pairs: Vec<((usize, usize), &Segment)> = unique.into_iter().collect();
+    pairs.sort_unstable_by_key(|(k, _)| *k);
+    pairs.into_iter().map(|(_, s)| s).collect()
+}
+
+fn min_x(s: &Segment) -> f64 {
+    s.a.x.min(s.b.x)
+}
+
+fn max_x(s: &Segment) -> f64 {
+    s.a.x.max(s.b.x)
+}
+
+/// Adds the proper crossings of the segments to the pool; a sweep by x compares only
+/// overlapping spans.
+fn insert_crossings(segs: &[&Segment], pool: &mut VertexPool) {
+    let tol = pool.tol;
+    let mut order: Vec<usize> = (0..segs.len()).collect();
+    order.sort_by(|&i, &j| min_x(segs[i]).total_cmp(&min_x(segs[j])));
+    for (oi, &i) in order.iter().enumerate() {
+        for &j in &order[oi + 1..] {
+            if min_x(segs[j]) > max_x(segs[i]) + tol {
+                break;
+            }
+            if let Some(p) = crossing(segs[i], segs[j], tol) {
+                pool.insert(p);
+            }
+        }
+    }
+}
+
+/// Every segment split at the pool's points lying on it: the pieces as vertex pairs, with
+/// the assignment and fold angle of the segment that wins each piece by priority.
+fn split_at_points(
+    segs: &[&Segment],
+    pool: &VertexPool,
+) -> HashMap<(usize, usize), (Assignment, f64)> {
+    let tol = pool.tol;
+    let mut by_x: Vec<usize> = (0..pool.points.len()).collect();
+    by_x.sort_by(|&i, &j| pool.points[i].x.total_cmp(&pool.points[j].x));
+    let xs: Vec<f64> = by_x.iter().map(|&i| pool.points[i].x).collect();
+    let mut graph: HashMap<(usize, usize), (Assignment, f64)> = HashMap::new();
+    for s in segs {
+        let d = s.b - s.a;
+        let len = d.norm();
+        let u = d / len;
+        let from = xs.partition_point(|&x| x < min_x(s) - tol);
+        let to = xs.partition_point(|&x| x <= max_x(s) + tol);
+        let mut on: Vec<(f64, usize)> = by_x[from..to]
+            .iter()
+            .filter_map(|&k| {
+                let r = pool.points[k] - s.a;
+                let t = r.dot(&u);
+                (t > -tol && t < len + tol && u.perp(&r).abs() <= tol).then_some((t, k))
+            })
+            .collect();
+        on.sort_by(|a, b| a.0.total_cmp(&b.0));
+        on.dedup_by_key(|x| x.1);
+        for w in on.windows(2) {
+            let (p, q) = (w[0].1, w[1].1);
+            if p == q {
+                continue;
+            }
+            let k = (p.min(q), p.max(q));
+            let entry = graph.entry(k).or_insert((s.assignment, s.fold_angle));
+            // Higher priority wins; between equals the larger assignment, so the result
+            // does not depend on drawing order.
+            if (priority(s.assignment), s.assignment) > (priority(entry.0), entry.0) {
+                *entry = (s.assignment, s.fold_angle);
+            }
+        }
+    }
+    graph
 }
 
 fn crossing(s: &Segment, t: &Segment, tol: f64) -> Option<Vec2> {
