@@ -268,6 +268,11 @@ fn bad_ports_and_speeds_exit_2_with_a_clear_message() {
 /// Makes a `crease fab` job folder for `design` on `machine` (A3 for the generic plotter,
 /// the profile's own media otherwise).
 fn fab_job(design: &str, machine: &str, name: &str) -> PathBuf {
+    fab_job_with(design, machine, name, &[])
+}
+
+/// [`fab_job`] with more `fab` options.
+fn fab_job_with(design: &str, machine: &str, name: &str, extra: &[&str]) -> PathBuf {
     let dir = scratch(name).join("job");
     let input = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("patterns")
@@ -283,6 +288,7 @@ fn fab_job(design: &str, machine: &str, name: &str) -> PathBuf {
     if machine == "generic-hpgl" {
         args.extend(["--media", "a3"]);
     }
+    args.extend_from_slice(extra);
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_crease"))
         .args(&args)
         .output()
@@ -427,6 +433,55 @@ fn a_plain_plot_of_an_unfinished_job_sends_nothing_and_exits_2() {
     emulator.wait_idle(Duration::from_millis(300), Duration::from_secs(60));
     let state = emulator.stop();
     assert_eq!(code, Some(0), "{err}");
+    assert_eq!(state.lost, 0);
+    assert_eq!(
+        state.path.segments,
+        hpgl::interpret(&text).unwrap().segments
+    );
+}
+
+#[test]
+fn after_the_front_of_a_two_sided_job_plot_says_how_to_go_on() {
+    // The front job plotted from its folder: plot names the back job to run next and how
+    // to turn the sheet; the back job plotted then cuts exactly its file and says nothing
+    // more (there is no third side).
+    let dir = fab_job_with(
+        "miura.fold",
+        "generic-hpgl",
+        "two-sided",
+        &["--mountains-from-back"],
+    );
+    let link = scratch("two-sided").join("plotter");
+    let fast = ["--baud", "115200", "--flow", "xonxoff"];
+    let plotter = || {
+        Emulator::start(
+            &link,
+            EmulatorConfig {
+                baud: 115200,
+                rate: 6000.0,
+                flow: Flow::XonXoff,
+                ..Default::default()
+            },
+        )
+        .unwrap()
+    };
+    let emulator = plotter();
+    let (code, err) = plot_cli(&dir, &link, &fast);
+    emulator.wait_idle(Duration::from_millis(300), Duration::from_secs(60));
+    drop(emulator.stop());
+    assert_eq!(code, Some(0), "{err}");
+    let back = dir.join("sheet-back.hpgl");
+    assert!(
+        err.contains(&back.display().to_string()) && err.contains("left to right"),
+        "{err}"
+    );
+    let emulator = plotter();
+    let (code, err) = plot_cli(&back, &link, &fast);
+    emulator.wait_idle(Duration::from_millis(300), Duration::from_secs(60));
+    let state = emulator.stop();
+    assert_eq!(code, Some(0), "{err}");
+    assert!(!err.contains("left to right"), "{err}");
+    let text = std::fs::read_to_string(&back).unwrap();
     assert_eq!(state.lost, 0);
     assert_eq!(
         state.path.segments,

@@ -252,7 +252,34 @@ pub fn plot(args: PlotArgs) -> Result<u8, String> {
         resume: args.resume,
         answer_timeout: std::time::Duration::from_secs(10),
     };
-    stream_with_progress(&text, &job_path, &options)
+    let code = stream_with_progress(&text, &job_path, &options)?;
+    if code == 0 {
+        if let Some(next) = back_side_next(&job_path, &options.port) {
+            eprintln!("{next}");
+        }
+    }
+    Ok(code)
+}
+
+/// After the front job of a two-sided `fab` folder, what the maker does next: turn the
+/// sheet and plot the back job (whose first strokes re-cut the registration crosses).
+fn back_side_next(job_path: &Path, port: &Path) -> Option<String> {
+    let name = job_path.file_name()?.to_str()?;
+    let extension = name.strip_prefix("sheet.")?;
+    let folder = job_path.parent()?;
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(folder.join("report.json")).ok()?).ok()?;
+    if report["sheet"]["two_sided"].is_null() {
+        return None;
+    }
+    let back = folder.join(format!("sheet-back.{extension}"));
+    back.is_file().then(|| {
+        format!(
+            "two-sided job, front done: turn the sheet over left to right (the top stays at the top), load it against the same corner, then run `crease plot {} --port {}`; its first strokes cut the registration crosses again and must run in the front's slits",
+            back.display(),
+            port.display()
+        )
+    })
 }
 
 /// Streams the job with a progress bar of confirmed bytes; exit 1 (journal kept) when the
