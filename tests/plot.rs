@@ -297,6 +297,22 @@ fn fab_job_with(design: &str, machine: &str, name: &str, extra: &[&str]) -> Path
     dir
 }
 
+/// A fast XON/XOFF plotter at 115200 baud on `link`, its cable pulled after `fail_after`
+/// bytes if given.
+fn fast_plotter(link: &Path, fail_after: Option<usize>) -> Emulator {
+    Emulator::start(
+        link,
+        EmulatorConfig {
+            baud: 115200,
+            rate: 6000.0,
+            flow: Flow::XonXoff,
+            fail_after,
+            ..Default::default()
+        },
+    )
+    .unwrap()
+}
+
 fn plot_cli(job: &Path, port: &Path, extra: &[&str]) -> (Option<i32>, String) {
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_crease"))
         .arg("plot")
@@ -396,21 +412,8 @@ fn a_graphtec_job_is_plotted_as_gpgl_from_its_folder() {
 fn a_plain_plot_of_an_unfinished_job_sends_nothing_and_exits_2() {
     let dir = fab_job("miura.fold", "generic-hpgl", "unfinished");
     let text = std::fs::read_to_string(dir.join("sheet.hpgl")).unwrap();
-    // A fast XON/XOFF plotter, its cable pulled after `fail_after` bytes if given.
     let link = scratch("unfinished").join("plotter");
-    let plotter = |fail_after: Option<usize>| {
-        Emulator::start(
-            &link,
-            EmulatorConfig {
-                baud: 115200,
-                rate: 6000.0,
-                flow: Flow::XonXoff,
-                fail_after,
-                ..Default::default()
-            },
-        )
-        .unwrap()
-    };
+    let plotter = |fail_after: Option<usize>| fast_plotter(&link, fail_after);
     let plain = ["--baud", "115200", "--flow", "xonxoff"];
     // Interrupt a real plot: the cable is pulled a third of the way in.
     let emulator = plotter(Some(text.len() / 3));
@@ -453,18 +456,7 @@ fn after_the_front_of_a_two_sided_job_plot_says_how_to_go_on() {
     );
     let link = scratch("two-sided").join("plotter");
     let fast = ["--baud", "115200", "--flow", "xonxoff"];
-    let plotter = || {
-        Emulator::start(
-            &link,
-            EmulatorConfig {
-                baud: 115200,
-                rate: 6000.0,
-                flow: Flow::XonXoff,
-                ..Default::default()
-            },
-        )
-        .unwrap()
-    };
+    let plotter = || fast_plotter(&link, None);
     let emulator = plotter();
     let (code, err) = plot_cli(&dir, &link, &fast);
     emulator.wait_idle(Duration::from_millis(300), Duration::from_secs(60));

@@ -57,14 +57,7 @@ pub fn parse_transform(text: &str) -> Result<Affine, String> {
             .map(|c| open + c)
             .ok_or_else(|| format!("bad transform \"{text}\""))?;
         let name = rest[..open].trim().trim_start_matches(',').trim();
-        let args: Vec<f64> = rest[open + 1..close]
-            .split(|c: char| c == ',' || c.is_whitespace())
-            .filter(|s| !s.is_empty())
-            .map(|s| {
-                s.parse::<f64>()
-                    .map_err(|_| format!("bad number \"{s}\" in transform"))
-            })
-            .collect::<Result<_, _>>()?;
+        let args = number_list(&rest[open + 1..close], "transform")?;
         let arg = |i: usize, default: f64| args.get(i).copied().unwrap_or(default);
         let m = match (name, args.len()) {
             ("matrix", 6) => Affine([args[0], args[1], args[2], args[3], args[4], args[5]]),
@@ -169,6 +162,18 @@ impl Tokens<'_> {
             _ => Err(format!("bad arc flag in path data at character {}", self.i)),
         }
     }
+}
+
+/// Numbers separated by commas or white space (SVG's `points`, transform arguments);
+/// a bad one is named with the `context` it was in.
+pub fn number_list(text: &str, context: &str) -> Result<Vec<f64>, String> {
+    text.split(|c: char| c == ',' || c.is_whitespace())
+        .filter(|s| !s.is_empty())
+        .map(|s| {
+            s.parse::<f64>()
+                .map_err(|_| format!("bad number \"{s}\" in {context}"))
+        })
+        .collect()
 }
 
 /// Flattens path data into polylines (one per subpath) in the coordinates `to_mm` maps to.

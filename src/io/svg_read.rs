@@ -4,7 +4,7 @@
 //! pattern reads the same way up in crease's y-up coordinates.
 
 use super::planar::{mesh_from_segments, PlanarReport, Segment};
-use super::svg_path::{flatten_path, parse_transform, Affine};
+use super::svg_path::{flatten_path, number_list, parse_transform, Affine};
 use crate::mesh::{split_along_cuts, Assignment, Mesh, Vec2};
 use std::f64::consts::PI;
 use svg::node::element::tag::Type;
@@ -360,15 +360,10 @@ fn shape_polylines(
             vec![c.iter().map(|&(a, b)| m.apply(Vec2::new(a, b))).collect()]
         }
         "polygon" | "polyline" => {
-            let values: Vec<f64> = get("points")
-                .unwrap_or_default()
-                .split(|c: char| c == ',' || c.is_whitespace())
-                .filter(|s| !s.is_empty())
-                .map(|s| {
-                    s.parse::<f64>()
-                        .map_err(|_| format!("bad number \"{s}\" in <{name}> points"))
-                })
-                .collect::<Result<_, _>>()?;
+            let values = number_list(
+                &get("points").unwrap_or_default(),
+                &format!("<{name}> points"),
+            )?;
             let mut pts: Vec<Vec2> = values
                 .chunks_exact(2)
                 .map(|c| m.apply(Vec2::new(c[0], c[1])))
