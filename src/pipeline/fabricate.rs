@@ -89,14 +89,16 @@ pub fn fabricate(
     let settings = machine.score_settings();
     let (strokes, unscored) = score_lines(&sheet, &settings);
     let tools = machine.hpgl_settings().tools;
-    let (toolpath, back) = sides(strokes, &sheet.media, margin, &tools, options, tiled);
+    // Two-sided jobs register by crosses, unless tiled (no machine takes the sheet).
+    let registered = options.mountains_from_back && !tiled;
+    let (toolpath, back) = sides(strokes, &sheet.media, margin, &tools, options, registered);
     // A tiled sheet is larger than the media: a cutter cannot take it, only pages print.
     let jobs_written = if tiled {
         Vec::new()
     } else {
         cutter_jobs(machine, &toolpath, back.as_ref())?
     };
-    let steps = two_sided_steps(back.is_some() && !tiled, &jobs_written);
+    let steps = two_sided_steps(registered, &jobs_written);
     let mut files = sheet_files(&toolpath, back.as_ref(), &jobs_written);
     files.extend(pattern_files(mesh, &sheet)?);
     let run = Run {
@@ -315,21 +317,21 @@ fn layer_order_of(design: &Mesh, placed: &Mesh) -> Option<Vec<[i64; 3]>> {
 /// The front job and, for a two-sided run, the mirrored back job. Two-sided: the front
 /// scores the valleys, the back the mountains and then the outline, so the piece stays in
 /// the sheet until both sides are scored; each job starts with the registration crosses
-/// ([`crate::fab::registration`]) unless the sheet is tiled (no machine takes it).
+/// ([`crate::fab::registration`]) when `registered`.
 fn sides(
     strokes: Vec<crate::fab::Stroke>,
     media: &crate::fab::Media,
     margin: f64,
     tools: &BTreeMap<crate::fab::LineKind, crate::output::ToolSetting>,
     options: &FabOptions,
-    tiled: bool,
+    registered: bool,
 ) -> (crate::fab::Toolpath, Option<crate::fab::Toolpath>) {
     use crate::fab::{registration, route, LineKind, Toolpath};
     let (front, back): (Vec<_>, Vec<_>) = strokes.into_iter().partition(|s| {
         !(options.mountains_from_back && matches!(s.kind, LineKind::Mountain | LineKind::Cut))
     });
     let marks = |centres: [crate::mesh::Vec2; 3]| {
-        if options.mountains_from_back && !tiled {
+        if registered {
             registration::cross_strokes(&centres)
         } else {
             Vec::new()

@@ -133,7 +133,7 @@ fn nearest_neighbour(group: &[Stroke], start: Vec2) -> Vec<Stroke> {
     let mut out = Vec::with_capacity(n);
     let mut at = start;
     for _ in 0..n {
-        let Some((i, reversed)) = ends.nearest_undone(at, &done) else {
+        let Some((i, reversed)) = ends.nearest_where(at, |i| done[i]) else {
             break;
         };
         done[i] = true;
@@ -157,8 +157,6 @@ struct EndGrid<'a> {
     cells_per_side: i64,
     /// Stroke and whether it is entered at its `to` end, per cell.
     cells: HashMap<(i64, i64), Vec<(usize, bool)>>,
-    /// No stroke done, for [`EndGrid::distance`].
-    none_done: Vec<bool>,
 }
 
 impl<'a> EndGrid<'a> {
@@ -175,7 +173,6 @@ impl<'a> EndGrid<'a> {
             cell: extent / cells_per_side as f64,
             cells_per_side,
             cells: HashMap::new(),
-            none_done: vec![false; group.len()],
         };
         for (i, s) in group.iter().enumerate() {
             let (from, to) = (grid.key(s.from), grid.key(s.to));
@@ -194,17 +191,16 @@ impl<'a> EndGrid<'a> {
 
     /// Distance from `at` to the nearest end of any stroke.
     fn distance(&self, at: Vec2) -> f64 {
-        self.nearest_undone(at, &self.none_done)
-            .map_or(0.0, |(i, to)| {
-                let s = &self.group[i];
-                (if to { s.to } else { s.from } - at).norm()
-            })
+        self.nearest_where(at, |_| false).map_or(0.0, |(i, to)| {
+            let s = &self.group[i];
+            (if to { s.to } else { s.from } - at).norm()
+        })
     }
 
     /// The stroke (not `done`) with an end nearest `at`, and whether that end is its `to`.
     /// Rings of cells are searched outwards until the best end found is nearer than any
     /// cell not yet searched.
-    fn nearest_undone(&self, at: Vec2, done: &[bool]) -> Option<(usize, bool)> {
+    fn nearest_where(&self, at: Vec2, done: impl Fn(usize) -> bool) -> Option<(usize, bool)> {
         let (cx, cy) = self.key(at);
         let side = self.cells_per_side;
         let mut best: Option<(f64, usize, bool)> = None;
@@ -234,7 +230,7 @@ impl<'a> EndGrid<'a> {
                             self.group[i].from
                         };
                         let d = (end - at).norm();
-                        if !done[i] && best.is_none_or(|(bd, _, _)| d < bd) {
+                        if !done(i) && best.is_none_or(|(bd, _, _)| d < bd) {
                             best = Some((d, i, reversed));
                         }
                     }
@@ -248,8 +244,8 @@ impl<'a> EndGrid<'a> {
         // The rings cover the whole grid, so an undone stroke is always found; the scan is
         // a guard against a grid that rounding left short.
         best.or_else(|| {
-            (0..done.len())
-                .filter(|&i| !done[i])
+            (0..self.group.len())
+                .filter(|&i| !done(i))
                 .flat_map(|i| [(i, false), (i, true)])
                 .map(|(i, r)| {
                     let end = if r {
