@@ -4,7 +4,8 @@
 use super::context::flips;
 use super::{Element, Family, Reference, Rows};
 use crate::geometry::{
-    fold_angle, fold_angle_gradient, sector_angle, sector_angle_gradient, track_branch,
+    face_normal, fold_angle_between, fold_angle_gradient, sector_angle, sector_angle_gradient,
+    track_branch,
 };
 use crate::mesh::{Mesh, Vec3};
 use std::f64::consts::PI;
@@ -27,6 +28,17 @@ impl<'a> Corners<'a> {
             .map(|&f| [0, 1, 2].map(|k| sector_angle(x, f, k)))
             .collect();
         Corners { x, angle }
+    }
+}
+
+/// Every face's unit normal at one set of positions, computed once per evaluation: a face
+/// borders three edges, and the fold-angle rows used to compute it once for each.
+pub struct FaceNormals(Vec<Vec3>);
+
+impl FaceNormals {
+    /// The normals of every face at `x`.
+    pub fn new(mesh: &Mesh, x: &[Vec3]) -> FaceNormals {
+        FaceNormals(mesh.faces().iter().map(|&f| face_normal(x, f)).collect())
     }
 }
 
@@ -130,59 +142,51 @@ pub fn flat_foldability(mesh: &Mesh, reference: &Reference, c: &Corners, rows: &
 /// Eq. (6)–(8) at every vertex with σ: for consecutive folded creases of equal direction,
 /// the sector between them is not smaller than its neighbours as the equations say.
 pub fn angular_inequality(mesh: &Mesh, reference: &Reference, c: &Corners, rows: &mut Rows) {
+    // Reused for every vertex: this runs at every Newton iteration.
+    let mut creases: Vec<usize> = Vec::new();
     for (v, sigma) in reference.sigma.iter().enumerate() {
         if sigma.is_none() {
             continue;
         }
         let fan = &mesh.topology().fans[v];
         // Folded creases in counter-clockwise order and the fan faces between each and the next.
-        let creases: Vec<usize> = (0..fan.spokes.len())
-            .filter(|&i| flips(mesh.edges()[fan.spokes[i]].target))
-            .collect();
+        creases.clear();
+        creases
+            .extend((0..fan.spokes.len()).filter(|&i| flips(mesh.edges()[fan.spokes[i]].target)));
+        let creases = &creases;
         let n = creases.len();
         if n < 4 {
             continue;
         }
-        let sector_faces = |i: usize| -> Vec<usize> {
-            let (from, to) = (creases[i], creases[(i + 1) % n]);
-            let len = (to + fan.faces.len() - from) % fan.faces.len();
-            (0..len)
-                .map(|k| fan.faces[(from + k) % fan.faces.len()])
-                .collect()
+        let m = fan.faces.len();
+        let sector_faces = |i: usize| {
+            let (from, to) = (creases[i % n], creases[(i + 1) % n]);
+            let len = (to + m - from) % m;
+            (0..len).map(move |k| fan.faces[(from + k) % m])
         };
         let direction = |i: usize| mesh.edges()[fan.spokes[creases[i % n]]].target.signum();
-        let sector = |i: usize| -> (f64, Vec<usize>) {
-            let faces = sector_faces(i % n);
-            (
-                weighted_sum(mesh, c, v, faces.iter().map(|&f| (f, 1.0))),
-                faces,
-            )
-        };
+        let sector = |i: usize| weighted_sum(mesh, c, v, sector_faces(i).map(|f| (f, 1.0)));
         for i in 0..n {
             if direction(i) != direction(i + 1) {
                 continue;
             }
             let (prev, next) = ((i + n - 1) % n, (i + 1) % n);
-            let (s, sf) = sector(i);
-            let (sp, pf) = sector(prev);
-            let (sn, nf) = sector(next);
+            let (s, sp, sn) = (sector(i), sector(prev), sector(next));
             let element = Element::Sector(v, fan.spokes[creases[i]], fan.spokes[creases[next]]);
-            let mut conditions: Vec<(f64, &Vec<usize>)> =
-                vec![if sp <= sn { (sp, &pf) } else { (sn, &nf) }];
-            if direction(prev) != direction(i) {
-                conditions.push((sp, &pf));
-            }
-            if direction(i + 2) != direction(i + 1) {
-                conditions.push((sn, &nf));
-            }
-            for (bound, bound_faces) in conditions {
+            // Each bound: its value and the sector it sums.
+            let smaller = if sp <= sn { (sp, prev) } else { (sn, next) };
+            let conditions = [
+                Some(smaller),
+                (direction(prev) != direction(i)).then_some((sp, prev)),
+                (direction(i + 2) != direction(i + 1)).then_some((sn, next)),
+            ];
+            for (bound, bound_sector) in conditions.into_iter().flatten() {
                 let g = bound - s;
                 let row = rows.push(Family::AngularInequality, element, g.max(0.0));
                 if g > 0.0 {
-                    let w = bound_faces
-                        .iter()
-                        .map(|&f| (f, 1.0))
-                        .chain(sf.iter().map(|&f| (f, -1.0)));
+                    let w = sector_faces(bound_sector)
+                        .map(|f| (f, 1.0))
+                        .chain(sector_faces(i).map(|f| (f, -1.0)));
                     add_weighted_gradient(mesh, c, v, w, row, rows);
                 }
             }
@@ -197,33 +201,68 @@ pub fn tracked_fold_angle(
     x: &[Vec3],
     e: usize,
 ) -> Option<(f64, [usize; 4])> {
-    let topo = mesh.topology();
-    let [left, right] = topo.edge_faces[e];
-    let (l, r) = (left?, right?);
+    let [l, r] = mesh.topology().edge_faces[e];
+    let normal = |f: Option<usize>| Some(face_normal(x, mesh.faces()[f?]));
+    let rho = tracked_angle(mesh, reference, x, e, normal(l)?, normal(r)?);
+    Some((rho, hinge(mesh, e)))
+}
+
+/// [`tracked_fold_angle`] with every face normal computed beforehand; `None` on the
+/// boundary.
+pub fn tracked_fold_angle_of(
+    mesh: &Mesh,
+    reference: &Reference,
+    normals: &FaceNormals,
+    x: &[Vec3],
+    e: usize,
+) -> Option<f64> {
+    let [l, r] = mesh.topology().edge_faces[e];
+    let rho = tracked_angle(mesh, reference, x, e, normals.0[l?], normals.0[r?]);
+    Some(rho)
+}
+
+fn tracked_angle(
+    mesh: &Mesh,
+    reference: &Reference,
+    x: &[Vec3],
+    e: usize,
+    n1: Vec3,
+    n2: Vec3,
+) -> f64 {
+    let raw = fold_angle_between(x, n1, n2, mesh.edges()[e].vertices);
+    track_branch(raw, reference.previous_fold[e])
+}
+
+/// The vertices a fold angle depends on: the edge's ends, then the third corner of its
+/// left and right faces (an interior edge).
+fn hinge(mesh: &Mesh, e: usize) -> [usize; 4] {
     let [a, b] = mesh.edges()[e].vertices;
-    let third = |f: usize| {
-        *mesh.faces()[f]
+    let third = |f: Option<usize>| {
+        *mesh.faces()[f.expect("interior edge")]
             .iter()
             .find(|&&v| v != a && v != b)
             .expect("triangle")
     };
-    let raw = fold_angle(x, mesh.faces(), topo, e, [a, b]);
-    Some((
-        track_branch(raw, reference.previous_fold[e]),
-        [a, b, third(l), third(r)],
-    ))
+    let [l, r] = mesh.topology().edge_faces[e];
+    [a, b, third(l), third(r)]
 }
 
 /// §2.4 (1–2): a mountain keeps 0 ≤ ρ ≤ π, a valley −π ≤ ρ ≤ 0, whatever its target
 /// (Resch's tile edges aim at π/2 but a curved design turns some further); merged creases
 /// of §4 with targets ±2π may turn up to their target. Unassigned creases and the boundary
 /// are free; target-0 creases are [`twist_range`]'s.
-pub fn fold_angle_range(mesh: &Mesh, reference: &Reference, x: &[Vec3], rows: &mut Rows) {
+pub fn fold_angle_range(
+    mesh: &Mesh,
+    reference: &Reference,
+    normals: &FaceNormals,
+    x: &[Vec3],
+    rows: &mut Rows,
+) {
     for (e, edge) in mesh.edges().iter().enumerate() {
         if edge.assignment == crate::mesh::Assignment::Unassigned || edge.target == 0.0 {
             continue;
         }
-        let Some((rho, [a, b, k, l])) = tracked_fold_angle(mesh, reference, x, e) else {
+        let Some(rho) = tracked_fold_angle_of(mesh, reference, normals, x, e) else {
             continue;
         };
         let t = edge.target;
@@ -242,6 +281,7 @@ pub fn fold_angle_range(mesh: &Mesh, reference: &Reference, x: &[Vec3], rows: &m
         };
         let row = rows.push(Family::FoldAngleRange, Element::Edge(e), g.max(0.0));
         if g > 0.0 && !rows.values_only {
+            let [a, b, k, l] = hinge(mesh, e);
             let grad = fold_angle_gradient(x, a, b, k, l);
             for (v, gv) in [a, b, k, l].into_iter().zip(grad) {
                 rows.add_gradient(row, v, gv, dir);
@@ -253,18 +293,25 @@ pub fn fold_angle_range(mesh: &Mesh, reference: &Reference, x: &[Vec3], rows: &m
 /// §2.4 (3): a target-0 crease (not unassigned) keeps |ρ| ≤ απ. With α = 0 the facet may
 /// not twist at all, which is the equality ρ = 0: a smooth row, so the solver does not
 /// chatter on the kink of |ρ| at the flat state where every design starts.
-pub fn twist_range(mesh: &Mesh, reference: &Reference, x: &[Vec3], rows: &mut Rows) {
+pub fn twist_range(
+    mesh: &Mesh,
+    reference: &Reference,
+    normals: &FaceNormals,
+    x: &[Vec3],
+    rows: &mut Rows,
+) {
     for (e, edge) in mesh.edges().iter().enumerate() {
         if edge.assignment == crate::mesh::Assignment::Unassigned || edge.target != 0.0 {
             continue;
         }
-        let Some((rho, [a, b, k, l])) = tracked_fold_angle(mesh, reference, x, e) else {
+        let Some(rho) = tracked_fold_angle_of(mesh, reference, normals, x, e) else {
             continue;
         };
         let grad = |rows: &mut Rows, row: usize, dir: f64| {
             if rows.values_only {
                 return;
             }
+            let [a, b, k, l] = hinge(mesh, e);
             let g = fold_angle_gradient(x, a, b, k, l);
             for (v, gv) in [a, b, k, l].into_iter().zip(g) {
                 rows.add_gradient(row, v, gv, dir);

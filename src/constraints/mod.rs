@@ -7,7 +7,7 @@ mod angles;
 mod context;
 mod lengths;
 
-pub use angles::tracked_fold_angle;
+pub use angles::{tracked_fold_angle, tracked_fold_angle_of, FaceNormals};
 pub use context::{flips, Reference};
 
 use crate::mesh::{Mesh, Vec3};
@@ -99,6 +99,11 @@ impl Family {
                 | Family::FlatFoldability
                 | Family::AngularInequality
         )
+    }
+
+    /// Whether the family measures fold angles (§2.4), which need every face's normal.
+    pub fn uses_fold_angles(self) -> bool {
+        matches!(self, Family::FoldAngleRange | Family::TwistRange)
     }
 
     /// Whether the residual is a relative length (else an angle in radians).
@@ -332,6 +337,9 @@ impl ConstraintSet {
         let uses_sectors = self.families.iter().any(|f| f.uses_sector_angles());
         let corners = uses_sectors.then(|| angles::Corners::new(mesh, positions));
         let c = || corners.as_ref().expect("sector angles computed");
+        let uses_fold_angles = self.families.iter().any(|f| f.uses_fold_angles());
+        let normals = uses_fold_angles.then(|| angles::FaceNormals::new(mesh, positions));
+        let normals = || normals.as_ref().expect("face normals computed");
         for &f in &self.families {
             match f {
                 Family::Developability => angles::developability(mesh, c(), &mut rows),
@@ -343,9 +351,11 @@ impl ConstraintSet {
                 Family::AngularInequality => {
                     angles::angular_inequality(mesh, reference, c(), &mut rows)
                 }
-                Family::TwistRange => angles::twist_range(mesh, reference, positions, &mut rows),
+                Family::TwistRange => {
+                    angles::twist_range(mesh, reference, normals(), positions, &mut rows)
+                }
                 Family::FoldAngleRange => {
-                    angles::fold_angle_range(mesh, reference, positions, &mut rows)
+                    angles::fold_angle_range(mesh, reference, normals(), positions, &mut rows)
                 }
                 Family::BoundaryLength => {
                     lengths::boundary_length(mesh, reference, positions, &mut rows)

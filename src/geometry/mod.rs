@@ -40,6 +40,13 @@ pub fn fold_angle(
     };
     let n1 = face_normal(positions, faces[l]);
     let n2 = face_normal(positions, faces[r]);
+    fold_angle_between(positions, n1, n2, ends)
+}
+
+/// Fold angle ρ of the edge `ends` between faces of unit normals `n1` (left) and `n2`
+/// (right): the signed angle from `n1` to `n2` about the edge. Split from [`fold_angle`]
+/// so an evaluation can compute each face's normal once for all three of its edges.
+pub fn fold_angle_between(positions: &[Vec3], n1: Vec3, n2: Vec3, ends: [usize; 2]) -> f64 {
     let axis = (positions[ends[1]] - positions[ends[0]]).normalize();
     n1.cross(&n2).dot(&axis).atan2(n1.dot(&n2))
 }
