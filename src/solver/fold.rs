@@ -83,6 +83,7 @@ pub fn fold_toward(
     let corrected = solver.correct();
     solver.options.max_newton = newton;
     solver.set = folding;
+    solver.last_labels = None;
     corrected?;
     let worst = run
         .creases

@@ -179,6 +179,9 @@ fn free_columns(fixed: &[bool]) -> (Vec<Option<usize>>, usize) {
     (columns, free)
 }
 
+/// Which condition each row of a Jacobian is.
+type Labels = Vec<(Family, crate::constraints::Element)>;
+
 /// A mesh being deformed under a set of conditions.
 pub struct Solver {
     mesh: Mesh,
@@ -191,11 +194,14 @@ pub struct Solver {
     linear: NormalSolver,
     /// Rows of the Jacobian currently factorised, so Newton can reuse the factor while
     /// the active set stays (a chord iteration) instead of refactorising.
-    factored: Vec<(Family, crate::constraints::Element)>,
+    factored: Labels,
     /// Steps since the factor was computed; a projection reuses a factor at most
     /// [`MAX_FACTOR_AGE`] steps old (the Newton correction removes what a slightly stale
     /// projection lets through).
     factor_age: usize,
+    /// The active rows' labels at the positions they were evaluated at: the last
+    /// accepted step ends with that evaluation, and the next projection needs no other.
+    last_labels: Option<(Vec<Vec3>, Labels)>,
     options: Options,
     /// Work done so far.
     pub stats: Stats,
@@ -239,6 +245,7 @@ impl Solver {
             linear: NormalSolver::default(),
             factored: Vec::new(),
             factor_age: 0,
+            last_labels: None,
             options,
             stats: Stats::default(),
         })
@@ -392,12 +399,15 @@ impl Solver {
     }
 
     fn project(&mut self, dx0: &[Vec3], allow_stale: bool) -> Result<Vec<Vec3>, SolverError> {
-        // A reused factor needs only the row labels, to see the active set is the same.
+        // A reused factor needs only the row labels, to see the active set is the same;
+        // after an accepted step the correction has just evaluated them here.
         let may_reuse = allow_stale && self.factor_age < MAX_FACTOR_AGE;
-        let rows = self.active_rows(&self.x, may_reuse);
-        if !may_reuse {
-            self.factorise(&rows)?;
-        } else if rows.labels != self.factored {
+        let same_rows = may_reuse
+            && match &self.last_labels {
+                Some((x, labels)) if *x == self.x => *labels == self.factored,
+                _ => self.active_rows(&self.x, true).labels == self.factored,
+            };
+        if !same_rows {
             let rows = self.active_rows(&self.x, false);
             self.factorise(&rows)?;
         }
@@ -420,6 +430,7 @@ impl Solver {
             let rows = self.active_rows(x, true);
             let r = rows.residuals.iter().fold(0.0, |a: f64, v| a.max(v.abs()));
             if r <= tol {
+                self.last_labels = Some((x.to_vec(), rows.labels));
                 return Ok((it, r));
             }
             if it == self.options.max_newton || !r.is_finite() {

@@ -367,6 +367,7 @@ impl Solver {
         self.linear = NormalSolver::default();
         self.factored.clear();
         self.factor_age = 0;
+        self.last_labels = None;
     }
 
     /// Mesh modification (§4): collapses edges shorter than `threshold` × the mean edge
