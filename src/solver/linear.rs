@@ -4,10 +4,12 @@
 //! inequalities rarely changes between steps). Conjugate gradient on J Jᵀ squares J's
 //! condition number and stalls near the flat state, which is where every design starts.
 
-use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
-use faer::sparse::{SparseColMat, Triplet};
-use faer::{Mat, Side};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymmetricOrdering,
+};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, Mat, Par, Side};
 use sprs::CsMat;
 
 /// Relative Tikhonov shift λ/max(diag J Jᵀ): redundant rows (a flat vertex's Kawasaki and
@@ -15,10 +17,89 @@ use sprs::CsMat;
 /// the minimum-norm solution by a relative 1e-12.
 const RELATIVE_SHIFT: f64 = 1e-12;
 
+/// The lower triangle of J Jᵀ in compressed columns, sorted within each column.
+struct NormalMatrix {
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    values: Vec<f64>,
+}
+
+impl NormalMatrix {
+    /// Column r holds (J Jᵀ)ᵣ₂ᵣ = Σ_c J_rc J_r₂c for r₂ ≥ r, summed over c ascending (as a
+    /// sparse product would), built straight into the form the factorisation reads: a
+    /// general product and a triplet sort took a third of a refactorisation.
+    fn new(j: &CsMat<f64>) -> NormalMatrix {
+        let m = j.rows();
+        let jt: CsMat<f64> = j.transpose_view().to_csr();
+        let (mut col_ptr, mut row_idx, mut values) =
+            (Vec::with_capacity(m + 1), Vec::new(), Vec::new());
+        let mut sum = vec![0.0; m];
+        let mut touched = vec![false; m];
+        let mut rows: Vec<usize> = Vec::new();
+        col_ptr.push(0);
+        for (r, row) in j.outer_iterator().enumerate() {
+            // The diagonal is always stored, so the shift can make an empty row definite.
+            touched[r] = true;
+            rows.push(r);
+            for (c, &v) in row.iter() {
+                let column = jt.outer_view(c).expect("column of J");
+                for (r2, &w) in column.iter().filter(|(r2, _)| *r2 >= r) {
+                    if !touched[r2] {
+                        touched[r2] = true;
+                        rows.push(r2);
+                    }
+                    sum[r2] += v * w;
+                }
+            }
+            rows.sort_unstable();
+            for &r2 in &rows {
+                row_idx.push(r2);
+                values.push(sum[r2]);
+                sum[r2] = 0.0;
+                touched[r2] = false;
+            }
+            rows.clear();
+            col_ptr.push(row_idx.len());
+        }
+        NormalMatrix {
+            col_ptr,
+            row_idx,
+            values,
+        }
+    }
+
+    /// Adds `shift` to the diagonal (the first entry of each column).
+    fn shift_diagonal(&mut self, shift: f64) {
+        for &start in &self.col_ptr[..self.col_ptr.len() - 1] {
+            self.values[start] += shift;
+        }
+    }
+
+    fn max_diagonal(&self) -> f64 {
+        self.col_ptr[..self.col_ptr.len() - 1]
+            .iter()
+            .map(|&start| self.values[start])
+            .fold(0.0, f64::max)
+    }
+}
+
+/// The symbolic analysis of one sparsity pattern of J Jᵀ and the storage of its factor,
+/// both kept while the pattern stays (the active set of inequalities rarely changes).
+struct Factor {
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    symbolic: SymbolicCholesky<usize>,
+    /// The factor's values, overwritten in place by each refactorisation: allocating
+    /// them afresh cost page faults worth half a factorisation.
+    values: Vec<f64>,
+    factor_scratch: MemBuffer,
+    solve_scratch: MemBuffer,
+    ready: bool,
+}
+
 /// A factorised J Jᵀ + λI for one Jacobian.
 pub struct NormalSolver {
-    symbolic: Option<(Vec<usize>, Vec<usize>, SymbolicLlt<usize>)>,
-    factor: Option<Llt<usize, f64>>,
+    factor: Option<Factor>,
     jacobian: CsMat<f64>,
 }
 
@@ -30,7 +111,6 @@ pub struct LinearError(String);
 impl Default for NormalSolver {
     fn default() -> Self {
         NormalSolver {
-            symbolic: None,
             factor: None,
             jacobian: CsMat::zero((0, 0)),
         }
@@ -42,45 +122,38 @@ impl NormalSolver {
     pub fn factorise(&mut self, jacobian: CsMat<f64>) -> Result<(), LinearError> {
         let m = jacobian.rows();
         self.jacobian = jacobian;
+        if let Some(f) = &mut self.factor {
+            f.ready = false;
+        }
         if m == 0 {
-            self.factor = None;
             return Ok(());
         }
-        let jt: CsMat<f64> = self.jacobian.transpose_view().to_csr();
-        let a: CsMat<f64> = &self.jacobian * &jt;
-        let max_diag = (0..m)
-            .map(|i| a.get(i, i).copied().unwrap_or(0.0))
-            .fold(0.0, f64::max);
-        let shift = RELATIVE_SHIFT * max_diag.max(f64::MIN_POSITIVE);
-        let mut triplets = Vec::with_capacity(a.nnz() / 2 + m);
-        for (row, vec) in a.outer_iterator().enumerate() {
-            for (col, &v) in vec.iter() {
-                if row > col {
-                    triplets.push(Triplet::new(row, col, v));
-                }
-            }
-            triplets.push(Triplet::new(
-                row,
-                row,
-                a.get(row, row).copied().unwrap_or(0.0) + shift,
-            ));
-        }
-        let mat = SparseColMat::<usize, f64>::try_new_from_triplets(m, m, &triplets)
-            .map_err(|e| LinearError(format!("{e:?}")))?;
-        let pattern = (
-            mat.symbolic().col_ptr().to_vec(),
-            mat.symbolic().row_idx().to_vec(),
-        );
-        let reuse = matches!(&self.symbolic, Some((p, i, _)) if *p == pattern.0 && *i == pattern.1);
+        let mut a = NormalMatrix::new(&self.jacobian);
+        a.shift_diagonal(RELATIVE_SHIFT * a.max_diagonal().max(f64::MIN_POSITIVE));
+        let par = faer::get_global_parallelism();
+        let reuse =
+            matches!(&self.factor, Some(f) if f.col_ptr == a.col_ptr && f.row_idx == a.row_idx);
         if !reuse {
-            let sym = SymbolicLlt::try_new(mat.symbolic(), Side::Lower)
-                .map_err(|e| LinearError(format!("{e:?}")))?;
-            self.symbolic = Some((pattern.0, pattern.1, sym));
+            self.factor = Some(Factor::analyse(&a, par)?);
         }
-        let sym = self.symbolic.as_ref().expect("set above").2.clone();
-        let llt = Llt::try_new_with_symbolic(sym, mat.as_ref(), Side::Lower)
+        let f = self.factor.as_mut().expect("set above");
+        let mat = SparseColMatRef::new(
+            SymbolicSparseColMatRef::new_checked(m, m, &f.col_ptr, None, &f.row_idx),
+            &a.values,
+        );
+        f.values.fill(0.0);
+        f.symbolic
+            .factorize_numeric_llt::<f64>(
+                &mut f.values,
+                mat,
+                Side::Lower,
+                Default::default(),
+                par,
+                MemStack::new(&mut f.factor_scratch),
+                Default::default(),
+            )
             .map_err(|e| LinearError(format!("{e:?}")))?;
-        self.factor = Some(llt);
+        f.ready = true;
         Ok(())
     }
 
@@ -90,14 +163,19 @@ impl NormalSolver {
     }
 
     /// y = (J Jᵀ + λI)⁻¹ b.
-    pub fn solve(&self, b: &[f64]) -> Vec<f64> {
-        match &self.factor {
-            None => vec![0.0; b.len()],
-            Some(llt) => {
+    pub fn solve(&mut self, b: &[f64]) -> Vec<f64> {
+        match &mut self.factor {
+            Some(f) if f.ready && self.jacobian.rows() > 0 => {
                 let mut rhs = Mat::<f64>::from_fn(b.len(), 1, |i, _| b[i]);
-                llt.solve_in_place(rhs.as_mut());
+                LltRef::new(&f.symbolic, &f.values).solve_in_place_with_conj(
+                    Conj::No,
+                    rhs.as_mut(),
+                    faer::get_global_parallelism(),
+                    MemStack::new(&mut f.solve_scratch),
+                );
                 (0..b.len()).map(|i| rhs[(i, 0)]).collect()
             }
+            _ => vec![0.0; b.len()],
         }
     }
 
@@ -122,16 +200,46 @@ impl NormalSolver {
     }
 
     /// The projection of eq. (10): dx = (I − J⁺J) dx₀ = dx₀ − Jᵀ (J Jᵀ)⁻¹ J dx₀.
-    pub fn project(&self, dx0: &[f64]) -> Vec<f64> {
+    pub fn project(&mut self, dx0: &[f64]) -> Vec<f64> {
         let y = self.solve(&self.apply(dx0));
         let correction = self.apply_transpose(&y);
         dx0.iter().zip(correction).map(|(a, b)| a - b).collect()
     }
 
     /// The minimum-norm Gauss–Newton step for J dx = −F: dx = −Jᵀ (J Jᵀ)⁻¹ F.
-    pub fn newton_step(&self, residuals: &[f64]) -> Vec<f64> {
+    pub fn newton_step(&mut self, residuals: &[f64]) -> Vec<f64> {
         let y = self.solve(residuals);
         self.apply_transpose(&y).into_iter().map(|v| -v).collect()
+    }
+}
+
+impl Factor {
+    /// The symbolic analysis (AMD ordering, supernodes) of a new pattern.
+    fn analyse(a: &NormalMatrix, par: Par) -> Result<Factor, LinearError> {
+        let m = a.col_ptr.len() - 1;
+        let pattern = SymbolicSparseColMatRef::new_checked(m, m, &a.col_ptr, None, &a.row_idx);
+        let symbolic = factorize_symbolic_cholesky(
+            pattern,
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            Default::default(),
+        )
+        .map_err(|e| LinearError(format!("{e:?}")))?;
+        let factor_scratch = MemBuffer::try_new(
+            symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
+        )
+        .map_err(|e| LinearError(format!("{e:?}")))?;
+        let solve_scratch = MemBuffer::try_new(symbolic.solve_in_place_scratch::<f64>(1, par))
+            .map_err(|e| LinearError(format!("{e:?}")))?;
+        Ok(Factor {
+            col_ptr: a.col_ptr.clone(),
+            row_idx: a.row_idx.clone(),
+            values: vec![0.0; symbolic.len_val()],
+            symbolic,
+            factor_scratch,
+            solve_scratch,
+            ready: false,
+        })
     }
 }
 
