@@ -3,13 +3,17 @@
 //! conditions with Newton–Raphson steps, and tracks every fold angle's branch.
 
 mod drag;
+mod error;
 mod fold;
 mod linear;
+mod mode;
 mod remesh;
 
 pub use drag::{pull, run_stage, DragReport, Move, Script, Stage};
+pub use error::{Blocker, SolverError};
 pub use fold::{fold_toward, FoldReport};
 pub use linear::{LinearError, NormalSolver};
+pub use mode::Mode;
 pub use remesh::{collapse_edge, flip_edge, Change, Refusal, RemeshOutcome};
 
 use crate::constraints::{ConstraintSet, Family, Reference, Rows};
@@ -17,116 +21,6 @@ use crate::mesh::{Mesh, Vec3};
 
 /// Steps a factorisation of J Jᵀ may serve projections before it is recomputed.
 pub const MAX_FACTOR_AGE: usize = 16;
-
-/// What the solver preserves (§5).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Mode {
-    /// The chosen conditions; lengths are free, so the crease pattern changes.
-    Design,
-    /// Every edge keeps its length: how the designed paper behaves.
-    Simulation,
-}
-
-impl Mode {
-    /// Parses "design" or "simulation".
-    pub fn parse(name: &str) -> Result<Mode, String> {
-        match name {
-            "design" => Ok(Mode::Design),
-            "simulation" => Ok(Mode::Simulation),
-            other => Err(format!("unknown mode \"{other}\" (design or simulation)")),
-        }
-    }
-
-    /// The conditions of simulation mode: rigid panels (edge lengths) within their
-    /// fold-angle and twist ranges.
-    pub fn simulation_set() -> ConstraintSet {
-        ConstraintSet {
-            families: vec![
-                Family::EdgeLength,
-                Family::FoldAngleRange,
-                Family::TwistRange,
-            ],
-        }
-    }
-
-    /// Folding from the flat state: rigid panels and untwisted facets. The mountain and
-    /// valley sign ranges sit exactly on their bound there and would make Newton's active
-    /// set chatter; the fold drive itself pulls each crease the right way.
-    pub fn folding_set() -> ConstraintSet {
-        ConstraintSet {
-            families: vec![Family::EdgeLength, Family::TwistRange],
-        }
-    }
-}
-
-/// Why a solve failed.
-#[derive(Debug, thiserror::Error)]
-pub enum SolverError {
-    /// A named vertex does not exist.
-    #[error("vertex {vertex} does not exist (the mesh has {count} vertices)")]
-    UnknownVertex {
-        /// The vertex.
-        vertex: usize,
-        /// Vertex count.
-        count: usize,
-    },
-    /// The solver needs a disk.
-    #[error("the solver needs a single sheet without holes (a disk); this mesh has {components} piece(s) and {holes} hole(s)")]
-    NotADisk {
-        /// Pieces of paper.
-        components: usize,
-        /// Holes.
-        holes: usize,
-    },
-    /// Newton's method did not bring the residual under tolerance.
-    #[error("the solve did not converge at step {step}: residual {residual:.2e} after {iterations} Newton iterations (tolerance {tolerance:.0e}){}", blocker_text(blocker))]
-    NotConverged {
-        /// Step number.
-        step: usize,
-        /// Remaining max |residual|.
-        residual: f64,
-        /// Iterations spent.
-        iterations: usize,
-        /// The tolerance.
-        tolerance: f64,
-        /// The condition and element with the largest residual where the solve gave up:
-        /// what blocked the step.
-        blocker: Option<Blocker>,
-    },
-    /// The normal equations could not be factorised.
-    #[error(transparent)]
-    Linear(#[from] LinearError),
-}
-
-/// The condition that stopped a step, and where.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Blocker {
-    /// The condition family.
-    pub family: Family,
-    /// The element whose residual was largest.
-    pub element: crate::constraints::Element,
-    /// That residual.
-    pub residual: f64,
-}
-
-impl std::fmt::Display for Blocker {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "{} at {} (residual {:.1e})",
-            self.family.name(),
-            self.element,
-            self.residual
-        )
-    }
-}
-
-fn blocker_text(b: &Option<Blocker>) -> String {
-    match b {
-        Some(b) => format!("; blocked by {b}"),
-        None => String::new(),
-    }
-}
 
 /// Solver settings.
 #[derive(Clone, Debug)]
