@@ -8,6 +8,7 @@ use crate::geometry::{
     track_branch,
 };
 use crate::mesh::{Mesh, Vec3};
+use rayon::prelude::*;
 use std::f64::consts::PI;
 
 /// Every sector angle of the mesh at one set of positions, computed once per evaluation:
@@ -21,12 +22,13 @@ pub struct Corners<'a> {
 
 impl<'a> Corners<'a> {
     /// The sector angles of every face at `x`.
-    pub fn new(mesh: &Mesh, x: &'a [Vec3]) -> Corners<'a> {
-        let angle = mesh
-            .faces()
-            .iter()
-            .map(|&f| [0, 1, 2].map(|k| sector_angle(x, f, k)))
-            .collect();
+    pub fn new(mesh: &Mesh, x: &'a [Vec3], parallel: bool) -> Corners<'a> {
+        let angles = |f: &[usize; 3]| [0, 1, 2].map(|k| sector_angle(x, *f, k));
+        let angle = if parallel {
+            mesh.faces().par_iter().map(angles).collect()
+        } else {
+            mesh.faces().iter().map(angles).collect()
+        };
         Corners { x, angle }
     }
 }
@@ -37,8 +39,13 @@ pub struct FaceNormals(Vec<Vec3>);
 
 impl FaceNormals {
     /// The normals of every face at `x`.
-    pub fn new(mesh: &Mesh, x: &[Vec3]) -> FaceNormals {
-        FaceNormals(mesh.faces().iter().map(|&f| face_normal(x, f)).collect())
+    pub fn new(mesh: &Mesh, x: &[Vec3], parallel: bool) -> FaceNormals {
+        let normal = |f: &[usize; 3]| face_normal(x, *f);
+        FaceNormals(if parallel {
+            mesh.faces().par_iter().map(normal).collect()
+        } else {
+            mesh.faces().iter().map(normal).collect()
+        })
     }
 }
 

@@ -13,6 +13,16 @@ pub use context::{flips, Reference};
 use crate::mesh::{Mesh, Vec3};
 use sprs::CsMat;
 
+/// Meshes with at least this many faces evaluate their conditions on every core (when
+/// there is more than one); below it handing work to another thread costs more than it
+/// saves.
+const PARALLEL_FACES: usize = 4096;
+
+/// Whether `mesh` is large enough to evaluate on every core, and there is more than one.
+fn evaluate_in_parallel(mesh: &Mesh) -> bool {
+    mesh.faces().len() >= PARALLEL_FACES && rayon::current_num_threads() > 1
+}
+
 /// A family of conditions.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Family {
@@ -195,6 +205,20 @@ impl Rows {
         }
     }
 
+    /// Appends another block of rows after these.
+    pub fn append(&mut self, other: Rows) {
+        let offset = self.residuals.len();
+        self.residuals.extend(other.residuals);
+        self.labels.extend(other.labels);
+        self.inequality.extend(other.inequality);
+        self.triplets.extend(
+            other
+                .triplets
+                .into_iter()
+                .map(|(r, c, v)| (r + offset, c, v)),
+        );
+    }
+
     /// The Jacobian as a compressed sparse row matrix with `3 · vertices` columns.
     pub fn jacobian(&self, vertices: usize) -> CsMat<f64> {
         self.jacobian_mapped(3 * vertices, Some)
@@ -334,35 +358,44 @@ impl ConstraintSet {
         positions: &[Vec3],
         mut rows: Rows,
     ) -> Rows {
+        use rayon::prelude::*;
         let uses_sectors = self.families.iter().any(|f| f.uses_sector_angles());
-        let corners = uses_sectors.then(|| angles::Corners::new(mesh, positions));
-        let c = || corners.as_ref().expect("sector angles computed");
         let uses_fold_angles = self.families.iter().any(|f| f.uses_fold_angles());
-        let normals = uses_fold_angles.then(|| angles::FaceNormals::new(mesh, positions));
-        let normals = || normals.as_ref().expect("face normals computed");
-        for &f in &self.families {
+        let parallel = evaluate_in_parallel(mesh);
+        let corners = uses_sectors.then(|| angles::Corners::new(mesh, positions, parallel));
+        let normals = uses_fold_angles.then(|| angles::FaceNormals::new(mesh, positions, parallel));
+        let family_rows = |&f: &Family| {
+            let mut part = Rows {
+                active_only: rows.active_only,
+                values_only: rows.values_only,
+                ..Rows::default()
+            };
+            let c = || corners.as_ref().expect("sector angles computed");
+            let n = || normals.as_ref().expect("face normals computed");
+            let (x, out) = (positions, &mut part);
             match f {
-                Family::Developability => angles::developability(mesh, c(), &mut rows),
-                Family::BoundaryAngle => angles::boundary_angle(mesh, reference, c(), &mut rows),
-                Family::Convexity => angles::convexity(mesh, c(), &mut rows),
-                Family::FlatFoldability => {
-                    angles::flat_foldability(mesh, reference, c(), &mut rows)
-                }
-                Family::AngularInequality => {
-                    angles::angular_inequality(mesh, reference, c(), &mut rows)
-                }
-                Family::TwistRange => {
-                    angles::twist_range(mesh, reference, normals(), positions, &mut rows)
-                }
-                Family::FoldAngleRange => {
-                    angles::fold_angle_range(mesh, reference, normals(), positions, &mut rows)
-                }
-                Family::BoundaryLength => {
-                    lengths::boundary_length(mesh, reference, positions, &mut rows)
-                }
-                Family::EdgeLength => lengths::edge_length(mesh, reference, positions, &mut rows),
-                Family::Coincidence => lengths::coincidence(mesh, reference, positions, &mut rows),
+                Family::Developability => angles::developability(mesh, c(), out),
+                Family::BoundaryAngle => angles::boundary_angle(mesh, reference, c(), out),
+                Family::Convexity => angles::convexity(mesh, c(), out),
+                Family::FlatFoldability => angles::flat_foldability(mesh, reference, c(), out),
+                Family::AngularInequality => angles::angular_inequality(mesh, reference, c(), out),
+                Family::TwistRange => angles::twist_range(mesh, reference, n(), x, out),
+                Family::FoldAngleRange => angles::fold_angle_range(mesh, reference, n(), x, out),
+                Family::BoundaryLength => lengths::boundary_length(mesh, reference, x, out),
+                Family::EdgeLength => lengths::edge_length(mesh, reference, x, out),
+                Family::Coincidence => lengths::coincidence(mesh, reference, x, out),
             }
+            part
+        };
+        // Families fill their own blocks, appended in the set's order: the same rows,
+        // values and Jacobian on any number of cores.
+        let parts: Vec<Rows> = if parallel {
+            self.families.par_iter().map(family_rows).collect()
+        } else {
+            self.families.iter().map(family_rows).collect()
+        };
+        for part in parts {
+            rows.append(part);
         }
         rows
     }
