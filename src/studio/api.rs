@@ -156,100 +156,15 @@ pub fn handle(hub: &Hub, assets_dir: Option<&PathBuf>, request: Request) -> Resp
         body,
     } = request;
     if !path.starts_with("/api/") {
-        if method != "GET" && method != "HEAD" {
-            return Response::error(405, &format!("{method} {path}: pages are read with GET"));
-        }
-        return match assets::lookup(path, assets_dir) {
-            Some((content_type, bytes)) => Response {
-                status: 200,
-                content_type,
-                body: bytes,
-                download: None,
-            },
-            None => Response::error(404, &format!("no page at {path}")),
-        };
+        return page(method, path, assets_dir);
     }
-    let route = &path[4..];
-    let command = match (method, route) {
-        ("GET", "/frame") => {
-            let numbers = (|| {
-                Ok::<_, Response>((
-                    query_number(query, "after")?.unwrap_or(0),
-                    query_number(query, "topology")?,
-                    query_number(query, "pattern")?,
-                ))
-            })();
-            return match numbers {
-                Ok((after, topology, pattern)) => {
-                    let frame = hub.frame_after(after, LONG_POLL);
-                    Response {
-                        status: 200,
-                        content_type: "application/json",
-                        body: frame.to_json_for(topology, pattern).into_bytes(),
-                        download: None,
-                    }
-                }
-                Err(r) => r,
-            };
-        }
+    let command = match (method, &path[4..]) {
+        ("GET", "/frame") => return frame(hub, query),
         ("GET", "/meta") => return Response::json(200, &meta()),
-        ("GET", "/state") => Command::State,
-        ("GET", "/design.fold") => Command::SaveFold,
-        ("GET", r) if r.starts_with("/fab/") => Command::FabFile(r["/fab/".len()..].to_string()),
-        ("POST", "/drag") => match parse::<DragBody>(path, &body) {
-            Ok(b) => Command::Drag {
-                vertex: b.vertex,
-                target: b.target,
-            },
-            Err(r) => return r,
+        (method, route) => match command_for(method, route, path, query, body) {
+            Ok(command) => command,
+            Err(response) => return response,
         },
-        ("POST", "/release") => Command::Release,
-        ("POST", "/pin") => match parse::<PinBody>(path, &body) {
-            Ok(b) => Command::Pin {
-                vertex: b.vertex,
-                pinned: b.pinned,
-            },
-            Err(r) => return r,
-        },
-        ("POST", "/undo") => Command::Undo,
-        ("POST", "/redo") => Command::Redo,
-        ("POST", "/settings") => match parse::<Settings>(path, &body) {
-            Ok(s) => Command::Settings(s),
-            Err(r) => return r,
-        },
-        ("POST", "/fold") => match parse::<FoldBody>(path, &body) {
-            Ok(b) => Command::Fold { amount: b.amount },
-            Err(r) => return r,
-        },
-        ("POST", "/generate") => match parse::<GenerateRequest>(path, &body) {
-            Ok(g) => Command::Generate(g),
-            Err(r) => return r,
-        },
-        ("POST", "/fabricate") => match parse::<FabRequest>(path, &body) {
-            Ok(f) => Command::Fabricate(f),
-            Err(r) => return r,
-        },
-        ("POST", "/open") => {
-            let Some(name) = query_value(query, "name").map(percent_decode) else {
-                return Response::error(
-                    400,
-                    "/api/open needs ?name=FILE (its extension picks the format)",
-                );
-            };
-            if body.len() > MAX_UPLOAD {
-                return Response::error(
-                    413,
-                    &format!("{name}: larger than {} MiB", MAX_UPLOAD >> 20),
-                );
-            }
-            Command::Open { name, bytes: body }
-        }
-        (_, r) => {
-            return Response::error(
-                404,
-                &format!("no route {method} /api{r} (see the README's studio API)"),
-            )
-        }
     };
     match hub.ask(command) {
         Ok(Reply::Json(v)) => Response::json(200, &v),
@@ -261,6 +176,104 @@ pub fn handle(hub: &Hub, assets_dir: Option<&PathBuf>, request: Request) -> Resp
         },
         Err(refusal) => Response::error(refusal.status, &refusal.message),
     }
+}
+
+/// A page or asset of the app (GET or HEAD only).
+fn page(method: &str, path: &str, assets_dir: Option<&PathBuf>) -> Response {
+    if method != "GET" && method != "HEAD" {
+        return Response::error(405, &format!("{method} {path}: pages are read with GET"));
+    }
+    match assets::lookup(path, assets_dir) {
+        Some((content_type, bytes)) => Response {
+            status: 200,
+            content_type,
+            body: bytes,
+            download: None,
+        },
+        None => Response::error(404, &format!("no page at {path}")),
+    }
+}
+
+/// `GET /api/frame`: the long poll for the next frame after `?after=N`.
+fn frame(hub: &Hub, query: &str) -> Response {
+    let numbers = (|| {
+        Ok::<_, Response>((
+            query_number(query, "after")?.unwrap_or(0),
+            query_number(query, "topology")?,
+            query_number(query, "pattern")?,
+        ))
+    })();
+    match numbers {
+        Ok((after, topology, pattern)) => {
+            let frame = hub.frame_after(after, LONG_POLL);
+            Response {
+                status: 200,
+                content_type: "application/json",
+                body: frame.to_json_for(topology, pattern).into_bytes(),
+                download: None,
+            }
+        }
+        Err(r) => r,
+    }
+}
+
+/// The session command an API request asks for, or the 4xx that says why it is none.
+fn command_for(
+    method: &str,
+    route: &str,
+    path: &str,
+    query: &str,
+    body: Vec<u8>,
+) -> Result<Command, Response> {
+    Ok(match (method, route) {
+        ("GET", "/state") => Command::State,
+        ("GET", "/design.fold") => Command::SaveFold,
+        ("GET", r) if r.starts_with("/fab/") => Command::FabFile(r["/fab/".len()..].to_string()),
+        ("POST", "/drag") => {
+            let b = parse::<DragBody>(path, &body)?;
+            Command::Drag {
+                vertex: b.vertex,
+                target: b.target,
+            }
+        }
+        ("POST", "/release") => Command::Release,
+        ("POST", "/pin") => {
+            let b = parse::<PinBody>(path, &body)?;
+            Command::Pin {
+                vertex: b.vertex,
+                pinned: b.pinned,
+            }
+        }
+        ("POST", "/undo") => Command::Undo,
+        ("POST", "/redo") => Command::Redo,
+        ("POST", "/settings") => Command::Settings(parse::<Settings>(path, &body)?),
+        ("POST", "/fold") => Command::Fold {
+            amount: parse::<FoldBody>(path, &body)?.amount,
+        },
+        ("POST", "/generate") => Command::Generate(parse::<GenerateRequest>(path, &body)?),
+        ("POST", "/fabricate") => Command::Fabricate(parse::<FabRequest>(path, &body)?),
+        ("POST", "/open") => {
+            let Some(name) = query_value(query, "name").map(percent_decode) else {
+                return Err(Response::error(
+                    400,
+                    "/api/open needs ?name=FILE (its extension picks the format)",
+                ));
+            };
+            if body.len() > MAX_UPLOAD {
+                return Err(Response::error(
+                    413,
+                    &format!("{name}: larger than {} MiB", MAX_UPLOAD >> 20),
+                ));
+            }
+            Command::Open { name, bytes: body }
+        }
+        (_, r) => {
+            return Err(Response::error(
+                404,
+                &format!("no route {method} /api{r} (see the README's studio API)"),
+            ))
+        }
+    })
 }
 
 #[cfg(test)]
