@@ -112,6 +112,58 @@ pub fn collapse_edge(
     e: usize,
     protected: &[usize],
 ) -> Result<Change, Refusal> {
+    let [u, v] = collapsible(mesh, e, protected)?;
+    // Renumber: v disappears, u becomes the merged vertex at the midpoint.
+    let n = mesh.vertex_count();
+    let old_to_new: Vec<usize> = (0..n)
+        .map(|w| {
+            let w = if w == v { u } else { w };
+            if w > v {
+                w - 1
+            } else {
+                w
+            }
+        })
+        .collect();
+    let mut positions: Vec<Vec3> = (0..n).filter(|&w| w != v).map(|w| x[w]).collect();
+    positions[old_to_new[u]] = (x[u] + x[v]) / 2.0;
+    let flat = mesh.flat().map(|f| {
+        let mut out: Vec<_> = (0..n).filter(|&w| w != v).map(|w| f[w]).collect();
+        out[old_to_new[u]] = (f[u] + f[v]) / 2.0;
+        out
+    });
+    let faces: Vec<[usize; 3]> = mesh
+        .faces()
+        .iter()
+        .filter(|f| !(f.contains(&u) && f.contains(&v)))
+        .map(|f| f.map(|w| old_to_new[w]))
+        .collect();
+    let has_3d = mesh.has_3d();
+    let mut new = Mesh::new(MeshParts {
+        positions: Some(positions.clone()),
+        flat,
+        faces,
+        edges: merged_edges(mesh, e, &old_to_new),
+    })
+    .map_err(|err| Refusal::Invalid(err.to_string()))?;
+    if !has_3d {
+        new.set_positions(positions.clone());
+    }
+    new.title = mesh.title.clone();
+    new.lock_topology = mesh.lock_topology;
+    new.coordinate_precision = mesh.coordinate_precision;
+    new.source = mesh.source.clone();
+    Ok(Change {
+        mesh: new,
+        positions,
+        old_to_new,
+    })
+}
+
+/// Whether edge `e` may collapse under the rules of §4 (an interior fold between two
+/// flat-foldable vertices whose merge still satisfies Maekawa, the link condition, and
+/// at least four creases at the merged vertex); its ends if so.
+fn collapsible(mesh: &Mesh, e: usize, protected: &[usize]) -> Result<[usize; 2], Refusal> {
     // Coincidence groups (§6.4) name vertices by index, which a collapse renumbers.
     if mesh.lock_topology || !mesh.coincident.is_empty() {
         return Err(Refusal::Locked);
@@ -170,31 +222,12 @@ pub fn collapse_edge(
     if creases < 4 {
         return Err(Refusal::TooFewCreases(creases));
     }
-    // Renumber: v disappears, u becomes the merged vertex at the midpoint.
-    let n = mesh.vertex_count();
-    let old_to_new: Vec<usize> = (0..n)
-        .map(|w| {
-            let w = if w == v { u } else { w };
-            if w > v {
-                w - 1
-            } else {
-                w
-            }
-        })
-        .collect();
-    let mut positions: Vec<Vec3> = (0..n).filter(|&w| w != v).map(|w| x[w]).collect();
-    positions[old_to_new[u]] = (x[u] + x[v]) / 2.0;
-    let flat = mesh.flat().map(|f| {
-        let mut out: Vec<_> = (0..n).filter(|&w| w != v).map(|w| f[w]).collect();
-        out[old_to_new[u]] = (f[u] + f[v]) / 2.0;
-        out
-    });
-    let faces: Vec<[usize; 3]> = mesh
-        .faces()
-        .iter()
-        .filter(|f| !(f.contains(&u) && f.contains(&v)))
-        .map(|f| f.map(|w| old_to_new[w]))
-        .collect();
+    Ok([u, v])
+}
+
+/// The edges after `e` collapses: renumbered, and the two pairs of spokes that become
+/// one edge each merged (targets and fold angles summed, the assignment the sum implies).
+fn merged_edges(mesh: &Mesh, e: usize, old_to_new: &[usize]) -> Vec<Edge> {
     let mut edges: Vec<Edge> = Vec::with_capacity(mesh.edges().len());
     let mut index: HashMap<(usize, usize), usize> = HashMap::new();
     for (i, ed) in mesh.edges().iter().enumerate() {
@@ -220,26 +253,7 @@ pub fn collapse_edge(
             }
         }
     }
-    let has_3d = mesh.has_3d();
-    let mut new = Mesh::new(MeshParts {
-        positions: Some(positions.clone()),
-        flat,
-        faces,
-        edges,
-    })
-    .map_err(|err| Refusal::Invalid(err.to_string()))?;
-    if !has_3d {
-        new.set_positions(positions.clone());
-    }
-    new.title = mesh.title.clone();
-    new.lock_topology = mesh.lock_topology;
-    new.coordinate_precision = mesh.coordinate_precision;
-    new.source = mesh.source.clone();
-    Ok(Change {
-        mesh: new,
-        positions,
-        old_to_new,
-    })
+    edges
 }
 
 /// Plans flipping edge `e` (a flat crease with α = 0) to the other diagonal of its two
