@@ -15,12 +15,13 @@
 //! and `ESC EOT` resets the cutter. The drawing rate is a ceiling the plotter cannot
 //! exceed to make up for time it stood idle: idle time is lost, as on a real machine.
 
+mod ticks;
+
 use super::Language;
 use crate::output::gpgl;
 use crate::output::hpgl::{Interpreter, PenPath};
 use serialport::{SerialPort, TTYPort};
 use std::collections::VecDeque;
-use std::io::{Read, Write};
 use std::os::fd::AsRawFd;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -323,7 +324,7 @@ impl Emulator {
         let stop = Arc::new(AtomicBool::new(false));
         let line = open_line(link)?;
         let (st, sp, lk) = (state.clone(), stop.clone(), link.to_path_buf());
-        let thread = std::thread::spawn(move || run(line, lk, config, st, sp));
+        let thread = std::thread::spawn(move || ticks::run(line, lk, config, st, sp));
         Ok(Emulator {
             link: link.to_path_buf(),
             state,
@@ -372,144 +373,6 @@ impl Drop for Emulator {
         self.stop.store(true, Ordering::SeqCst);
         if let Some(t) = self.thread.take() {
             let _ = t.join();
-        }
-    }
-}
-
-fn run(
-    first: Line,
-    link: PathBuf,
-    config: EmulatorConfig,
-    state: Arc<Mutex<EmulatorState>>,
-    stop: Arc<AtomicBool>,
-) {
-    let mut line = Some(first);
-    let mut plotter = Plotter::new(config.clone());
-    let mut host_queue: VecDeque<u8> = VecDeque::new();
-    let wire_rate = config.baud as f64 / 10.0;
-    let (mut wire_credit, mut draw_credit) = (0.0f64, 0.0f64);
-    let mut last = Instant::now();
-    let mut unplugged_at: Option<Instant> = None;
-    let mut started: Option<Instant> = None;
-    let mut last_work = Instant::now();
-    let mut pending_idle = Duration::ZERO;
-    let mut buf = [0u8; 4096];
-    while !stop.load(Ordering::SeqCst) {
-        std::thread::sleep(Duration::from_millis(1));
-        let now = Instant::now();
-        let dt = now.duration_since(last).as_secs_f64();
-        last = now;
-        let mut st = state.lock().expect("emulator state");
-        // Cable pulled: wait, then plug a new pty in behind the same link.
-        if let Some(t) = unplugged_at {
-            if let Some(after) = config.reconnect_after {
-                if t.elapsed() >= after {
-                    if let Ok(l) = open_line(&link) {
-                        line = Some(l);
-                        unplugged_at = None;
-                        host_queue.clear();
-                    }
-                }
-            }
-        }
-        // Drawing continues while the plotter has power, cable or not. A plotter cannot
-        // make up time it stood idle: credit never outlasts a short scheduling hiccup, and
-        // an empty buffer forfeits it (see below).
-        draw_credit = (draw_credit + dt * config.rate).min(config.rate * 0.02 + 1.0);
-        let budget = draw_credit.floor() as usize;
-        let had = plotter.buffer.len();
-        // Idle time counts only when more work follows it: the wait after the job's last
-        // command is not the sender's fault.
-        if had == 0 {
-            if started.is_some() && unplugged_at.is_none() {
-                pending_idle += Duration::from_secs_f64(dt);
-            }
-        } else {
-            st.idle += pending_idle;
-            pending_idle = Duration::ZERO;
-            last_work = now;
-        }
-        let replies = plotter.draw(budget, &mut st);
-        draw_credit -= (had - plotter.buffer.len()) as f64;
-        if plotter.buffer.is_empty() {
-            draw_credit = draw_credit.min(1.0);
-        }
-        if let Some(s) = started {
-            if had > 0 {
-                st.busy_span = last_work.duration_since(s);
-            }
-        }
-        let Some(l) = line.as_mut() else {
-            continue;
-        };
-        for r in replies {
-            let _ = l.master.write_all(r.as_bytes());
-        }
-        // Take what the host wrote into its (modelled) driver queue.
-        match l.master.read(&mut buf) {
-            Ok(n) => host_queue.extend(&buf[..n]),
-            Err(e)
-                if e.kind() == std::io::ErrorKind::TimedOut
-                    || e.kind() == std::io::ErrorKind::WouldBlock => {}
-            Err(_) => {}
-        }
-        // The host is stopped only if its port honours our stop signal.
-        let (ixon, crtscts) = host_flags(&l.slave);
-        let stopped = match config.flow {
-            Flow::XonXoff => plotter.xoff_sent && ixon,
-            Flow::RtsCts => plotter.cts_low && crtscts,
-            Flow::None => false,
-        };
-        wire_credit = (wire_credit + dt * wire_rate).min(wire_rate * 0.05 + 1.0);
-        if stopped {
-            wire_credit = wire_credit.min(1.0);
-        }
-        while wire_credit >= 1.0 && !stopped {
-            let Some(b) = host_queue.pop_front() else {
-                break;
-            };
-            wire_credit -= 1.0;
-            st.received += 1;
-            started.get_or_insert(now);
-            if let Some(r) = plotter.receive(b, &mut st) {
-                let _ = l.master.write_all(r.as_bytes());
-            }
-            if config.fail_after == Some(st.received) {
-                break;
-            }
-        }
-        // Ask the host to pause with a margin for bytes already on their way.
-        let margin = (config.buffer / 4).max(16);
-        match config.flow {
-            Flow::XonXoff => {
-                if !plotter.xoff_sent && plotter.free() < margin {
-                    let _ = l.master.write_all(&[XOFF]);
-                    plotter.xoff_sent = true;
-                } else if plotter.xoff_sent && plotter.free() > config.buffer / 2 {
-                    let _ = l.master.write_all(&[XON]);
-                    plotter.xoff_sent = false;
-                }
-            }
-            Flow::RtsCts => plotter.cts_low = plotter.free() < margin,
-            Flow::None => {}
-        }
-        if config.fail_after.is_some_and(|n| st.received >= n)
-            && unplugged_at.is_none()
-            && st.disconnects == 0
-        {
-            // Pull the cable: the host's port vanishes with everything still in its queue.
-            st.disconnects += 1;
-            line = None;
-            if config.power_cycle {
-                // Switched off: the buffer and the pen state are gone; the paper keeps
-                // what was drawn.
-                let drawn = std::mem::take(&mut st.path.segments);
-                st.earlier.extend(drawn);
-                plotter = Plotter::new(config.clone());
-                host_queue.clear();
-            }
-            let _ = std::fs::remove_file(&link);
-            unplugged_at = Some(Instant::now());
         }
     }
 }
