@@ -5,6 +5,7 @@
 //! [`crate::io`] and nowhere else.
 
 mod cuts;
+mod error;
 mod info;
 mod source;
 mod topology;
@@ -12,9 +13,10 @@ mod triangulate;
 mod union_find;
 
 pub use cuts::split_along_cuts;
+pub use error::MeshError;
 pub use info::MeshInfo;
 pub use source::{polygon_faces, Fingerprint, SourceRecord};
-pub use topology::{MeshError, Topology, TopologySummary, VertexFan};
+pub use topology::{Topology, TopologySummary, VertexFan};
 pub use triangulate::triangulate_polygon;
 pub use union_find::UnionFind;
 

@@ -2,111 +2,8 @@
 //! indices in range, no degenerate triangle, every edge on one or two faces, every vertex a
 //! single fan (disk or half-disk), faces consistently oriented.
 
-use super::{edge_key as key, Assignment, Edge, Vec2, Vec3};
+use super::{edge_key as key, Assignment, Edge, MeshError, Vec2, Vec3};
 use std::collections::{HashMap, VecDeque};
-
-/// Why a set of faces and edges is not a usable mesh. Each names the element at fault.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum MeshError {
-    /// Neither 3D nor flat positions were given.
-    #[error("no vertex positions")]
-    NoPositions,
-    /// A coordinate is not a number or lies beyond any physical sheet.
-    #[error("vertex {vertex} has a coordinate of {value:.3e} mm, which is not a finite length within 1 km")]
-    CoordinateOutOfRange {
-        /// The vertex.
-        vertex: usize,
-        /// The coordinate.
-        value: f64,
-    },
-    /// No faces at all.
-    #[error("no faces: the mesh is empty")]
-    Empty,
-    /// The two frames disagree on the vertex count.
-    #[error("crease pattern has {flat} vertices but the folded form has {folded}")]
-    FrameMismatch {
-        /// Vertices in the flat frame.
-        flat: usize,
-        /// Vertices in the 3D frame.
-        folded: usize,
-    },
-    /// A face or edge names a vertex that does not exist.
-    #[error("{element} refers to vertex {vertex}, but there are only {count} vertices")]
-    IndexOutOfRange {
-        /// e.g. "face 3" or "edge 7".
-        element: String,
-        /// The bad index.
-        vertex: usize,
-        /// Number of vertices.
-        count: usize,
-    },
-    /// A face repeats a vertex or has (nearly) zero area.
-    #[error("face {face} {vertices:?} is degenerate (zero area or repeated vertex)")]
-    DegenerateFace {
-        /// Face index.
-        face: usize,
-        /// Its vertices.
-        vertices: [usize; 3],
-    },
-    /// An edge joins a vertex to itself.
-    #[error("edge {edge} joins vertex {vertex} to itself")]
-    DegenerateEdge {
-        /// Edge index.
-        edge: usize,
-        /// The vertex.
-        vertex: usize,
-    },
-    /// Two edges join the same pair of vertices.
-    #[error("edges {first} and {second} both join vertices {a} and {b}")]
-    DuplicateEdge {
-        /// First edge index.
-        first: usize,
-        /// Second edge index.
-        second: usize,
-        /// End vertex.
-        a: usize,
-        /// End vertex.
-        b: usize,
-    },
-    /// More than two faces share an edge.
-    #[error("non-manifold edge {a}–{b}: shared by {faces} faces")]
-    NonManifoldEdge {
-        /// End vertex.
-        a: usize,
-        /// End vertex.
-        b: usize,
-        /// How many faces share it.
-        faces: usize,
-    },
-    /// The faces around a vertex do not form one fan.
-    #[error("non-manifold vertex {vertex}: its faces do not form a single fan")]
-    NonManifoldVertex {
-        /// The vertex.
-        vertex: usize,
-    },
-    /// No consistent orientation exists (a Möbius-like surface).
-    #[error("the surface is not orientable (found at face {face})")]
-    NonOrientable {
-        /// A face where orientation conflicted.
-        face: usize,
-    },
-    /// An edge bounds no face.
-    #[error("edge {edge} ({a}–{b}) bounds no face")]
-    DanglingEdge {
-        /// Edge index.
-        edge: usize,
-        /// End vertex.
-        a: usize,
-        /// End vertex.
-        b: usize,
-    },
-    /// A vertex belongs to no face.
-    #[error("vertex {vertex} belongs to no face")]
-    IsolatedVertex {
-        /// The vertex.
-        vertex: usize,
-    },
-}
 
 /// The faces around one vertex in counter-clockwise order.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -211,16 +108,52 @@ fn is_degenerate(positions: &[Vec3], flat: Option<&[Vec2]>, f: [usize; 3]) -> bo
     area2.is_nan() || area2 <= 1e-12 * longest2
 }
 
-/// Validates and orients faces, completes the edge list and builds adjacency.
 /// Faces, edges and adjacency of a validated mesh.
 type Built = (Vec<[usize; 3]>, Vec<Edge>, Topology);
 
+/// Validates and orients faces, completes the edge list and builds adjacency.
 pub(super) fn build(
     positions: &[Vec3],
     flat: Option<&[Vec2]>,
     mut faces: Vec<[usize; 3]>,
     mut edges: Vec<Edge>,
 ) -> Result<Built, MeshError> {
+    let n = positions.len();
+    check_faces(positions, flat, &faces)?;
+    orient(&mut faces, flat)?;
+    // Edge list: validate what the source gave, then add what the faces need.
+    let mut edge_lookup = index_edges(&edges, n)?;
+    let mut half_edges: HashMap<(usize, usize), usize> = HashMap::with_capacity(faces.len() * 3);
+    for (fi, f) in faces.iter().enumerate() {
+        for k in 0..3 {
+            half_edges.insert((f[k], f[(k + 1) % 3]), fi);
+        }
+    }
+    let face_edges = complete_edges(&faces, &half_edges, &mut edges, &mut edge_lookup);
+    let edge_faces = faces_of_edges(&edges, &half_edges)?;
+    let fans = vertex_fans(n, &faces, &half_edges, &edge_lookup)?;
+    let boundary_loops = boundary_loops(&faces, &half_edges);
+    let components = count_components(&faces, &face_edges, &edge_faces);
+    Ok((
+        faces,
+        edges,
+        Topology {
+            fans,
+            edge_faces,
+            face_edges,
+            boundary_loops,
+            components,
+            edge_lookup,
+        },
+    ))
+}
+
+/// Every face names existing vertices and has area.
+fn check_faces(
+    positions: &[Vec3],
+    flat: Option<&[Vec2]>,
+    faces: &[[usize; 3]],
+) -> Result<(), MeshError> {
     let n = positions.len();
     if faces.is_empty() {
         return Err(MeshError::Empty);
@@ -240,9 +173,11 @@ pub(super) fn build(
             });
         }
     }
-    orient(&mut faces, flat)?;
+    Ok(())
+}
 
-    // Edge list: validate what the source gave, then add what the faces need.
+/// The source's edges by their (sorted) ends, refusing bad indices, loops and repeats.
+fn index_edges(edges: &[Edge], n: usize) -> Result<HashMap<(usize, usize), usize>, MeshError> {
     let mut edge_lookup = HashMap::with_capacity(edges.len() * 2);
     for (i, e) in edges.iter().enumerate() {
         let [a, b] = e.vertices;
@@ -265,14 +200,19 @@ pub(super) fn build(
             });
         }
     }
-    let mut half_edges: HashMap<(usize, usize), usize> = HashMap::with_capacity(faces.len() * 3);
-    for (fi, f) in faces.iter().enumerate() {
-        for k in 0..3 {
-            half_edges.insert((f[k], f[(k + 1) % 3]), fi);
-        }
-    }
+    Ok(edge_lookup)
+}
+
+/// Adds the edges the faces need and the source left out (flat inside, boundary
+/// outside, marked synthetic); returns each face's three edges.
+fn complete_edges(
+    faces: &[[usize; 3]],
+    half_edges: &HashMap<(usize, usize), usize>,
+    edges: &mut Vec<Edge>,
+    edge_lookup: &mut HashMap<(usize, usize), usize>,
+) -> Vec<[usize; 3]> {
     let mut face_edges = Vec::with_capacity(faces.len());
-    for f in &faces {
+    for f in faces {
         let mut fe = [0; 3];
         for k in 0..3 {
             let (a, b) = (f[k], f[(k + 1) % 3]);
@@ -291,6 +231,14 @@ pub(super) fn build(
         }
         face_edges.push(fe);
     }
+    face_edges
+}
+
+/// The faces left and right of every edge; an edge of no face is an error.
+fn faces_of_edges(
+    edges: &[Edge],
+    half_edges: &HashMap<(usize, usize), usize>,
+) -> Result<Vec<[Option<usize>; 2]>, MeshError> {
     let mut edge_faces = vec![[None, None]; edges.len()];
     for (i, e) in edges.iter().enumerate() {
         let [a, b] = e.vertices;
@@ -302,22 +250,7 @@ pub(super) fn build(
             return Err(MeshError::DanglingEdge { edge: i, a, b });
         }
     }
-
-    let fans = vertex_fans(n, &faces, &half_edges, &edge_lookup)?;
-    let boundary_loops = boundary_loops(&faces, &half_edges);
-    let components = count_components(&faces, &face_edges, &edge_faces);
-    Ok((
-        faces,
-        edges,
-        Topology {
-            fans,
-            edge_faces,
-            face_edges,
-            boundary_loops,
-            components,
-            edge_lookup,
-        },
-    ))
+    Ok(edge_faces)
 }
 
 /// Makes neighbouring faces traverse their shared edge in opposite directions, and each
