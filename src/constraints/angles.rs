@@ -23,12 +23,7 @@ pub struct Corners<'a> {
 impl<'a> Corners<'a> {
     /// The sector angles of every face at `x`.
     pub fn new(mesh: &Mesh, x: &'a [Vec3], parallel: bool) -> Corners<'a> {
-        let angles = |f: &[usize; 3]| [0, 1, 2].map(|k| sector_angle(x, *f, k));
-        let angle = if parallel {
-            mesh.faces().par_iter().map(angles).collect()
-        } else {
-            mesh.faces().iter().map(angles).collect()
-        };
+        let angle = per_face(mesh, parallel, |f| [0, 1, 2].map(|k| sector_angle(x, f, k)));
         Corners { x, angle }
     }
 }
@@ -40,12 +35,20 @@ pub struct FaceNormals(Vec<Vec3>);
 impl FaceNormals {
     /// The normals of every face at `x`.
     pub fn new(mesh: &Mesh, x: &[Vec3], parallel: bool) -> FaceNormals {
-        let normal = |f: &[usize; 3]| face_normal(x, *f);
-        FaceNormals(if parallel {
-            mesh.faces().par_iter().map(normal).collect()
-        } else {
-            mesh.faces().iter().map(normal).collect()
-        })
+        FaceNormals(per_face(mesh, parallel, |f| face_normal(x, f)))
+    }
+}
+
+/// `value` of every face, in face order, on every core when `parallel`.
+fn per_face<T: Send>(
+    mesh: &Mesh,
+    parallel: bool,
+    value: impl Fn([usize; 3]) -> T + Sync,
+) -> Vec<T> {
+    if parallel {
+        mesh.faces().par_iter().map(|&f| value(f)).collect()
+    } else {
+        mesh.faces().iter().map(|&f| value(f)).collect()
     }
 }
 

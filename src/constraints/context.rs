@@ -124,9 +124,9 @@ impl Reference {
     /// Moves the branch reference to the fold angles at `x` (call after each accepted step,
     /// §2: "the previous rotation angle value of each edge is stored for each frame").
     pub fn track_folds(&mut self, mesh: &Mesh, x: &[Vec3]) {
-        let normals = super::FaceNormals::new(mesh, x, super::evaluate_in_parallel(mesh));
+        let normals = super::angles::FaceNormals::new(mesh, x, super::evaluate_in_parallel(mesh));
         for e in 0..mesh.edges().len() {
-            if let Some(rho) = super::tracked_fold_angle_of(mesh, self, &normals, x, e) {
+            if let Some(rho) = super::angles::tracked_fold_angle_of(mesh, self, &normals, x, e) {
                 self.previous_fold[e] = rho;
             }
         }

@@ -7,7 +7,7 @@ mod angles;
 mod context;
 mod lengths;
 
-pub use angles::{tracked_fold_angle, tracked_fold_angle_of, FaceNormals};
+pub use angles::tracked_fold_angle;
 pub use context::{flips, Reference};
 
 use crate::mesh::{Mesh, Vec3};

@@ -165,7 +165,8 @@ impl NormalSolver {
     /// y = (J Jᵀ + λI)⁻¹ b.
     pub fn solve(&mut self, b: &[f64]) -> Vec<f64> {
         match &mut self.factor {
-            Some(f) if f.ready && self.jacobian.rows() > 0 => {
+            // Not ready: no rows (nothing to solve) or a failed factorisation.
+            Some(f) if f.ready => {
                 let mut rhs = Mat::<f64>::from_fn(b.len(), 1, |i, _| b[i]);
                 LltRef::new(&f.symbolic, &f.values).solve_in_place_with_conj(
                     Conj::No,
