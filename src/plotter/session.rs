@@ -248,6 +248,51 @@ impl Session<'_> {
         Ok(())
     }
 
+    /// Takes up the journal of an interrupted run: sends what puts the plotter where the
+    /// job goes on, and returns that place with a note saying how it was chosen.
+    pub(super) fn resume_from(&mut self, old: &Journal) -> Result<(usize, String), StreamError> {
+        self.journal = old.clone();
+        let point = self.resume_point(old)?;
+        self.sent = point.start;
+        self.link.drawn = old.drawn;
+        let received = self.journal.received;
+        self.link
+            .send(&point.preamble, received, self.interrupted)?;
+        Ok((point.start, point.note))
+    }
+
+    /// Sends the job from where the session stands to its end and waits until the
+    /// plotter confirms it; an interruption lifts the pen first, so nothing is cut twice
+    /// when the job is resumed.
+    pub(super) fn send_rest(
+        &mut self,
+        progress: &mut dyn FnMut(Progress),
+    ) -> Result<(), StreamError> {
+        self.journal.done = false;
+        save_journal(&self.journal_file, &self.journal);
+        if self.options.language == Language::Gpgl && self.sent == 0 {
+            // No media, or a job cancelled on the panel, is said before the first cut.
+            self.cutter_status()?;
+        }
+        while self.sent < self.job.len() {
+            if self.interrupted.load(Ordering::SeqCst) {
+                let lift: &[u8] = match self.options.language {
+                    Language::Hpgl => b"\x1b.KPU;",
+                    Language::Gpgl => b"\x1b\x04",
+                };
+                let _ = self.link.send(lift, 0, &AtomicBool::new(false));
+                return Err(StreamError::Interrupted {
+                    confirmed: self.journal.received,
+                });
+            }
+            self.step()?;
+            self.settle(progress)?;
+        }
+        self.finish()?;
+        self.journal.done = true;
+        self.settle(progress)
+    }
+
     /// Where to continue an interrupted job, from its journal and what the plotter says.
     pub(super) fn resume_point(&mut self, old: &Journal) -> Result<ResumePoint, StreamError> {
         match self.options.language {

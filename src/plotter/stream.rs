@@ -15,7 +15,7 @@ use super::link::open;
 use super::session::Session;
 use super::Language;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
 /// How the sender respects the plotter's buffer.
@@ -226,39 +226,11 @@ pub fn stream(
         interrupted,
     };
     let run = |session: &mut Session, progress: &mut dyn FnMut(Progress)| {
-        let mut note = None;
-        if let Some(old) = &old {
-            session.journal = old.clone();
-            let point = session.resume_point(old)?;
-            session.sent = point.start;
-            session.link.drawn = old.drawn;
-            let received = session.journal.received;
-            session.link.send(&point.preamble, received, interrupted)?;
-            note = Some((point.start, point.note));
-        }
-        session.journal.done = false;
-        save_journal(&session.journal_file, &session.journal);
-        if options.language == Language::Gpgl && session.sent == 0 {
-            // No media, or a job cancelled on the panel, is said before the first cut.
-            session.cutter_status()?;
-        }
-        while session.sent < job.len() {
-            if interrupted.load(Ordering::SeqCst) {
-                let lift: &[u8] = match options.language {
-                    Language::Hpgl => b"\x1b.KPU;",
-                    Language::Gpgl => b"\x1b\x04",
-                };
-                let _ = session.link.send(lift, 0, &AtomicBool::new(false));
-                return Err(StreamError::Interrupted {
-                    confirmed: session.journal.received,
-                });
-            }
-            session.step()?;
-            session.settle(progress)?;
-        }
-        session.finish()?;
-        session.journal.done = true;
-        session.settle(progress)?;
+        let note = match &old {
+            Some(old) => Some(session.resume_from(old)?),
+            None => None,
+        };
+        session.send_rest(progress)?;
         Ok(note)
     };
     match run(&mut session, progress) {
