@@ -54,53 +54,8 @@ impl Reference {
             .iter()
             .map(|e| (reference[e.vertices[1]] - reference[e.vertices[0]]).norm())
             .collect();
-        let topo = mesh.topology();
-        let mut sigma = vec![None; n];
-        let mut odd_vertex = None;
-        for (v, fan) in topo.fans.iter().enumerate() {
-            if fan.boundary {
-                continue;
-            }
-            let folded = fan
-                .spokes
-                .iter()
-                .filter(|&&e| flips(mesh.edges()[e].target))
-                .count();
-            if folded % 2 == 1 {
-                odd_vertex.get_or_insert(v);
-                continue;
-            }
-            if folded < 2 {
-                continue;
-            }
-            // Face i lies after spoke i; σ flips across each folded spoke.
-            let mut s = 1.0;
-            let signs = fan
-                .spokes
-                .iter()
-                .map(|&e| {
-                    if flips(mesh.edges()[e].target) {
-                        s = -s;
-                    }
-                    s
-                })
-                .collect();
-            sigma[v] = Some(signs);
-        }
-        let previous_fold = mesh
-            .edges()
-            .iter()
-            .enumerate()
-            .map(|(e, edge)| {
-                let raw = fold_angle(mesh.positions(), mesh.faces(), topo, e, edge.vertices);
-                // A flat-folded source (|ρ| near π) takes the sign its target asks for.
-                if (raw.abs() - PI).abs() < 1e-6 && edge.target != 0.0 {
-                    edge.target.signum() * raw.abs()
-                } else {
-                    raw
-                }
-            })
-            .collect();
+        let (sigma, odd_vertex) = facet_orientations(mesh);
+        let previous_fold = initial_folds(mesh);
         let boundary_lines = straight_pieces(mesh, &angle_sum);
         let mean_length = length.iter().sum::<f64>() / length.len().max(1) as f64;
         let x = mesh.positions();
@@ -137,6 +92,63 @@ impl Reference {
     pub fn is_flat_foldable(&self) -> bool {
         self.odd_vertex.is_none() && self.sigma.iter().any(Option::is_some)
     }
+}
+
+/// σ of eq. (5) for each interior vertex with an even number (at least two) of folded
+/// creases, and the first interior vertex with an odd number, if any.
+fn facet_orientations(mesh: &Mesh) -> (Vec<Option<Vec<f64>>>, Option<usize>) {
+    let topo = mesh.topology();
+    let mut sigma = vec![None; mesh.vertex_count()];
+    let mut odd_vertex = None;
+    for (v, fan) in topo.fans.iter().enumerate() {
+        if fan.boundary {
+            continue;
+        }
+        let folded = fan
+            .spokes
+            .iter()
+            .filter(|&&e| flips(mesh.edges()[e].target))
+            .count();
+        if folded % 2 == 1 {
+            odd_vertex.get_or_insert(v);
+            continue;
+        }
+        if folded < 2 {
+            continue;
+        }
+        // Face i lies after spoke i; σ flips across each folded spoke.
+        let mut s = 1.0;
+        let signs = fan
+            .spokes
+            .iter()
+            .map(|&e| {
+                if flips(mesh.edges()[e].target) {
+                    s = -s;
+                }
+                s
+            })
+            .collect();
+        sigma[v] = Some(signs);
+    }
+    (sigma, odd_vertex)
+}
+
+/// The fold angle of every edge at the mesh's own positions: the first branch reference.
+fn initial_folds(mesh: &Mesh) -> Vec<f64> {
+    let topo = mesh.topology();
+    mesh.edges()
+        .iter()
+        .enumerate()
+        .map(|(e, edge)| {
+            let raw = fold_angle(mesh.positions(), mesh.faces(), topo, e, edge.vertices);
+            // A flat-folded source (|ρ| near π) takes the sign its target asks for.
+            if (raw.abs() - PI).abs() < 1e-6 && edge.target != 0.0 {
+                edge.target.signum() * raw.abs()
+            } else {
+                raw
+            }
+        })
+        .collect()
 }
 
 /// Splits each boundary loop at its corners (reference angle sum ≠ π).

@@ -8,6 +8,7 @@ mod obj;
 pub mod planar;
 mod svg_path;
 mod svg_read;
+mod svg_transform;
 mod svg_write;
 
 use crate::mesh::Mesh;

@@ -5,6 +5,7 @@
 use crate::mesh::{Assignment, Edge, Mesh, MeshParts, Vec2, Vec3};
 use std::fmt::Write as _;
 
+/// Writes `mesh` as Freeform Origami OBJ (the crease pattern as `vt`, scaled to [0, 1]).
 pub fn to_string(mesh: &Mesh) -> String {
     let mut out = String::from("# crease: Freeform Origami OBJ\n");
     for p in mesh.positions() {
@@ -44,6 +45,7 @@ pub fn to_string(mesh: &Mesh) -> String {
     out
 }
 
+/// Reads Freeform Origami OBJ; the crease pattern (`vt`) is scaled back to millimetres.
 pub fn parse(text: &str) -> Result<Mesh, String> {
     let mut positions = Vec::new();
     let mut uv = Vec::new();
@@ -102,24 +104,7 @@ pub fn parse(text: &str) -> Result<Mesh, String> {
     if positions.is_empty() {
         return Err("no vertices (\"v\" lines)".into());
     }
-    // vt is normalised; restore millimetres by matching total edge length to the 3D form,
-    // which an isometric unfolding preserves.
-    let flat = if uv.len() == positions.len() {
-        let (mut l3, mut l2) = (0.0, 0.0);
-        for f in &faces {
-            for k in 0..3 {
-                let (a, b) = (f[k], f[(k + 1) % 3]);
-                if a < positions.len() && b < positions.len() {
-                    l3 += (positions[a] - positions[b]).norm();
-                    l2 += (uv[a] - uv[b]).norm();
-                }
-            }
-        }
-        let s = if l2 > 0.0 { l3 / l2 } else { 1.0 };
-        Some(uv.iter().map(|p| p * s).collect())
-    } else {
-        None
-    };
+    let flat = (uv.len() == positions.len()).then(|| crease_pattern_in_mm(&uv, &positions, &faces));
     let mut mesh = Mesh::new(MeshParts {
         positions: Some(positions),
         flat,
@@ -129,4 +114,21 @@ pub fn parse(text: &str) -> Result<Mesh, String> {
     .map_err(|e| e.to_string())?;
     mesh.coordinate_precision = super::decimal_quantum(text);
     Ok(mesh)
+}
+
+/// `vt` is normalised; millimetres come back by matching its total edge length to the 3D
+/// form's, which an isometric unfolding preserves.
+fn crease_pattern_in_mm(uv: &[Vec2], positions: &[Vec3], faces: &[[usize; 3]]) -> Vec<Vec2> {
+    let (mut l3, mut l2) = (0.0, 0.0);
+    for f in faces {
+        for k in 0..3 {
+            let (a, b) = (f[k], f[(k + 1) % 3]);
+            if a < positions.len() && b < positions.len() {
+                l3 += (positions[a] - positions[b]).norm();
+                l2 += (uv[a] - uv[b]).norm();
+            }
+        }
+    }
+    let s = if l2 > 0.0 { l3 / l2 } else { 1.0 };
+    uv.iter().map(|p| p * s).collect()
 }

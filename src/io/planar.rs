@@ -278,14 +278,12 @@ fn prune_dangling(
     }
 }
 
-/// Faces of the planar graph, triangulated. Each bounded face is traced with the paper on
-/// its left; the unbounded face and holes are dropped.
-fn trace_faces(
-    flat: &[Vec2],
-    edges: &[Edge],
-    tol: f64,
-    report: &mut PlanarReport,
-) -> Result<Vec<[usize; 3]>, String> {
+/// The face cycle each directed edge (from, to) belongs to.
+type CycleOfEdge = HashMap<(usize, usize), usize>;
+
+/// Every face cycle of the planar graph, each traced with its face on the left, and which
+/// cycle each directed edge belongs to.
+fn face_cycles(flat: &[Vec2], edges: &[Edge]) -> (Vec<Vec<usize>>, CycleOfEdge) {
     let n = flat.len();
     let mut around: Vec<Vec<usize>> = vec![Vec::new(); n];
     for e in edges {
@@ -325,6 +323,18 @@ fn trace_faces(
             cycles.push(cycle);
         }
     }
+    (cycles, visited)
+}
+
+/// Faces of the planar graph, triangulated. Each bounded face is traced with the paper on
+/// its left; the unbounded face and holes are dropped.
+fn trace_faces(
+    flat: &[Vec2],
+    edges: &[Edge],
+    tol: f64,
+    report: &mut PlanarReport,
+) -> Result<Vec<[usize; 3]>, String> {
+    let (cycles, visited) = face_cycles(flat, edges);
     let area = |c: &[usize]| -> f64 {
         (0..c.len())
             .map(|i| flat[c[i]].perp(&flat[c[(i + 1) % c.len()]]))

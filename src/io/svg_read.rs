@@ -4,7 +4,8 @@
 //! pattern reads the same way up in crease's y-up coordinates.
 
 use super::planar::{mesh_from_segments, PlanarReport, Segment};
-use super::svg_path::{flatten_path, number_list, parse_transform, Affine};
+use super::svg_path::flatten_path;
+use super::svg_transform::{number_list, parse_transform, Affine};
 use crate::mesh::{split_along_cuts, Assignment, Mesh, Vec2};
 use std::f64::consts::PI;
 use svg::node::element::tag::Type;
@@ -153,66 +154,118 @@ pub fn report_notes(report: &PlanarReport, notes: &mut Vec<String>) {
 /// An element's attributes, as the `svg` crate's parser gives them.
 type Attributes = std::collections::HashMap<String, svg::node::Value>;
 
+/// Reads an Origami Simulator style SVG (stroke colour gives the crease type, opacity
+/// the fold angle) into a mesh in mm, with notes on anything read by assumption.
 pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, String> {
     if text.trim().is_empty() {
         return Err("the file is empty".into());
     }
-    let parser = svg::read(text).map_err(|e| format!("not readable as SVG: {e}"))?;
-    let mut stack: Vec<Style> = Vec::new();
-    let root_style = Style {
-        stroke: None,
-        opacity: 1.0,
-        stroke_opacity: 1.0,
-        transform: Affine::IDENTITY,
-        hidden: false,
-    };
-    let mut segments: Vec<Segment> = Vec::new();
-    let mut saw_svg = false;
-    let mut root_scale = MM_PER_PX;
-    // Only coordinates tell the drawing's rounding (metadata carries other precisions).
-    let mut geometry_text = String::new();
-    for (element_index, event) in parser.enumerate() {
-        let (name, kind, attrs) = match event {
-            Event::Tag(name, kind, attrs) => (name, kind, attrs),
-            Event::Error(e) => return Err(format!("not readable as SVG: {e}")),
-            _ => continue,
+    let drawing = Drawing::read(text, notes)?;
+    let (mut parts, report) = mesh_from_segments(&drawing.segments)?;
+    report_notes(&report, notes);
+    split_along_cuts(&mut parts);
+    let mut mesh = Mesh::new(parts).map_err(|e| e.to_string())?;
+    // A point of a relative path command adds a rounded offset to a rounded start: twice
+    // the rounding of one number.
+    mesh.coordinate_precision =
+        2.0 * super::decimal_quantum(&drawing.geometry_text) * drawing.root_scale;
+    Ok(mesh)
+}
+
+/// What an SVG's visible crease elements draw.
+struct Drawing {
+    /// Straight crease segments in mm.
+    segments: Vec<Segment>,
+    /// The root's user unit in mm.
+    root_scale: f64,
+    /// The coordinate attributes of the creases: only they tell the drawing's rounding
+    /// (metadata carries other precisions).
+    geometry_text: String,
+}
+
+impl Drawing {
+    /// Walks the elements, inheriting style and transforms down the tree.
+    fn read(text: &str, notes: &mut Vec<String>) -> Result<Drawing, String> {
+        let parser = svg::read(text).map_err(|e| format!("not readable as SVG: {e}"))?;
+        let mut stack: Vec<Style> = Vec::new();
+        let root_style = Style {
+            stroke: None,
+            opacity: 1.0,
+            stroke_opacity: 1.0,
+            transform: Affine::IDENTITY,
+            hidden: false,
         };
-        if kind == Type::End {
-            stack.pop();
-            continue;
+        let mut drawing = Drawing {
+            segments: Vec::new(),
+            root_scale: MM_PER_PX,
+            geometry_text: String::new(),
+        };
+        let mut saw_svg = false;
+        for (element_index, event) in parser.enumerate() {
+            let (name, kind, attrs) = match event {
+                Event::Tag(name, kind, attrs) => (name, kind, attrs),
+                Event::Error(e) => return Err(format!("not readable as SVG: {e}")),
+                _ => continue,
+            };
+            if kind == Type::End {
+                stack.pop();
+                continue;
+            }
+            let parent = stack.last().unwrap_or(&root_style);
+            let mut style = inherited_style(parent, name, &attrs)?;
+            if name == "svg" && !saw_svg {
+                saw_svg = true;
+                drawing.root_scale = root_units(&attrs, notes)?;
+                // User units to mm, then flip y.
+                let k = drawing.root_scale;
+                style.transform = Affine([k, 0.0, 0.0, -k, 0.0, 0.0]);
+            }
+            if let Some(t) = attrs.get("transform") {
+                style.transform = style.transform.then_inner(&parse_transform(t)?);
+            }
+            if kind == Type::Start {
+                stack.push(style.clone());
+            }
+            drawing.add_shape(name, element_index, &attrs, &style)?;
         }
-        let parent = stack.last().unwrap_or(&root_style);
-        let mut style = inherited_style(parent, name, &attrs)?;
-        if name == "svg" && !saw_svg {
-            saw_svg = true;
-            root_scale = root_units(&attrs, notes)?;
-            // User units to mm, then flip y.
-            style.transform = Affine([root_scale, 0.0, 0.0, -root_scale, 0.0, 0.0]);
+        if !saw_svg {
+            return Err("no <svg> element: not an SVG file".into());
         }
-        if let Some(t) = attrs.get("transform") {
-            style.transform = style.transform.then_inner(&parse_transform(t)?);
+        if !stack.is_empty() {
+            return Err(format!(
+                "the file ends inside {} open element(s): it was cut short",
+                stack.len()
+            ));
         }
-        if kind == Type::Start {
-            stack.push(style.clone());
-        }
+        Ok(drawing)
+    }
+
+    /// Adds the segments of element `name` if it is a visible crease shape.
+    fn add_shape(
+        &mut self,
+        name: &str,
+        element_index: usize,
+        attrs: &Attributes,
+        style: &Style,
+    ) -> Result<(), String> {
         let shapes = ["line", "rect", "polygon", "polyline", "path"];
         if style.hidden || !shapes.contains(&name) {
-            continue;
+            return Ok(());
         }
-        let Some((assignment, fold_angle)) = crease_of(name, element_index, &style)? else {
-            continue;
+        let Some((assignment, fold_angle)) = crease_of(name, element_index, style)? else {
+            return Ok(());
         };
         for k in [
             "d", "x1", "y1", "x2", "y2", "x", "y", "width", "height", "points",
         ] {
             if let Some(v) = attrs.get(k) {
-                geometry_text.push_str(v);
-                geometry_text.push(' ');
+                self.geometry_text.push_str(v);
+                self.geometry_text.push(' ');
             }
         }
-        for line in shape_polylines(name, element_index, &attrs, &style.transform)? {
+        for line in shape_polylines(name, element_index, attrs, &style.transform)? {
             for w in line.windows(2) {
-                segments.push(Segment {
+                self.segments.push(Segment {
                     a: w[0],
                     b: w[1],
                     assignment,
@@ -220,24 +273,8 @@ pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, String> {
                 });
             }
         }
+        Ok(())
     }
-    if !saw_svg {
-        return Err("no <svg> element: not an SVG file".into());
-    }
-    if !stack.is_empty() {
-        return Err(format!(
-            "the file ends inside {} open element(s): it was cut short",
-            stack.len()
-        ));
-    }
-    let (mut parts, report) = mesh_from_segments(&segments)?;
-    report_notes(&report, notes);
-    split_along_cuts(&mut parts);
-    let mut mesh = Mesh::new(parts).map_err(|e| e.to_string())?;
-    // A point of a relative path command adds a rounded offset to a rounded start: twice
-    // the rounding of one number.
-    mesh.coordinate_precision = 2.0 * super::decimal_quantum(&geometry_text) * root_scale;
-    Ok(mesh)
 }
 
 /// An element's style: its parent's, with the element's own stroke, opacities and
