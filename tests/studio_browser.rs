@@ -18,7 +18,7 @@ use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
-use studio_process::{http, StudioProcess};
+use studio_process::{http, position, StudioProcess};
 
 fn which(program: &str) -> Option<PathBuf> {
     std::env::var_os("PATH")?
@@ -135,10 +135,6 @@ async fn screen_of(client: &Client, v: usize) -> (f64, f64) {
     )
     .await;
     (at["x"].as_f64().unwrap(), at["y"].as_f64().unwrap())
-}
-
-fn position(s: &Value, v: usize) -> [f64; 3] {
-    [0, 1, 2].map(|k| s["positions"][v][k].as_f64().unwrap())
 }
 
 fn out_dir() -> PathBuf {

@@ -117,3 +117,13 @@ fn dechunk(mut data: &[u8]) -> Vec<u8> {
         data = &data[line_end + 2 + size + 2..];
     }
 }
+
+/// Vertex `v`'s position in a state the studio sent.
+pub fn position(s: &serde_json::Value, v: usize) -> [f64; 3] {
+    [0, 1, 2].map(|k| s["positions"][v][k].as_f64().unwrap())
+}
+
+/// Distance between two points (mm).
+pub fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>().sqrt()
+}
