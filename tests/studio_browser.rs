@@ -170,30 +170,7 @@ async fn dragging_a_vertex_with_the_mouse_moves_it_and_every_condition_still_hol
     assert_eq!(before["pass"], true);
     let v = 40; // the middle of the sheet: an interior vertex
     let (x, y) = screen_of(&client, v).await;
-    let press = MouseActions::new("mouse".into())
-        .then(PointerAction::MoveTo {
-            duration: None,
-            x,
-            y,
-        })
-        .then(PointerAction::Down {
-            button: MOUSE_BUTTON_LEFT,
-        })
-        .then(PointerAction::MoveTo {
-            duration: Some(Duration::from_millis(400)),
-            x,
-            y: y - 40.0,
-        })
-        .then(PointerAction::Pause {
-            duration: Duration::from_millis(300),
-        })
-        .then(PointerAction::Up {
-            button: MOUSE_BUTTON_LEFT,
-        });
-    client
-        .perform_actions(press)
-        .await
-        .expect("pointer actions");
+    drag_with_mouse(&client, (x, y), (x, y - 40.0)).await;
     wait_until(
         &client,
         "the drag to end",
@@ -213,23 +190,55 @@ async fn dragging_a_vertex_with_the_mouse_moves_it_and_every_condition_still_hol
     );
 
     // The saved design passes `crease verify`.
-    let (status, fold) = http(studio.port, "GET", "/api/design.fold", b"");
-    assert_eq!(status, 200);
-    let file = out_dir().join("studio-dragged.fold");
-    std::fs::write(&file, fold).unwrap();
-    let verify = Command::new(env!("CARGO_BIN_EXE_crease"))
-        .args(["verify", file.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert_eq!(
-        verify.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&verify.stdout)
-    );
+    assert_saved_design_verifies(studio.port);
 
     // Shift-click pins a vertex (a modifier-click with real key and pointer events).
     let (cx, cy) = screen_of(&client, 0).await;
+    shift_click(&client, (cx, cy)).await;
+    wait_until(
+        &client,
+        "vertex 0 to be pinned",
+        "return window.crease.state().then(s => s.pinned.includes(0));",
+    )
+    .await;
+
+    let png = client.screenshot().await.expect("a screenshot");
+    std::fs::write(out_dir().join("studio.png"), png).unwrap();
+    let _ = client.close().await;
+    let _ = std::fs::remove_dir_all(&profile);
+}
+
+/// Presses the left button at `from`, moves to `to` over 400 ms, pauses and releases:
+/// real pointer events, as a hand on a mouse sends them.
+async fn drag_with_mouse(client: &Client, from: (f64, f64), to: (f64, f64)) {
+    let press = MouseActions::new("mouse".into())
+        .then(PointerAction::MoveTo {
+            duration: None,
+            x: from.0,
+            y: from.1,
+        })
+        .then(PointerAction::Down {
+            button: MOUSE_BUTTON_LEFT,
+        })
+        .then(PointerAction::MoveTo {
+            duration: Some(Duration::from_millis(400)),
+            x: to.0,
+            y: to.1,
+        })
+        .then(PointerAction::Pause {
+            duration: Duration::from_millis(300),
+        })
+        .then(PointerAction::Up {
+            button: MOUSE_BUTTON_LEFT,
+        });
+    client
+        .perform_actions(press)
+        .await
+        .expect("pointer actions");
+}
+
+/// A click at `at` with Shift held (key and pointer events in one action chain).
+async fn shift_click(client: &Client, at: (f64, f64)) {
     let keys = KeyActions::new("keyboard".into())
         .then(KeyAction::Down {
             value: Key::Shift.into(),
@@ -246,8 +255,8 @@ async fn dragging_a_vertex_with_the_mouse_moves_it_and_every_condition_still_hol
     let click = MouseActions::new("mouse".into())
         .then(PointerAction::MoveTo {
             duration: None,
-            x: cx,
-            y: cy,
+            x: at.0,
+            y: at.1,
         })
         .then(PointerAction::Down {
             button: MOUSE_BUTTON_LEFT,
@@ -262,15 +271,22 @@ async fn dragging_a_vertex_with_the_mouse_moves_it_and_every_condition_still_hol
         .perform_actions(fantoccini::actions::Actions::from(keys).and(click))
         .await
         .expect("shift-click");
-    wait_until(
-        &client,
-        "vertex 0 to be pinned",
-        "return window.crease.state().then(s => s.pinned.includes(0));",
-    )
-    .await;
+}
 
-    let png = client.screenshot().await.expect("a screenshot");
-    std::fs::write(out_dir().join("studio.png"), png).unwrap();
-    let _ = client.close().await;
-    let _ = std::fs::remove_dir_all(&profile);
+/// The studio's saved design (`/api/design.fold`) passes `crease verify`.
+fn assert_saved_design_verifies(port: u16) {
+    let (status, fold) = http(port, "GET", "/api/design.fold", b"");
+    assert_eq!(status, 200);
+    let file = out_dir().join("studio-dragged.fold");
+    std::fs::write(&file, fold).unwrap();
+    let verify = Command::new(env!("CARGO_BIN_EXE_crease"))
+        .args(["verify", file.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(
+        verify.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&verify.stdout)
+    );
 }
