@@ -150,22 +150,7 @@ fn the_two_jobs_register_through_crosses_both_cut_first() {
             .iter()
             .chain(marks)
             .any(|c| same((c.from, c.to), (s.from, s.to)))));
-        // Turned over left to right, every front slit lies under a back cross stroke.
-        for f in front {
-            let turned = (
-                Vec2::new(media.width - f.from.x, f.from.y),
-                Vec2::new(media.width - f.to.x, f.to.y),
-            );
-            assert!(marks.iter().any(|b| same((b.from, b.to), turned)), "{name}");
-        }
-        // Turned top to bottom instead, some slit lies under no cross.
-        assert!(front.iter().any(|f| {
-            let wrong = (
-                Vec2::new(f.from.x, media.height - f.from.y),
-                Vec2::new(f.to.x, media.height - f.to.y),
-            );
-            !marks.iter().any(|b| same((b.from, b.to), wrong))
-        }));
+        assert_crosses_meet_when_turned_left_to_right(front, marks, media.width, media.height);
         // Crosses lie inside the reachable area and keep the profile's clearance from
         // every other stroke of their job.
         let clearance = machine.score_settings().clearance;
@@ -199,24 +184,52 @@ fn the_two_jobs_register_through_crosses_both_cut_first() {
         let pdf = &out.files.iter().find(|f| f.0 == "sheet.pdf").unwrap().1;
         let doc = printpdf::PdfDocument::parse(pdf, &Default::default(), &mut Vec::new()).unwrap();
         assert_eq!(doc.pages.len(), 2);
-        let page_text: String = doc.pages[1]
-            .ops
-            .iter()
-            .filter_map(|op| match op {
-                printpdf::Op::ShowText { items } => Some(items),
-                _ => None,
-            })
-            .flatten()
-            .filter_map(|item| match item {
-                printpdf::TextItem::Text(t) => Some(t.as_str()),
-                _ => None,
-            })
-            .collect::<Vec<_>>()
-            .join(" ");
+        let page_text = pdf_page_text(&doc.pages[1]);
         assert!(page_text.contains(&second) && page_text.contains("Turn the sheet over"));
         let files: Vec<&str> = out.files.iter().map(|f| f.0.as_str()).collect();
         assert!(files.contains(&"sheet-back.svg") && files.contains(&"sheet-back.dxf"));
     }
+}
+
+/// Turned over left to right, every front slit lies under a back cross stroke; turned top
+/// to bottom instead, some slit lies under no cross (the crosses tell the two turns apart).
+fn assert_crosses_meet_when_turned_left_to_right(
+    front: &[Stroke],
+    marks: &[Stroke],
+    width: f64,
+    height: f64,
+) {
+    for f in front {
+        let turned = (
+            Vec2::new(width - f.from.x, f.from.y),
+            Vec2::new(width - f.to.x, f.to.y),
+        );
+        assert!(marks.iter().any(|b| same((b.from, b.to), turned)));
+    }
+    assert!(front.iter().any(|f| {
+        let wrong = (
+            Vec2::new(f.from.x, height - f.from.y),
+            Vec2::new(f.to.x, height - f.to.y),
+        );
+        !marks.iter().any(|b| same((b.from, b.to), wrong))
+    }));
+}
+
+/// The text a PDF page shows, its pieces joined by spaces.
+fn pdf_page_text(page: &printpdf::PdfPage) -> String {
+    page.ops
+        .iter()
+        .filter_map(|op| match op {
+            printpdf::Op::ShowText { items } => Some(items),
+            _ => None,
+        })
+        .flatten()
+        .filter_map(|item| match item {
+            printpdf::TextItem::Text(t) => Some(t.as_str()),
+            _ => None,
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// A sheet that fits one-sided but not with the registration band is refused, saying why.
