@@ -26,16 +26,9 @@ struct Case {
     power_cycle: bool,
 }
 
-/// Streams until the emulator pulls the cable, waits for the port to come back, resumes.
-/// Returns what the plotter did and the job's own segments.
-fn pull_and_resume(case: &Case) -> (EmulatorState, Vec<Segment>) {
-    let Case {
-        seed,
-        language,
-        flow,
-        power_cycle,
-    } = *case;
-    let (text, expected, file) = match language {
+/// The miura job for `language`'s cutter, the segments it draws, and its file name.
+fn job_for(language: Language) -> (String, Vec<Segment>, &'static str) {
+    match language {
         Language::Hpgl => {
             let text = cutter_job("miura.fold", "generic-hpgl");
             let expected = hpgl::interpret(&text).unwrap().segments;
@@ -46,25 +39,43 @@ fn pull_and_resume(case: &Case) -> (EmulatorState, Vec<Segment>) {
             let expected = gpgl::interpret(&text).unwrap().segments;
             (text, expected, "job.gpgl")
         }
-    };
-    let dir = scratch(&format!("pull-{seed}-{language:?}-{flow:?}-{power_cycle}"));
-    let link = dir.join("plotter");
-    // A byte somewhere in the job, different per seed.
-    let fail_after = 600 + (seed * 2654435761) % (text.len() - 1200);
-    let config = EmulatorConfig {
+    }
+}
+
+/// An emulated plotter whose cable is pulled after byte `fail_after` and plugged back in
+/// 0.7 s later; with `power_cycle` the plotter is switched off too and loses all state.
+fn pulled_cable(case: &Case, fail_after: usize) -> EmulatorConfig {
+    EmulatorConfig {
         baud: 115200,
         rate: 6000.0,
-        flow: match flow {
+        flow: match case.flow {
             FlowMode::XonXoff => Flow::XonXoff,
             FlowMode::RtsCts => Flow::RtsCts,
             FlowMode::Query | FlowMode::None => Flow::None,
         },
         fail_after: Some(fail_after),
         reconnect_after: Some(Duration::from_millis(700)),
-        power_cycle,
-        language,
+        power_cycle: case.power_cycle,
+        language: case.language,
         ..Default::default()
-    };
+    }
+}
+
+/// Streams until the emulator pulls the cable, waits for the port to come back, resumes.
+/// Returns what the plotter did and the job's own segments.
+fn pull_and_resume(case: &Case) -> (EmulatorState, Vec<Segment>) {
+    let Case {
+        seed,
+        language,
+        flow,
+        power_cycle,
+    } = *case;
+    let (text, expected, file) = job_for(language);
+    let dir = scratch(&format!("pull-{seed}-{language:?}-{flow:?}-{power_cycle}"));
+    let link = dir.join("plotter");
+    // A byte somewhere in the job, different per seed.
+    let fail_after = 600 + (seed * 2654435761) % (text.len() - 1200);
+    let config = pulled_cable(case, fail_after);
     let emulator = Emulator::start(&link, config).unwrap();
     let job_path = dir.join(file);
     std::fs::write(&job_path, &text).unwrap();
