@@ -195,7 +195,6 @@ fn every_output_shows_the_sheet_the_same_way_round() {
     // one file changes its set of segments.
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let bird = crease::io::read(&root.join("patterns/bird-base.fold")).unwrap();
-    type Segment = ([f64; 2], [f64; 2]);
     let hpgl_machine = Machine::load("generic-hpgl").unwrap();
     let out = fabricate(&bird, &hpgl_machine, &a3()).unwrap();
     let h = out.toolpath.media.height;
@@ -206,17 +205,7 @@ fn every_output_shows_the_sheet_the_same_way_round() {
         .map(|(_, a, b)| (a, b))
         .collect();
     // The DXF, turned to y down.
-    let dxf = output_text(&out, "sheet.dxf");
-    let drawing = dxf::Drawing::load(&mut dxf.as_bytes()).unwrap();
-    let from_dxf: Vec<Segment> = drawing
-        .entities()
-        .filter_map(|e| match &e.specific {
-            dxf::entities::EntityType::Line(l) => {
-                Some(([l.p1.x, h - l.p1.y], [l.p2.x, h - l.p2.y]))
-            }
-            _ => None,
-        })
-        .collect();
+    let from_dxf = dxf_lines_y_down(output_text(&out, "sheet.dxf"), h);
     // The HP-GL as the plotter draws it.
     let u = hpgl_machine.units_per_mm;
     let drawn = hpgl::interpret(output_text(&out, "sheet.hpgl"))
@@ -271,6 +260,23 @@ fn every_output_shows_the_sheet_the_same_way_round() {
     agree("sheet.dxf", &from_dxf);
     agree("sheet.hpgl", &from_hpgl);
     agree("sheet.gpgl", &from_gpgl);
+}
+
+/// A line segment on the sheet, in mm from its top-left corner, y down.
+type Segment = ([f64; 2], [f64; 2]);
+
+/// A DXF's LINE entities, turned from y up to y down on a sheet `h` mm high.
+fn dxf_lines_y_down(dxf: &str, h: f64) -> Vec<Segment> {
+    let drawing = dxf::Drawing::load(&mut dxf.as_bytes()).unwrap();
+    drawing
+        .entities()
+        .filter_map(|e| match &e.specific {
+            dxf::entities::EntityType::Line(l) => {
+                Some(([l.p1.x, h - l.p1.y], [l.p2.x, h - l.p2.y]))
+            }
+            _ => None,
+        })
+        .collect()
 }
 
 /// The segments of a sheet.svg's paths: (layer, from, to) as drawn (y down), closing
