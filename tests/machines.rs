@@ -124,6 +124,10 @@ fn protocols_and_connections_are_checked_naming_their_key() {
         assert!(err.contains(key), "{to}: {err}");
         assert!(!err.contains('\n'), "{to}: one line: {err}");
     }
+}
+
+#[test]
+fn a_file_only_machine_has_a_job_file_and_plot_refuses_it_by_name() {
     // A file-only machine has no serial line, so plot refuses it by name.
     let cameo = Machine::load("silhouette-cameo").unwrap();
     assert!(cameo.serial_line().is_none());
