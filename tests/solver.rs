@@ -167,3 +167,70 @@ fn a_drag_from_the_flat_sheet_leaves_the_singular_point_first() {
         "vertex 40 is still {reached} mm from its target"
     );
 }
+
+/// Drags corner 0 of a `cells`² Miura up by 0.05 mm a step (the benchmark's drag) and
+/// returns the solver.
+fn corner_drag(cells: usize, steps: usize, predict: Option<bool>) -> Solver {
+    let m = generate(&Params::square(PatternKind::Miura, cells, 10.0)).unwrap();
+    let set = ConstraintSet::default_for(&Reference::new(&m));
+    let fixed = Solver::default_fixed(&m, &[0]);
+    let options = Options {
+        predict,
+        ..Options::default()
+    };
+    let mut s = Solver::new(m.clone(), set, &fixed, options).unwrap();
+    let mut dx0 = vec![Vec3::zeros(); m.vertex_count()];
+    dx0[0] = Vec3::new(0.0, 0.0, 0.05);
+    for _ in 0..steps {
+        s.step(&dx0).unwrap();
+    }
+    s
+}
+
+#[test]
+fn predicting_the_correction_saves_newton_iterations_and_keeps_every_condition() {
+    let (plain, predicted) = (
+        corner_drag(46, 40, Some(false)),
+        corner_drag(46, 40, Some(true)),
+    );
+    let tolerance = Options::default().tolerance;
+    for s in [&plain, &predicted] {
+        assert!(s.residual() <= tolerance, "residual {:e}", s.residual());
+        assert_eq!(s.stats.halvings, 0);
+    }
+    let (a, b) = (
+        plain.stats.newton_iterations,
+        predicted.stats.newton_iterations,
+    );
+    // (Measured: 58 against 71 here; 129 against 225 over 128 steps at 10k vertices.)
+    assert!(
+        10 * b <= 9 * a,
+        "{b} Newton iterations with the predictor, {a} without"
+    );
+    // The paths differ only by the tangential part of each prediction, a second-order
+    // quantity: after 2 mm of drag the two sheets are within a micrometre.
+    let apart = plain
+        .positions()
+        .iter()
+        .zip(predicted.positions())
+        .map(|(p, q)| (p - q).norm())
+        .fold(0.0, f64::max);
+    assert!(
+        apart > 0.0 && apart < 1e-3,
+        "the two paths end {apart:e} mm apart"
+    );
+}
+
+#[test]
+fn the_predictor_is_on_by_default_only_for_large_meshes() {
+    let same = |a: &Solver, b: &Solver| a.positions() == b.positions();
+    // 15² cells: 450 faces, the designs' size; 46² cells: 4,232 faces.
+    assert!(same(
+        &corner_drag(15, 3, None),
+        &corner_drag(15, 3, Some(false))
+    ));
+    let large = corner_drag(46, 3, None);
+    assert!(large.mesh().faces().len() >= crease::solver::PREDICTOR_FACES);
+    assert!(same(&large, &corner_drag(46, 3, Some(true))));
+    assert!(!same(&large, &corner_drag(46, 3, Some(false))));
+}

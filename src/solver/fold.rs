@@ -84,6 +84,7 @@ pub fn fold_toward(
     solver.options.max_newton = newton;
     solver.set = folding;
     solver.last_labels = None;
+    solver.last_correction = None;
     corrected?;
     let worst = run
         .creases

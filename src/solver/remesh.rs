@@ -382,6 +382,7 @@ impl Solver {
         self.factored.clear();
         self.factor_age = 0;
         self.last_labels = None;
+        self.last_correction = None;
     }
 
     /// Mesh modification (§4): collapses edges shorter than `threshold` × the mean edge
