@@ -83,8 +83,7 @@ pub fn fold_toward(
     let corrected = solver.correct();
     solver.options.max_newton = newton;
     solver.set = folding;
-    solver.last_labels = None;
-    solver.last_correction = None;
+    solver.forget_last_step();
     corrected?;
     let worst = run
         .creases

@@ -114,7 +114,7 @@ pub struct Solver {
     /// when [`Options::predict`] is on; cleared whenever the next step could not use it
     /// (a halved step, a changed mesh or set of conditions).
     last_correction: Option<Vec<Vec3>>,
-    predict: bool,
+    /// The settings, with [`Options::predict`] decided for this mesh.
     options: Options,
     /// Work done so far.
     pub stats: Stats,
@@ -147,9 +147,10 @@ impl Solver {
         }
         let (columns, free) = free_columns(&is_fixed);
         let reference = Reference::new(&mesh);
-        let predict = options
+        let mut options = options;
+        options
             .predict
-            .unwrap_or(mesh.faces().len() >= PREDICTOR_FACES);
+            .get_or_insert(mesh.faces().len() >= PREDICTOR_FACES);
         Ok(Solver {
             x: mesh.positions().to_vec(),
             mesh,
@@ -163,7 +164,6 @@ impl Solver {
             factor_age: 0,
             last_labels: None,
             last_correction: None,
-            predict,
             options,
             stats: Stats::default(),
         })
@@ -282,6 +282,13 @@ impl Solver {
                 }
             }
         }
+    }
+
+    /// Drops what the last accepted step left for the next one (its active set and its
+    /// correction): after the mesh or the set of conditions changes, neither applies.
+    fn forget_last_step(&mut self) {
+        self.last_labels = None;
+        self.last_correction = None;
     }
 
     /// The row with the largest |residual| at `x`: after a failed step, evaluated where
@@ -422,9 +429,10 @@ impl Solver {
             for (xv, d) in x.iter_mut().zip(&dx) {
                 *xv += d * scale;
             }
+            // The Euler step, kept for the blocker report and the next prediction.
             last_try.clone_from(&x);
-            let euler = (scale == 1.0 && self.predict).then(|| x.clone());
-            if let (Some(c), Some(_)) = (&self.last_correction, &euler) {
+            let predicted = scale == 1.0 && self.options.predict == Some(true);
+            if let Some(c) = self.last_correction.as_ref().filter(|_| predicted) {
                 for (xv, cv) in x.iter_mut().zip(c) {
                     *xv += cv;
                 }
@@ -433,7 +441,7 @@ impl Solver {
                 Ok((it, r)) => {
                     let moved: Vec<Vec3> = x.iter().zip(&self.x).map(|(a, b)| a - b).collect();
                     self.last_correction =
-                        euler.map(|e| x.iter().zip(&e).map(|(a, b)| a - b).collect());
+                        predicted.then(|| x.iter().zip(&last_try).map(|(a, b)| a - b).collect());
                     self.x = x;
                     self.reference.track_folds(&self.mesh, &self.x);
                     self.stats.steps += 1;

@@ -381,8 +381,7 @@ impl Solver {
         self.linear = NormalSolver::default();
         self.factored.clear();
         self.factor_age = 0;
-        self.last_labels = None;
-        self.last_correction = None;
+        self.forget_last_step();
     }
 
     /// Mesh modification (§4): collapses edges shorter than `threshold` × the mean edge
