@@ -1,10 +1,13 @@
 //! The linear algebra of eq. (10): solves with J Jᵀ for the minimum-norm projection and the
-//! Gauss–Newton correction. J Jᵀ is factorised by sparse Cholesky (faer, AMD ordering);
+//! Gauss–Newton correction. J Jᵀ is factorised by sparse Cholesky (faer; AMD ordering, or
+//! METIS for large systems, see [`super::ordering`]);
 //! its symbolic analysis is kept while the sparsity pattern stays (the active set of
 //! inequalities rarely changes between steps). Conjugate gradient on J Jᵀ squares J's
 //! condition number and stalls near the flat state, which is where every design starts.
 
+use super::ordering::{nested_dissection, NESTED_DISSECTION_ROWS};
 use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymmetricOrdering,
 };
@@ -101,18 +104,22 @@ struct Factor {
 pub struct NormalSolver {
     factor: Option<Factor>,
     jacobian: CsMat<f64>,
+    /// Systems of at least this many rows are ordered by nested dissection
+    /// ([`NESTED_DISSECTION_ROWS`]; lowered by tests to reach that path on small systems).
+    nested_dissection_rows: usize,
 }
 
 /// Why a linear solve failed.
 #[derive(Debug, thiserror::Error)]
 #[error("the normal equations J Jᵀ could not be factorised: {0}")]
-pub struct LinearError(String);
+pub struct LinearError(pub(super) String);
 
 impl Default for NormalSolver {
     fn default() -> Self {
         NormalSolver {
             factor: None,
             jacobian: CsMat::zero((0, 0)),
+            nested_dissection_rows: NESTED_DISSECTION_ROWS,
         }
     }
 }
@@ -134,7 +141,8 @@ impl NormalSolver {
         let reuse =
             matches!(&self.factor, Some(f) if f.col_ptr == a.col_ptr && f.row_idx == a.row_idx);
         if !reuse {
-            self.factor = Some(Factor::analyse(&a, par)?);
+            let dissect = m >= self.nested_dissection_rows;
+            self.factor = Some(Factor::analyse(&a, dissect, par)?);
         }
         let f = self.factor.as_mut().expect("set above");
         let mat = SparseColMatRef::new(
@@ -215,17 +223,21 @@ impl NormalSolver {
 }
 
 impl Factor {
-    /// The symbolic analysis (AMD ordering, supernodes) of a new pattern.
-    fn analyse(a: &NormalMatrix, par: Par) -> Result<Factor, LinearError> {
+    /// The symbolic analysis (fill-reducing ordering, supernodes) of a new pattern: AMD,
+    /// or METIS nested dissection when `dissect`.
+    fn analyse(a: &NormalMatrix, dissect: bool, par: Par) -> Result<Factor, LinearError> {
         let m = a.col_ptr.len() - 1;
         let pattern = SymbolicSparseColMatRef::new_checked(m, m, &a.col_ptr, None, &a.row_idx);
-        let symbolic = factorize_symbolic_cholesky(
-            pattern,
-            Side::Lower,
-            SymmetricOrdering::Amd,
-            Default::default(),
-        )
-        .map_err(|e| LinearError(format!("{e:?}")))?;
+        let dissection = dissect
+            .then(|| nested_dissection(&a.col_ptr, &a.row_idx))
+            .transpose()?;
+        let ordering = match &dissection {
+            Some(p) => SymmetricOrdering::Custom(PermRef::new_checked(&p.forward, &p.inverse, m)),
+            None => SymmetricOrdering::Amd,
+        };
+        let symbolic =
+            factorize_symbolic_cholesky(pattern, Side::Lower, ordering, Default::default())
+                .map_err(|e| LinearError(format!("{e:?}")))?;
         let factor_scratch = MemBuffer::try_new(
             symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
         )
@@ -292,6 +304,52 @@ mod tests {
         assert!((jdx[0] + 1.0).abs() < 1e-10 && (jdx[1] - 2.0).abs() < 1e-10);
         // Minimum norm: dx is in the row space, so projecting it removes everything.
         assert!(s.project(&dx).iter().all(|v| v.abs() < 1e-10));
+    }
+
+    #[test]
+    fn a_factor_ordered_by_nested_dissection_solves_as_the_amd_one_does() {
+        // A well-conditioned J on a 30 × 30 grid: each row its cell and the cells beside.
+        let k = 30;
+        let mut t = TriMat::new((k * k, k * k));
+        for c in 0..k * k {
+            t.add_triplet(c, c, 4.0);
+            for d in [1, k] {
+                if c + d < k * k && (d == k || c % k + 1 < k) {
+                    t.add_triplet(c, c + d, -1.0 + 0.01 * (c % 7) as f64);
+                }
+            }
+        }
+        let j: CsMat<f64> = t.to_csr();
+        let mut amd = NormalSolver::default();
+        amd.factorise(j.clone()).unwrap();
+        let mut dissected = NormalSolver {
+            nested_dissection_rows: 0,
+            ..NormalSolver::default()
+        };
+        dissected.factorise(j).unwrap();
+        let order = |s: &NormalSolver| {
+            let f = s.factor.as_ref().unwrap();
+            f.symbolic.perm().unwrap().arrays().0.to_vec()
+        };
+        assert_ne!(order(&amd), order(&dissected), "both ordered by AMD");
+        let b: Vec<f64> = (0..k * k).map(|i| (i as f64 * 0.37).sin()).collect();
+        let (ya, yd) = (amd.solve(&b), dissected.solve(&b));
+        // J Jᵀ y = b holds for both but for the shift λ ≈ 2e-11 times |y| < 1.
+        let residual = |y: &[f64]| {
+            let jjt_y = dissected.apply(&dissected.apply_transpose(y));
+            jjt_y
+                .iter()
+                .zip(&b)
+                .map(|(l, r)| (l - r).abs())
+                .fold(0.0, f64::max)
+        };
+        assert!(residual(&yd) < 1e-10 && residual(&ya) < 1e-10);
+        let gap = ya
+            .iter()
+            .zip(&yd)
+            .map(|(a, d)| (a - d).abs())
+            .fold(0.0, f64::max);
+        assert!(gap < 1e-13, "solutions differ by {gap}");
     }
 
     #[test]

@@ -7,6 +7,7 @@ mod error;
 mod fold;
 mod linear;
 mod mode;
+mod ordering;
 mod remesh;
 
 pub use drag::{pull, run_stage, DragReport, Move, Script, Stage};
