@@ -202,13 +202,16 @@ fn predicting_the_correction_saves_newton_iterations_and_keeps_every_condition()
         plain.stats.newton_iterations,
         predicted.stats.newton_iterations,
     );
-    // (Measured: 58 against 71 here; 129 against 225 over 128 steps at 10k vertices.)
+    // The line through the last two corrections lands within the tolerance on most
+    // steps, which then need no Newton iteration. (Measured: 26 against 71 here; 141
+    // against 225 over 192 steps at 10k vertices.)
     assert!(
-        10 * b <= 9 * a,
+        2 * b <= a,
         "{b} Newton iterations with the predictor, {a} without"
     );
-    // The paths differ only by the tangential part of each prediction, a second-order
-    // quantity: after 2 mm of drag the two sheets are within a micrometre.
+    // The paths differ by the tangential part of each prediction and by the lean of a
+    // projection through a factor up to 48 steps old instead of 16: after 2 mm of drag
+    // the two sheets are 3 µm apart, far below what a sheet of paper shows.
     let apart = plain
         .positions()
         .iter()
@@ -216,7 +219,7 @@ fn predicting_the_correction_saves_newton_iterations_and_keeps_every_condition()
         .map(|(p, q)| (p - q).norm())
         .fold(0.0, f64::max);
     assert!(
-        apart > 0.0 && apart < 1e-3,
+        apart > 0.0 && apart < 1e-2,
         "the two paths end {apart:e} mm apart"
     );
 }
@@ -233,4 +236,28 @@ fn the_predictor_is_on_by_default_only_for_large_meshes() {
     assert!(large.mesh().faces().len() >= crease::solver::PREDICTOR_FACES);
     assert!(same(&large, &corner_drag(46, 3, Some(true))));
     assert!(!same(&large, &corner_drag(46, 3, Some(false))));
+}
+
+#[test]
+fn a_stalled_prediction_starts_again_from_the_last_correction() {
+    // A corner lifted for 5 steps, then pulled sideways and down: some 30 steps on, the
+    // line through the last two corrections leaves a residual the aged factor removes
+    // too slowly (measured: at step 33). Newton then starts again from the last
+    // correction alone; were the stall a failure instead, the step would be halved.
+    let m = generate(&Params::square(PatternKind::Miura, 46, 10.0)).unwrap();
+    let set = ConstraintSet::default_for(&Reference::new(&m));
+    let fixed = Solver::default_fixed(&m, &[0]);
+    let mut s = Solver::new(m.clone(), set, &fixed, Options::default()).unwrap();
+    let mut dx0 = vec![Vec3::zeros(); m.vertex_count()];
+    for k in 0..40 {
+        dx0[0] = if k < 5 {
+            Vec3::new(0.0, 0.0, 0.05)
+        } else {
+            Vec3::new(0.05, 0.05, -0.02)
+        };
+        s.step(&dx0).unwrap();
+    }
+    assert!(s.stats.restarted_predictions >= 1, "{:?}", s.stats);
+    assert_eq!(s.stats.halvings, 0);
+    assert!(s.residual() <= Options::default().tolerance);
 }
