@@ -221,6 +221,32 @@ fn evaluation_on_two_cores_gives_the_same_rows_bit_for_bit() {
     }
 }
 
+#[test]
+fn the_fold_angles_an_evaluation_hands_on_are_those_tracking_computes() {
+    // The solver moves the branch reference with the fold angles the accepting
+    // evaluation computed instead of computing them again; they must be the same numbers,
+    // on the boundary (left alone) as inside.
+    let (m, x) = perturbed(PatternKind::Miura, Some(0.05), 3);
+    let reference = Reference::new(&m);
+    let rows = ConstraintSet::default_for(&reference).evaluate_active(&m, &reference, &x, true);
+    let folds = rows
+        .fold_angles
+        .expect("the default conditions read fold angles");
+    let (mut tracked, mut adopted) = (reference.clone(), reference.clone());
+    tracked.track_folds(&m, &x);
+    adopted.adopt_folds(&folds);
+    let bits = |r: &Reference| {
+        r.previous_fold
+            .iter()
+            .map(|v| v.to_bits())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(bits(&tracked), bits(&adopted));
+    assert_ne!(bits(&tracked), bits(&reference), "nothing moved");
+    let boundary = (0..m.edges().len()).find(|&e| folds.get(e).is_none());
+    assert!(boundary.is_some(), "a sheet has boundary edges");
+}
+
 /// The binary's exit status and everything it printed (stdout, then stderr).
 fn crease_all(args: &[&str]) -> (i32, String) {
     let (code, out, err) = run_crease(args);

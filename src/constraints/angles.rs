@@ -39,6 +39,40 @@ impl FaceNormals {
     }
 }
 
+/// The tracked fold angle (§2) of every edge at some positions, NaN on the boundary:
+/// computed once per evaluation for the families that read them, and kept by the solver
+/// as the next branch reference (`Reference::adopt_folds`) when those positions are
+/// accepted.
+#[derive(Clone, Debug)]
+pub struct FoldAngles(pub Vec<f64>);
+
+impl FoldAngles {
+    /// Every edge's fold angle at `x` on the branch `reference` tracks.
+    pub fn new(
+        mesh: &Mesh,
+        reference: &Reference,
+        normals: &FaceNormals,
+        x: &[Vec3],
+        parallel: bool,
+    ) -> FoldAngles {
+        let angle = |e: usize| tracked_fold_angle_of(mesh, reference, normals, x, e);
+        let edges = 0..mesh.edges().len();
+        FoldAngles(if parallel {
+            edges
+                .into_par_iter()
+                .map(|e| angle(e).unwrap_or(f64::NAN))
+                .collect()
+        } else {
+            edges.map(|e| angle(e).unwrap_or(f64::NAN)).collect()
+        })
+    }
+
+    /// Edge `e`'s fold angle; `None` on the boundary.
+    pub fn get(&self, e: usize) -> Option<f64> {
+        Some(self.0[e]).filter(|rho| !rho.is_nan())
+    }
+}
+
 /// `value` of every face, in face order, on every core when `parallel`.
 fn per_face<T: Send>(
     mesh: &Mesh,
@@ -154,6 +188,7 @@ pub fn flat_foldability(mesh: &Mesh, reference: &Reference, c: &Corners, rows: &
 pub fn angular_inequality(mesh: &Mesh, reference: &Reference, c: &Corners, rows: &mut Rows) {
     // Reused for every vertex: this runs at every Newton iteration.
     let mut creases: Vec<usize> = Vec::new();
+    let mut sums: Vec<f64> = Vec::new();
     for (v, sigma) in reference.sigma.iter().enumerate() {
         if sigma.is_none() {
             continue;
@@ -175,7 +210,10 @@ pub fn angular_inequality(mesh: &Mesh, reference: &Reference, c: &Corners, rows:
             (0..len).map(move |k| fan.faces[(from + k) % m])
         };
         let direction = |i: usize| mesh.edges()[fan.spokes[creases[i % n]]].target.signum();
-        let sector = |i: usize| weighted_sum(mesh, c, v, sector_faces(i).map(|f| (f, 1.0)));
+        // Each sector is one side of up to three conditions: summed once.
+        sums.clear();
+        sums.extend((0..n).map(|i| weighted_sum(mesh, c, v, sector_faces(i).map(|f| (f, 1.0)))));
+        let sector = |i: usize| sums[i];
         for i in 0..n {
             if direction(i) != direction(i + 1) {
                 continue;
@@ -219,7 +257,7 @@ pub fn tracked_fold_angle(
 
 /// [`tracked_fold_angle`] with every face normal computed beforehand; `None` on the
 /// boundary.
-pub fn tracked_fold_angle_of(
+fn tracked_fold_angle_of(
     mesh: &Mesh,
     reference: &Reference,
     normals: &FaceNormals,
@@ -261,18 +299,12 @@ fn hinge(mesh: &Mesh, e: usize) -> [usize; 4] {
 /// (Resch's tile edges aim at π/2 but a curved design turns some further); merged creases
 /// of §4 with targets ±2π may turn up to their target. Unassigned creases and the boundary
 /// are free; target-0 creases are [`twist_range`]'s.
-pub fn fold_angle_range(
-    mesh: &Mesh,
-    reference: &Reference,
-    normals: &FaceNormals,
-    x: &[Vec3],
-    rows: &mut Rows,
-) {
+pub fn fold_angle_range(mesh: &Mesh, folds: &FoldAngles, x: &[Vec3], rows: &mut Rows) {
     for (e, edge) in mesh.edges().iter().enumerate() {
         if edge.assignment == crate::mesh::Assignment::Unassigned || edge.target == 0.0 {
             continue;
         }
-        let Some(rho) = tracked_fold_angle_of(mesh, reference, normals, x, e) else {
+        let Some(rho) = folds.get(e) else {
             continue;
         };
         let t = edge.target;
@@ -303,18 +335,12 @@ pub fn fold_angle_range(
 /// §2.4 (3): a target-0 crease (not unassigned) keeps |ρ| ≤ απ. With α = 0 the facet may
 /// not twist at all, which is the equality ρ = 0: a smooth row, so the solver does not
 /// chatter on the kink of |ρ| at the flat state where every design starts.
-pub fn twist_range(
-    mesh: &Mesh,
-    reference: &Reference,
-    normals: &FaceNormals,
-    x: &[Vec3],
-    rows: &mut Rows,
-) {
+pub fn twist_range(mesh: &Mesh, folds: &FoldAngles, x: &[Vec3], rows: &mut Rows) {
     for (e, edge) in mesh.edges().iter().enumerate() {
         if edge.assignment == crate::mesh::Assignment::Unassigned || edge.target != 0.0 {
             continue;
         }
-        let Some(rho) = tracked_fold_angle_of(mesh, reference, normals, x, e) else {
+        let Some(rho) = folds.get(e) else {
             continue;
         };
         let grad = |rows: &mut Rows, row: usize, dir: f64| {

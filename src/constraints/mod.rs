@@ -7,7 +7,7 @@ mod angles;
 mod context;
 mod lengths;
 
-pub use angles::tracked_fold_angle;
+pub use angles::{tracked_fold_angle, FoldAngles};
 pub use context::{flips, Reference};
 
 use crate::mesh::{Mesh, Vec3};
@@ -164,6 +164,8 @@ pub struct Rows {
     pub active_only: bool,
     /// Residuals and labels only, no Jacobian (a solver reusing its factor needs no more).
     pub values_only: bool,
+    /// Every edge's tracked fold angle at the evaluated positions, when a family read them.
+    pub fold_angles: Option<FoldAngles>,
 }
 
 impl Rows {
@@ -363,7 +365,10 @@ impl ConstraintSet {
         let uses_fold_angles = self.families.iter().any(|f| f.uses_fold_angles());
         let parallel = evaluate_in_parallel(mesh);
         let corners = uses_sectors.then(|| angles::Corners::new(mesh, positions, parallel));
-        let normals = uses_fold_angles.then(|| angles::FaceNormals::new(mesh, positions, parallel));
+        let folds = uses_fold_angles.then(|| {
+            let normals = angles::FaceNormals::new(mesh, positions, parallel);
+            angles::FoldAngles::new(mesh, reference, &normals, positions, parallel)
+        });
         let family_rows = |&f: &Family| {
             let mut part = Rows {
                 active_only: rows.active_only,
@@ -371,7 +376,7 @@ impl ConstraintSet {
                 ..Rows::default()
             };
             let c = || corners.as_ref().expect("sector angles computed");
-            let n = || normals.as_ref().expect("face normals computed");
+            let n = || folds.as_ref().expect("fold angles computed");
             let (x, out) = (positions, &mut part);
             match f {
                 Family::Developability => angles::developability(mesh, c(), out),
@@ -379,8 +384,8 @@ impl ConstraintSet {
                 Family::Convexity => angles::convexity(mesh, c(), out),
                 Family::FlatFoldability => angles::flat_foldability(mesh, reference, c(), out),
                 Family::AngularInequality => angles::angular_inequality(mesh, reference, c(), out),
-                Family::TwistRange => angles::twist_range(mesh, reference, n(), x, out),
-                Family::FoldAngleRange => angles::fold_angle_range(mesh, reference, n(), x, out),
+                Family::TwistRange => angles::twist_range(mesh, n(), x, out),
+                Family::FoldAngleRange => angles::fold_angle_range(mesh, n(), x, out),
                 Family::BoundaryLength => lengths::boundary_length(mesh, reference, x, out),
                 Family::EdgeLength => lengths::edge_length(mesh, reference, x, out),
                 Family::Coincidence => lengths::coincidence(mesh, reference, x, out),
@@ -397,6 +402,7 @@ impl ConstraintSet {
         for part in parts {
             rows.append(part);
         }
+        rows.fold_angles = folds;
         rows
     }
 }

@@ -24,6 +24,7 @@ impl Solver {
             let rows = self.active_rows(x, true);
             let r = rows.residuals.iter().fold(0.0, |a: f64, v| a.max(v.abs()));
             if r <= tol {
+                self.accepted_folds = rows.fold_angles;
                 self.last_labels = Some((x.to_vec(), rows.labels));
                 return Ok((it, r));
             }
@@ -74,7 +75,7 @@ impl Solver {
         match self.correct_from(&mut x, true) {
             Ok((it, _)) => {
                 self.x = x;
-                self.reference.track_folds(&self.mesh, &self.x);
+                self.track_folds_accepted();
                 self.stats.newton_iterations += it;
                 Ok(it)
             }

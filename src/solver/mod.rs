@@ -117,12 +117,15 @@ pub struct Solver {
     /// the active set stays (a chord iteration) instead of refactorising.
     factored: Labels,
     /// Steps since the factor was computed; a projection reuses a factor at most
-    /// [`MAX_FACTOR_AGE`] (or [`PREDICTED_FACTOR_AGE`]) steps old (the Newton correction removes what a slightly stale
-    /// projection lets through).
+    /// [`MAX_FACTOR_AGE`] (or [`PREDICTED_FACTOR_AGE`]) steps old (the Newton correction
+    /// removes what a slightly stale projection lets through).
     factor_age: usize,
     /// The active rows' labels at the positions they were evaluated at: the last
     /// accepted step ends with that evaluation, and the next projection needs no other.
     last_labels: Option<(Vec<Vec3>, Labels)>,
+    /// The fold angles the evaluation that accepted the last correction computed, there:
+    /// the next branch reference, taken instead of computed again.
+    accepted_folds: Option<crate::constraints::FoldAngles>,
     /// The last full steps' Newton corrections, when [`Options::predict`] is on.
     predictor: Predictor,
     /// The settings, with [`Options::predict`] decided for this mesh.
@@ -174,6 +177,7 @@ impl Solver {
             factored: Vec::new(),
             factor_age: 0,
             last_labels: None,
+            accepted_folds: None,
             predictor: Predictor::default(),
             options,
             stats: Stats::default(),
@@ -302,6 +306,15 @@ impl Solver {
         self.predictor.forget();
     }
 
+    /// Moves the branch reference to the accepted positions, with the fold angles the
+    /// accepting evaluation computed when it computed them.
+    fn track_folds_accepted(&mut self) {
+        match self.accepted_folds.take() {
+            Some(folds) => self.reference.adopt_folds(&folds),
+            None => self.reference.track_folds(&self.mesh, &self.x),
+        }
+    }
+
     /// The row with the largest |residual| at `x`: after a failed step, evaluated where
     /// the smallest (most halved) step landed before Newton's correction, it names the
     /// condition that the motion could not keep.
@@ -390,7 +403,7 @@ impl Solver {
                         self.predictor.forget();
                     }
                     self.x = x;
-                    self.reference.track_folds(&self.mesh, &self.x);
+                    self.track_folds_accepted();
                     self.stats.steps += 1;
                     self.stats.newton_iterations += it;
                     // Inactive inequality rows are 0, so the active rows' max is the residual.
