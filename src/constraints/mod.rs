@@ -369,15 +369,10 @@ impl ConstraintSet {
             let normals = angles::FaceNormals::new(mesh, positions, parallel);
             angles::FoldAngles::new(mesh, reference, &normals, positions, parallel)
         });
-        let family_rows = |&f: &Family| {
-            let mut part = Rows {
-                active_only: rows.active_only,
-                values_only: rows.values_only,
-                ..Rows::default()
-            };
+        let fill = |f: Family, out: &mut Rows| {
             let c = || corners.as_ref().expect("sector angles computed");
             let n = || folds.as_ref().expect("fold angles computed");
-            let (x, out) = (positions, &mut part);
+            let x = positions;
             match f {
                 Family::Developability => angles::developability(mesh, c(), out),
                 Family::BoundaryAngle => angles::boundary_angle(mesh, reference, c(), out),
@@ -390,17 +385,31 @@ impl ConstraintSet {
                 Family::EdgeLength => lengths::edge_length(mesh, reference, x, out),
                 Family::Coincidence => lengths::coincidence(mesh, reference, x, out),
             }
-            part
         };
-        // Families fill their own blocks, appended in the set's order: the same rows,
-        // values and Jacobian on any number of cores.
-        let parts: Vec<Rows> = if parallel {
-            self.families.par_iter().map(family_rows).collect()
+        if parallel {
+            // Families fill their own blocks, appended in the set's order: the same rows,
+            // values and Jacobian on any number of cores.
+            let parts: Vec<Rows> = self
+                .families
+                .par_iter()
+                .map(|&f| {
+                    let mut part = Rows {
+                        active_only: rows.active_only,
+                        values_only: rows.values_only,
+                        ..Rows::default()
+                    };
+                    fill(f, &mut part);
+                    part
+                })
+                .collect();
+            for part in parts {
+                rows.append(part);
+            }
         } else {
-            self.families.iter().map(family_rows).collect()
-        };
-        for part in parts {
-            rows.append(part);
+            // One after another straight into `rows`: no blocks to copy.
+            for &f in &self.families {
+                fill(f, &mut rows);
+            }
         }
         rows.fold_angles = folds;
         rows
