@@ -17,10 +17,11 @@ use std::time::Instant;
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 fn main() {
-    // (cells, steps a window, windows)
+    // (cells, steps a window, windows): a 10k or 100k window holds one refactorisation,
+    // as one in PREDICTED_FACTOR_AGE = 48 steps of a long drag does.
     let mut sizes = vec![(15usize, 400usize, 5usize), (99, 48, 5)];
     if std::env::var("CREASE_BENCH_LARGE").is_ok() {
-        sizes.push((315, 32, 3));
+        sizes.push((315, 48, 3));
     }
     println!(
         "{:>9} {:>8} {:>8} {:>12} {:>16} {:>10} {:>9} {:>9}",
