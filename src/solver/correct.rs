@@ -10,8 +10,9 @@ impl Solver {
     /// While the active rows are those last factorised and the residual falls fast, the
     /// factor is reused (a chord iteration: the Jacobian barely changes over one small
     /// step); otherwise J is refactorised where we are, unless `may_refactor` is false
-    /// and the rows are still those factorised, when the correction gives up instead. Returns the iterations used and the final
-    /// residual, or the residual that remained and the iterations spent.
+    /// and the rows are still those factorised, when the correction gives up instead.
+    /// Returns the iterations used and the final residual, or the residual that remained
+    /// and the iterations spent.
     pub(super) fn correct_from(
         &mut self,
         x: &mut [Vec3],
