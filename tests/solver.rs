@@ -171,6 +171,16 @@ fn a_drag_from_the_flat_sheet_leaves_the_singular_point_first() {
 /// Drags corner 0 of a `cells`² Miura up by 0.05 mm a step (the benchmark's drag) and
 /// returns the solver.
 fn corner_drag(cells: usize, steps: usize, predict: Option<bool>) -> Solver {
+    corner_path(cells, steps, predict, |_| Vec3::new(0.0, 0.0, 0.05))
+}
+
+/// Moves corner 0 of a `cells`² Miura by `wish(k)` at step k and returns the solver.
+fn corner_path(
+    cells: usize,
+    steps: usize,
+    predict: Option<bool>,
+    wish: impl Fn(usize) -> Vec3,
+) -> Solver {
     let m = generate(&Params::square(PatternKind::Miura, cells, 10.0)).unwrap();
     let set = ConstraintSet::default_for(&Reference::new(&m));
     let fixed = Solver::default_fixed(&m, &[0]);
@@ -180,8 +190,8 @@ fn corner_drag(cells: usize, steps: usize, predict: Option<bool>) -> Solver {
     };
     let mut s = Solver::new(m.clone(), set, &fixed, options).unwrap();
     let mut dx0 = vec![Vec3::zeros(); m.vertex_count()];
-    dx0[0] = Vec3::new(0.0, 0.0, 0.05);
-    for _ in 0..steps {
+    for k in 0..steps {
+        dx0[0] = wish(k);
         s.step(&dx0).unwrap();
     }
     s
@@ -244,19 +254,13 @@ fn a_stalled_prediction_starts_again_from_the_last_correction() {
     // line through the last two corrections leaves a residual the aged factor removes
     // too slowly (measured: at step 33). Newton then starts again from the last
     // correction alone; were the stall a failure instead, the step would be halved.
-    let m = generate(&Params::square(PatternKind::Miura, 46, 10.0)).unwrap();
-    let set = ConstraintSet::default_for(&Reference::new(&m));
-    let fixed = Solver::default_fixed(&m, &[0]);
-    let mut s = Solver::new(m.clone(), set, &fixed, Options::default()).unwrap();
-    let mut dx0 = vec![Vec3::zeros(); m.vertex_count()];
-    for k in 0..40 {
-        dx0[0] = if k < 5 {
+    let s = corner_path(46, 40, None, |k| {
+        if k < 5 {
             Vec3::new(0.0, 0.0, 0.05)
         } else {
             Vec3::new(0.05, 0.05, -0.02)
-        };
-        s.step(&dx0).unwrap();
-    }
+        }
+    });
     assert!(s.stats.restarted_predictions >= 1, "{:?}", s.stats);
     assert_eq!(s.stats.halvings, 0);
     assert!(s.residual() <= Options::default().tolerance);

@@ -55,16 +55,9 @@ impl FoldAngles {
         x: &[Vec3],
         parallel: bool,
     ) -> FoldAngles {
-        let angle = |e: usize| tracked_fold_angle_of(mesh, reference, normals, x, e);
-        let edges = 0..mesh.edges().len();
-        FoldAngles(if parallel {
-            edges
-                .into_par_iter()
-                .map(|e| angle(e).unwrap_or(f64::NAN))
-                .collect()
-        } else {
-            edges.map(|e| angle(e).unwrap_or(f64::NAN)).collect()
-        })
+        FoldAngles(per_index(mesh.edges().len(), parallel, |e| {
+            tracked_fold_angle_of(mesh, reference, normals, x, e).unwrap_or(f64::NAN)
+        }))
     }
 
     /// Edge `e`'s fold angle; `None` on the boundary.
@@ -79,10 +72,15 @@ fn per_face<T: Send>(
     parallel: bool,
     value: impl Fn([usize; 3]) -> T + Sync,
 ) -> Vec<T> {
+    per_index(mesh.faces().len(), parallel, |f| value(mesh.faces()[f]))
+}
+
+/// `value(i)` for i in 0..count, in order, on every core when `parallel`.
+fn per_index<T: Send>(count: usize, parallel: bool, value: impl Fn(usize) -> T + Sync) -> Vec<T> {
     if parallel {
-        mesh.faces().par_iter().map(|&f| value(f)).collect()
+        (0..count).into_par_iter().map(&value).collect()
     } else {
-        mesh.faces().iter().map(|&f| value(f)).collect()
+        (0..count).map(value).collect()
     }
 }
 

@@ -100,7 +100,7 @@ impl Solver {
     pub(super) fn correct_predicted(
         &mut self,
         euler: &[Vec3],
-        x: &mut Vec<Vec3>,
+        x: &mut [Vec3],
     ) -> Result<(usize, f64), (f64, usize)> {
         let mut spent = 0;
         if let Some(c) = self.predictor.extrapolated() {
@@ -112,8 +112,7 @@ impl Solver {
                 Err((_, it)) => spent = it,
             }
             self.stats.restarted_predictions += 1;
-            x.clear();
-            x.extend_from_slice(euler);
+            x.copy_from_slice(euler);
         }
         if let Some(c) = self.predictor.last() {
             for (xv, cv) in x.iter_mut().zip(c) {
