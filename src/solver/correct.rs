@@ -52,6 +52,7 @@ impl Solver {
             } else {
                 fresh = false;
             }
+            self.stats.solves += 1;
             let dx = self.linear.newton_step(&rows.residuals);
             self.add_free(x, &dx, 1.0);
         }
