@@ -256,20 +256,36 @@ fn the_predictor_is_on_by_default_only_for_large_meshes() {
     assert!(!same(&large, &corner_drag(46, 3, Some(false))));
 }
 
-#[test]
-fn a_stalled_prediction_starts_again_from_the_last_correction() {
-    // A corner lifted for 5 steps, then pulled sideways and down: some 30 steps on, the
-    // line through the last two corrections leaves a residual the aged factor removes
-    // too slowly (measured: at step 33). Newton then starts again from the last
-    // correction alone; were the stall a failure instead, the step would be halved.
-    let s = corner_path(46, 40, None, |k| {
+/// A corner lifted for 5 steps, then pulled sideways and down by `turn` a step.
+fn turning_corner(turn: Vec3) -> Solver {
+    corner_path(46, 40, None, |k| {
         if k < 5 {
             Vec3::new(0.0, 0.0, 0.05)
         } else {
-            Vec3::new(0.05, 0.05, -0.02)
+            turn
         }
-    });
+    })
+}
+
+#[test]
+fn a_stalled_prediction_starts_again_from_the_last_correction() {
+    // Some 30 steps after a sharp turn, the line through the last two corrections
+    // leaves a residual the aged factor removes too slowly. Newton then starts again
+    // from the last correction alone; were the stall a failure instead, the step would
+    // be halved.
+    let s = turning_corner(Vec3::new(0.1, 0.1, -0.04));
     assert!(s.stats.restarted_predictions >= 1, "{:?}", s.stats);
+    assert_eq!(s.stats.halvings, 0);
+    assert!(s.residual() <= Options::default().tolerance);
+}
+
+#[test]
+fn a_slow_chord_that_one_more_iteration_finishes_is_kept() {
+    // After a gentler turn a chord stalls too (without the rule, this drag restarts a
+    // prediction), but at its rate one more iteration ends the correction, which is
+    // cheaper than starting again: no step restarts or halves.
+    let s = turning_corner(Vec3::new(0.05, 0.05, -0.02));
+    assert_eq!(s.stats.restarted_predictions, 0, "{:?}", s.stats);
     assert_eq!(s.stats.halvings, 0);
     assert!(s.residual() <= Options::default().tolerance);
 }

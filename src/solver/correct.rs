@@ -36,7 +36,11 @@ impl Solver {
             if r > 10.0 * last && it > 2 {
                 return Err((r, it));
             }
-            let reuse = !fresh && rows.labels == self.factored && r < 0.25 * last;
+            // On a large mesh (predicting), a chord that converges slowly is still kept
+            // when one more iteration at its rate ends the correction: restarting or
+            // refactorising costs more than that iteration.
+            let finishing = self.options.predict == Some(true) && r * (r / last) < tol;
+            let reuse = !fresh && rows.labels == self.factored && (r < 0.25 * last || finishing);
             let reuse = reuse || (it == 0 && rows.labels == self.factored);
             last = r;
             // Giving up is for a factor that still fits but converges slowly; rows that
