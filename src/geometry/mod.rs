@@ -54,7 +54,14 @@ pub fn fold_angle_between(positions: &[Vec3], n1: Vec3, n2: Vec3, ends: [usize; 
 /// The fold angle on the branch closest to `previous` (paper §2: the stored angle of the
 /// last frame picks the plausible candidate, so a crease folded past ±π keeps its sign).
 pub fn track_branch(raw: f64, previous: f64) -> f64 {
-    let turns = ((previous - raw) / (2.0 * PI)).round();
+    let gap = previous - raw;
+    // Nearly every angle is on its last branch; `round` is a library call without
+    // SSE4.1 and took 5% of an evaluation. The signed zero is what `round` gives there.
+    let turns = if gap.abs() < 3.0 {
+        0.0f64.copysign(gap)
+    } else {
+        (gap / (2.0 * PI)).round()
+    };
     raw + turns * 2.0 * PI
 }
 
@@ -86,4 +93,30 @@ pub fn sector_angles(mesh: &Mesh, v: usize) -> Vec<f64> {
             sector_angle(mesh.positions(), face, k)
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn track_branch_picks_the_branch_nearest_the_previous_angle() {
+        let reference =
+            |raw: f64, previous: f64| raw + ((previous - raw) / (2.0 * PI)).round() * 2.0 * PI;
+        let mut values = vec![0.0, -0.0, 2.999_999, -2.999_999, 3.0, -3.0, PI, -PI];
+        values.extend((-400..=400).map(|k| k as f64 * 0.0173));
+        for &raw in &values {
+            for &previous in &values {
+                let (got, want) = (track_branch(raw, previous), reference(raw, previous));
+                assert_eq!(
+                    got.to_bits(),
+                    want.to_bits(),
+                    "raw {raw}, previous {previous}"
+                );
+                assert!((got - previous).abs() <= PI + 1e-12);
+            }
+        }
+        // Folded past π, a crease keeps its side.
+        assert!((track_branch(-3.1, 3.1) - (2.0 * PI - 3.1)).abs() < 1e-15);
+    }
 }
