@@ -17,6 +17,7 @@ use std::time::Instant;
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 fn main() {
+    crease::allocator::keep_freed_memory();
     // (cells, steps a window, windows): a 10k or 100k window holds one refactorisation,
     // as one in PREDICTED_FACTOR_AGE = 48 steps of a long drag does.
     let mut sizes = vec![(15usize, 400usize, 5usize), (99, 48, 5)];
@@ -24,8 +25,16 @@ fn main() {
         sizes.push((315, 48, 3));
     }
     println!(
-        "{:>9} {:>8} {:>8} {:>12} {:>16} {:>10} {:>9} {:>9}",
-        "vertices", "rows", "steps", "ms/step", "(min–max)", "steps/s", "newton/st", "factor/st"
+        "{:>9} {:>8} {:>8} {:>12} {:>16} {:>10} {:>9} {:>9} {:>9}",
+        "vertices",
+        "rows",
+        "steps",
+        "ms/step",
+        "(min–max)",
+        "steps/s",
+        "newton/st",
+        "solves/st",
+        "factor/st"
     );
     for (cells, steps, windows) in sizes {
         let mesh = generate(&Params::square(PatternKind::Miura, cells, 10.0)).unwrap();
@@ -40,7 +49,7 @@ fn main() {
         dx0[0] = Vec3::new(0.0, 0.0, 0.05);
         // Every window drags the same corner up from the flat sheet, so the windows
         // differ only by the machine's noise.
-        let (mut newton, mut factorisations) = (0, 0);
+        let (mut newton, mut solves, mut factorisations) = (0, 0, 0);
         let mut per_window: Vec<f64> = (0..windows)
             .map(|_| {
                 let mut solver =
@@ -54,6 +63,7 @@ fn main() {
                 }
                 let elapsed = t.elapsed().as_secs_f64();
                 newton += solver.stats.newton_iterations - before.newton_iterations;
+                solves += solver.stats.solves - before.solves;
                 factorisations += solver.stats.factorisations - before.factorisations;
                 elapsed / steps as f64
             })
@@ -62,7 +72,7 @@ fn main() {
         let per = per_window[windows / 2];
         let all = (steps * windows) as f64;
         println!(
-            "{n:>9} {rows:>8} {:>8} {:>12.3} {:>16} {:>10.1} {:>9.2} {:>9.2}",
+            "{n:>9} {rows:>8} {:>8} {:>12.3} {:>16} {:>10.1} {:>9.2} {:>9.2} {:>9.2}",
             steps * windows,
             per * 1e3,
             format!(
@@ -72,6 +82,7 @@ fn main() {
             ),
             1.0 / per,
             newton as f64 / all,
+            solves as f64 / all,
             factorisations as f64 / all
         );
     }

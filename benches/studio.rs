@@ -117,6 +117,7 @@ fn measure(
 }
 
 fn main() {
+    crease::allocator::keep_freed_memory();
     println!(
         "{:>9} {:>14} {:>16} {:>11}",
         "vertices", "solver steps/s", "frames shown/s", "KiB/frame"

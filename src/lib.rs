@@ -3,6 +3,7 @@
 //! Data flows one way: [`mesh`] → constraints → solver → fabrication → output → plotter.
 #![warn(missing_docs)]
 
+pub mod allocator;
 pub mod constraints;
 pub mod fab;
 pub mod generate;

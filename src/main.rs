@@ -5,7 +5,7 @@ mod cli;
 
 // The solver builds and drops Jacobians of tens of megabytes every Newton iteration;
 // glibc hands such blocks back to the kernel each time, and the page faults of taking them
-// again cost a sixth of a step. mimalloc keeps them.
+// again cost a sixth of a step. mimalloc keeps them (see crease::allocator).
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
@@ -88,6 +88,7 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    crease::allocator::keep_freed_memory();
     let cli = match Cli::try_parse() {
         Ok(c) => c,
         Err(e) => {
