@@ -95,16 +95,17 @@ impl Solver {
         }
     }
 
-    /// Newton from the Euler step `euler` plus a predicted correction, into `x`. First
-    /// from the line through the last two corrections, on the factor as it stands: that
-    /// prediction removes the drift a chord removes easily, and what it leaves is the
-    /// part a stale factor corrects slowly (on the 100k Miura, 2.4e-8 → 1.5e-8 an
-    /// iteration), which would cost a refactorisation. So should the chord stall, Newton
-    /// starts again from the last correction alone, whose residual a stale chord removes
-    /// in one iteration, refactorising only if that fails too.
+    /// Newton from `wished` (the positions plus the unprojected wish, see
+    /// [`Solver::step`]) plus a predicted correction, into `x`. First from the line
+    /// through the last two corrections, on the factor as it stands: that prediction
+    /// removes what a chord removes easily, and what it leaves is the part a stale factor
+    /// corrects slowly (on the 100k Miura, 2.4e-8 → 1.5e-8 an iteration), which would
+    /// cost a refactorisation. So should the chord stall (and not be one iteration from
+    /// done), Newton starts again from the last correction alone, refactorising only if
+    /// that fails too.
     pub(super) fn correct_predicted(
         &mut self,
-        euler: &[Vec3],
+        wished: &[Vec3],
         x: &mut [Vec3],
     ) -> Result<(usize, f64), (f64, usize)> {
         let mut spent = 0;
@@ -117,7 +118,7 @@ impl Solver {
                 Err((_, it)) => spent = it,
             }
             self.stats.restarted_predictions += 1;
-            x.copy_from_slice(euler);
+            x.copy_from_slice(wished);
         }
         if let Some(c) = self.predictor.last() {
             for (xv, cv) in x.iter_mut().zip(c) {
