@@ -434,14 +434,22 @@ impl Solver {
         self.factor_age += 1;
         let predict = self.options.predict == Some(true);
         let factorisations = self.stats.factorisations;
-        let mut wished = self.x.clone();
-        self.add_free(&mut wished, &self.to_free(dx0), 1.0);
-        if predict && self.predictor.last().is_some() {
-            let mut x = wished.clone();
-            if let Ok(newton) = self.correct_predicted(&wished, &mut x) {
+        // The unprojected Euler step, where a predicted step starts and its correction is
+        // measured from; unused (so not built) without the predictor.
+        let wished = predict.then(|| {
+            let mut w = self.x.clone();
+            self.add_free(&mut w, &self.to_free(dx0), 1.0);
+            w
+        });
+        if let Some(wished) = wished
+            .as_deref()
+            .filter(|_| self.predictor.last().is_some())
+        {
+            let mut x = wished.to_vec();
+            if let Ok(newton) = self.correct_predicted(wished, &mut x) {
                 self.stats.one_solve_steps += 1;
                 let same_factor = self.stats.factorisations == factorisations;
-                return Ok(self.accept(x, same_factor.then_some(&wished), newton));
+                return Ok(self.accept(x, Some(wished).filter(|_| same_factor), newton));
             }
         }
         let dx = self.project_factored(dx0);
@@ -457,9 +465,8 @@ impl Solver {
             euler.clone_from(&x);
             match self.correct_from(&mut x, true) {
                 Ok(newton) => {
-                    let full =
-                        predict && scale == 1.0 && self.stats.factorisations == factorisations;
-                    return Ok(self.accept(x, full.then_some(&wished), newton));
+                    let full = scale == 1.0 && self.stats.factorisations == factorisations;
+                    return Ok(self.accept(x, wished.as_deref().filter(|_| full), newton));
                 }
                 Err(f) => {
                     failure = f;
