@@ -20,7 +20,7 @@ fn median(mut f: impl FnMut(), runs: usize) -> Duration {
 fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let cases = [
-        root.join("../shared/anchors/data/origamisimulator/BoxPleatPyramid.fold"),
+        root.join("tests/data/origamisimulator/BoxPleatPyramid.fold"),
         root.join("patterns/resch.fold"),
         root.join("patterns/miura.fold"),
     ];
@@ -62,7 +62,7 @@ fn main() {
         time
     );
     // Layer order of the flat-folded BoxPleatPyramid (every crease ±180°).
-    let pyramid = root.join("../shared/anchors/data/origamisimulator/BoxPleatPyramid.fold");
+    let pyramid = root.join("tests/data/origamisimulator/BoxPleatPyramid.fold");
     let mesh = crease::io::read(&pyramid).expect("bench input reads");
     let mut pairs = 0;
     let time = median(

@@ -1,4 +1,4 @@
-//! Real crease patterns and FOLD files from other projects (`../shared/anchors/data`):
+//! Real crease patterns and FOLD files from other projects (`tests/data`):
 //! every one imports, counts match the files, and FOLD/SVG round trips keep the graph.
 
 use crease::io::{self, Format};
@@ -6,7 +6,7 @@ use crease::mesh::{edge_key, Assignment, Mesh};
 use std::path::PathBuf;
 
 fn anchors_dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/anchors/data")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data")
 }
 
 fn anchor_files() -> Vec<PathBuf> {

@@ -236,7 +236,7 @@ fn machines_are_listed_and_found_in_the_working_folder() {
 #[test]
 fn coordinates_beyond_any_sheet_are_refused() {
     let simple = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/anchors/data/fold/simple.fold"),
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fold/simple.fold"),
     )
     .unwrap();
     assert!(simple.contains("[0,1,0]"));
@@ -282,8 +282,7 @@ fn svg_roots_that_scale_nothing_and_cut_short_files_are_refused() {
 
 #[test]
 fn a_3d_only_design_converts_to_svg_as_its_unfolding() {
-    let simple =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/anchors/data/fold/simple.fold");
+    let simple = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fold/simple.fold");
     let out = std::env::temp_dir().join(format!("crease-cli-3d-{}.svg", std::process::id()));
     let (code, _, err) = run_crease(&["convert", simple.to_str().unwrap(), out.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");

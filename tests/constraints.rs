@@ -267,9 +267,7 @@ fn verify_passes_bundled_patterns_and_flat_foldable_anchors() {
         "singlesquaretwist.svg",
         "BoxPleatPyramid.fold",
     ] {
-        files.push(format!(
-            "{root}/../shared/anchors/data/origamisimulator/{a}"
-        ));
+        files.push(format!("{root}/tests/data/origamisimulator/{a}"));
     }
     for f in files {
         let (code, out) = crease_all(&["verify", &f, "--json"]);

@@ -105,8 +105,8 @@ fn designs_rebuild_from_their_scripts_verify_and_differ_from_the_regular_pattern
 fn bad_deform_arguments_exit_2_and_write_nothing() {
     let bin = env!("CARGO_BIN_EXE_crease");
     let miura = patterns_dir().join("miura.fold");
-    let kiri = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/anchors/data/origamisimulator/honeycombKiri.svg");
+    let kiri =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/origamisimulator/honeycombKiri.svg");
     let out = std::env::temp_dir().join(format!("crease-deform-{}.fold", std::process::id()));
     let cases: Vec<(Vec<String>, &str)> = vec![
         (

@@ -208,8 +208,7 @@ fn kawasaki_with_bounds(mesh: &crease::mesh::Mesh) -> Vec<(usize, f64, f64)> {
 
 #[test]
 fn no_anchor_svg_vertex_beyond_its_own_rounding_bound_passes() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/anchors/data/origamisimulator");
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/origamisimulator");
     let mut beyond_in_all = 0;
     for entry in std::fs::read_dir(&dir).unwrap() {
         let path = entry.unwrap().path();

@@ -107,7 +107,7 @@ fn mutate(seed: &[u8], rng: &mut Rng) -> Vec<u8> {
 
 fn seeds() -> Vec<(PathBuf, Vec<u8>)> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let anchors = root.join("../shared/anchors/data");
+    let anchors = root.join("tests/data");
     let mut out = Vec::new();
     let mut add = |p: PathBuf| {
         let bytes = std::fs::read(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));

@@ -67,13 +67,13 @@ fn two_flaps_that_cover_each_others_hinge_have_no_order() {
 #[test]
 fn flat_foldable_patterns_and_anchors_get_an_order() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let anchors = root.join("../shared/anchors/data/origamisimulator");
+    let anchors = root.join("tests/data/origamisimulator");
     let mut files = vec![
         anchors.join("simpleVertex.svg"),
         anchors.join("singlesquaretwist.svg"),
         anchors.join("waterbomb.svg"),
         anchors.join("BoxPleatPyramid.fold"),
-        root.join("../shared/anchors/data/fold/diagonal-cp.fold"),
+        root.join("tests/data/fold/diagonal-cp.fold"),
     ];
     for name in ["miura", "waterbomb", "bird-base"] {
         files.push(root.join(format!("patterns/{name}.fold")));

@@ -136,7 +136,7 @@ fn no_dash_comes_within_the_clearance_of_the_cut_or_of_another_creases_dash() {
 
 /// Every bundled design and every anchor file.
 fn designs_and_anchors() -> Vec<PathBuf> {
-    let anchors = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/anchors/data");
+    let anchors = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
     let mut designs = patterns();
     for sub in ["fold", "origamisimulator"] {
         for e in std::fs::read_dir(anchors.join(sub)).unwrap() {

@@ -128,7 +128,7 @@ fn a_tiled_sheet_is_turned_to_print_on_the_fewest_pages() {
 #[test]
 fn small_sheets_and_huge_media_fabricate_without_a_panic() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let anchors = root.join("../shared/anchors/data/fold");
+    let anchors = root.join("tests/data/fold");
     let cases: Vec<Vec<String>> = vec![
         vec![
             root.join("patterns/miura.fold").display().to_string(),
