@@ -1,6 +1,7 @@
 //! Fabrication: verify a design before anything is cut, unfold it, lay it out on the media,
 //! score it with dash codes and order the cuts.
 
+pub mod budget;
 pub mod clearance;
 pub mod flat_fold;
 pub mod intersect;
@@ -14,13 +15,14 @@ pub mod score;
 pub mod unfold;
 pub mod verify;
 
+pub use budget::{Budget, OverBudget};
 pub use flat_fold::{flat_folded, FlatFolded, NotFlatFoldable, PlaneMotion};
 pub use intersect::{self_intersections, Crossing};
-pub use layers::{layer_order, LayerError, LayerOrder};
+pub use layers::{layer_order, layer_order_within, LayerError, LayerOrder};
 pub use layout::{layout, LayoutError, Media, Sheet, Sizing};
 pub use lines::{crease_lines, CreaseLine, LineKind};
 pub use route::route;
 
 pub use score::{score, score_lines, DashCode, ScoreSettings, ShortFolds, Stroke, Toolpath};
 pub use unfold::{check_overlap, unfold, UnfoldError};
-pub use verify::{verify, FamilyReport, Report, Tolerances};
+pub use verify::{verify, verify_within, FamilyReport, Report, Tolerances};

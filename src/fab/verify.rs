@@ -2,6 +2,7 @@
 //! largest and RMS residual, the worst element, the violation count and a verdict; plus
 //! Maekawa's count |M − V| = 2, judged where every crease at a vertex folds flat.
 
+use super::budget::Budget;
 use super::rounding::RoundingBounds;
 use crate::constraints::{ConstraintSet, Element, Family, Reference};
 use crate::mesh::{Assignment, Mesh};
@@ -255,6 +256,17 @@ fn summarise_with(
 
 /// Verifies a design against a set of conditions (its own default set when `None`).
 pub fn verify(mesh: &Mesh, conditions: Option<&ConstraintSet>, tol: Tolerances) -> Report {
+    verify_within(mesh, conditions, tol, &Budget::default())
+}
+
+/// [`verify`] with the layer order judged within `budget`: past it, the layer order is
+/// reported as not judged (with the budget's advice) and does not decide the verdict.
+pub fn verify_within(
+    mesh: &Mesh,
+    conditions: Option<&ConstraintSet>,
+    tol: Tolerances,
+    budget: &Budget,
+) -> Report {
     let reference = Reference::new(mesh);
     let default;
     let set = match conditions {
@@ -313,7 +325,7 @@ pub fn verify(mesh: &Mesh, conditions: Option<&ConstraintSet>, tol: Tolerances) 
     // the design's variations, would need a contact model the solver does not have).
     let wants_flat = conditions.is_none() || set.families.contains(&Family::FlatFoldability);
     if wants_flat && !mesh.has_3d() {
-        families.extend(layer_order_report(mesh));
+        families.extend(layer_order_report(mesh, budget));
     }
     let mut notes = Vec::new();
     if conditions.is_none() && !set.families.contains(&Family::FlatFoldability) {
@@ -353,8 +365,8 @@ fn self_intersection(mesh: &Mesh) -> FamilyReport {
 /// Layer order of the flat-folded state ([`super::layers`]), judged when every crease
 /// folds to ±π and the faces close up around every vertex (else the local conditions
 /// already say why it cannot fold flat): one row, failing with the faces in conflict.
-fn layer_order_report(mesh: &Mesh) -> Option<FamilyReport> {
-    use super::layers::{layer_order, LayerOrder};
+fn layer_order_report(mesh: &Mesh, budget: &Budget) -> Option<FamilyReport> {
+    use super::layers::{layer_order_within, LayerError, LayerOrder};
     let folded = super::flat_folded(mesh, None).ok()?;
     let (lo, hi) = crate::mesh::bounds(mesh.flat()?);
     let closes = folded.mismatch <= 1e-6 * (hi - lo).norm() + 8.0 * mesh.coordinate_precision;
@@ -375,7 +387,7 @@ fn layer_order_report(mesh: &Mesh) -> Option<FamilyReport> {
             ..summarise("layer-order", &[], 0.0)
         });
     }
-    let mut report = match layer_order(mesh) {
+    let mut report = match layer_order_within(mesh, budget) {
         Ok(LayerOrder::Found(orders)) => FamilyReport {
             rows: orders.len(),
             ..summarise("layer-order", &[], 0.0)
@@ -388,6 +400,11 @@ fn layer_order_report(mesh: &Mesh) -> Option<FamilyReport> {
             r.violators = vec![format!("no order among faces {}", names.join(", "))];
             r
         }
+        Err(LayerError::OverBudget(e)) => FamilyReport {
+            gating: false,
+            basis: format!("not judged: {e}"),
+            ..summarise("layer-order", &[], 0.0)
+        },
         Err(e) => FamilyReport {
             gating: false,
             basis: format!("not decided: {e}"),

@@ -19,6 +19,7 @@
 mod geometry;
 mod search;
 
+use super::budget::{Budget, OverBudget};
 use super::flat_fold::{folds_flat, FlatFolded};
 use crate::mesh::bounds;
 use crate::mesh::{Assignment, Mesh, UnionFind, Vec2};
@@ -48,6 +49,9 @@ pub enum LayerError {
     /// Too many overlaps to solve within the given budget.
     #[error("the search gave up after {0} decisions")]
     GaveUp(usize),
+    /// The analysis ran out of its [`Budget`] (time, size, or cancelled).
+    #[error("{0}")]
+    OverBudget(#[from] OverBudget),
 }
 
 /// Decisions the search may take before giving up (a bound on time, not a verdict).
@@ -62,13 +66,22 @@ pub fn partial_crease(mesh: &Mesh) -> Option<usize> {
 }
 
 /// Finds a layer order of `mesh`'s flat-folded state, or a smallest set of faces that
-/// has none.
+/// has none, within the default [`Budget`] (no deadline, a cap on memory).
 pub fn layer_order(mesh: &Mesh) -> Result<LayerOrder, LayerError> {
+    layer_order_within(mesh, &Budget::default())
+}
+
+/// [`layer_order`] within `budget`: the problem's size is checked as it is built and the
+/// deadline between steps, so a pattern with thousands of faces stacked on one point ends
+/// with [`LayerError::OverBudget`] instead of exhausting memory.
+pub fn layer_order_within(mesh: &Mesh, budget: &Budget) -> Result<LayerOrder, LayerError> {
     let folded = super::flat_folded(mesh, None)?;
-    let problem = Problem::build(mesh, &folded);
-    match problem.solve(None)? {
+    let problem = Problem::build(mesh, &folded, budget)?;
+    match problem.solve(None, budget)? {
         Ok(values) => Ok(LayerOrder::Found(problem.face_orders(&values, &folded))),
-        Err(group) => Ok(LayerOrder::Conflict(problem.smallest_conflict(group)?)),
+        Err(group) => Ok(LayerOrder::Conflict(
+            problem.smallest_conflict(group, budget)?,
+        )),
     }
 }
 
@@ -117,7 +130,7 @@ impl Problem {
         self.index.get(&key).map(|&var| Lit { var, value: a < b })
     }
 
-    fn build(mesh: &Mesh, folded: &FlatFolded) -> Problem {
+    fn build(mesh: &Mesh, folded: &FlatFolded, budget: &Budget) -> Result<Problem, OverBudget> {
         let tri = &folded.triangles;
         let n = tri.len();
         let (lo, hi) = bounds(tri.as_flattened());
@@ -127,7 +140,7 @@ impl Problem {
         let eps = (OVERLAP_FRACTION * (hi - lo).norm())
             .max(2.0 * folded.mismatch + 8.0 * mesh.coordinate_precision)
             .max(1e-300);
-        let pairs = overlapping_pairs(tri, eps);
+        let pairs = overlapping_pairs(tri, eps, budget)?;
         let index: HashMap<(usize, usize), usize> =
             pairs.iter().enumerate().map(|(i, &p)| (p, i)).collect();
         let mut problem = Problem {
@@ -142,10 +155,22 @@ impl Problem {
             overlapping[a].push(b);
             overlapping[b].push(a);
         }
-        let creases = problem.add_hinges(mesh, folded, &overlapping, eps);
-        problem.add_taco_taco(&creases, eps);
-        problem.add_transitivity(tri, &overlapping, eps);
-        problem
+        let creases = problem.add_hinges(mesh, folded, &overlapping, eps, budget)?;
+        problem.add_taco_taco(&creases, eps, budget)?;
+        problem.add_transitivity(tri, &overlapping, eps, budget)?;
+        Ok(problem)
+    }
+
+    /// Adds a constraint, failing when the problem outgrows the budget (checked with the
+    /// deadline every few thousand constraints, where the loops that make them spend
+    /// their time).
+    fn push(&mut self, c: Constraint, budget: &Budget) -> Result<(), OverBudget> {
+        self.constraints.push(c);
+        if self.constraints.len().is_multiple_of(4096) {
+            budget.check_size(self.constraints.len())?;
+            budget.check()?;
+        }
+        Ok(())
     }
 
     /// Every interior edge is a hinge between its two faces: a folded crease fixes which
@@ -158,7 +183,8 @@ impl Problem {
         folded: &FlatFolded,
         overlapping: &[Vec<usize>],
         eps: f64,
-    ) -> Vec<(usize, usize, Vec2, Vec2)> {
+        budget: &Budget,
+    ) -> Result<Vec<(usize, usize, Vec2, Vec2)>, OverBudget> {
         let topo = mesh.topology();
         let mut creases = Vec::new();
         for (e, edge) in mesh.edges().iter().enumerate() {
@@ -181,17 +207,23 @@ impl Problem {
                     continue;
                 }
                 if let (Some(x), Some(y)) = (self.above(a, c), self.above(b, c)) {
-                    self.constraints.push(Constraint::Same(x, y));
+                    self.push(Constraint::Same(x, y), budget)?;
                 }
             }
         }
-        creases
+        Ok(creases)
     }
 
     /// Taco–taco: creases folded onto the same line with their flaps on the same side
     /// nest or stay apart, never interleave.
-    fn add_taco_taco(&mut self, creases: &[(usize, usize, Vec2, Vec2)], eps: f64) {
+    fn add_taco_taco(
+        &mut self,
+        creases: &[(usize, usize, Vec2, Vec2)],
+        eps: f64,
+        budget: &Budget,
+    ) -> Result<(), OverBudget> {
         for (i, &(a, b, p, q)) in creases.iter().enumerate() {
+            budget.check()?;
             for &(c, d, r, s) in &creases[i + 1..] {
                 if !collinear_overlap(p, q, r, s, eps) {
                     continue;
@@ -203,19 +235,27 @@ impl Problem {
                     self.above(b, d),
                 ];
                 if let [Some(w), Some(x), Some(y), Some(z)] = lits {
-                    self.constraints.push(Constraint::Parity([w, x, y, z]));
+                    self.push(Constraint::Parity([w, x, y, z]), budget)?;
                 }
             }
         }
+        Ok(())
     }
 
     /// Transitivity: three faces with a common overlap are not stacked in a cycle.
-    fn add_transitivity(&mut self, tri: &[[Vec2; 3]], overlapping: &[Vec<usize>], eps: f64) {
+    fn add_transitivity(
+        &mut self,
+        tri: &[[Vec2; 3]],
+        overlapping: &[Vec<usize>],
+        eps: f64,
+        budget: &Budget,
+    ) -> Result<(), OverBudget> {
         let neg = |l: Lit| Lit {
             var: l.var,
             value: !l.value,
         };
         for a in 0..tri.len() {
+            budget.check()?;
             for (k, &b) in overlapping[a].iter().enumerate() {
                 if b < a {
                     continue;
@@ -230,17 +270,21 @@ impl Problem {
                     let ab = self.above(a, b).unwrap();
                     let bc = self.above(b, c).unwrap();
                     let ca = self.above(c, a).unwrap();
-                    self.constraints.push(Constraint::NotAll([ab, bc, ca]));
-                    self.constraints
-                        .push(Constraint::NotAll([neg(ab), neg(bc), neg(ca)]));
+                    self.push(Constraint::NotAll([ab, bc, ca]), budget)?;
+                    self.push(Constraint::NotAll([neg(ab), neg(bc), neg(ca)]), budget)?;
                 }
             }
         }
+        Ok(())
     }
 
     /// Values for every variable, or the faces of a group of variables with none. With
     /// `only`, faces outside that set are ignored (their variables left free).
-    fn solve(&self, only: Option<&[bool]>) -> Result<Result<Vec<bool>, Vec<usize>>, LayerError> {
+    fn solve(
+        &self,
+        only: Option<&[bool]>,
+        budget: &Budget,
+    ) -> Result<Result<Vec<bool>, Vec<usize>>, LayerError> {
         let active = |var: usize| {
             only.is_none_or(|keep| {
                 let (a, b) = self.pairs[var];
@@ -264,6 +308,7 @@ impl Problem {
             value: vec![None; self.pairs.len()],
             trail: Vec::new(),
             decisions: 0,
+            budget,
         };
         let faces_of = |vars: &[usize]| {
             let mut f: Vec<usize> = vars
@@ -299,14 +344,19 @@ impl Problem {
 
     /// Shrinks a group of faces without an order: drop faces one at a time while the
     /// rest still has none.
-    fn smallest_conflict(&self, faces: Vec<usize>) -> Result<Vec<usize>, LayerError> {
+    fn smallest_conflict(
+        &self,
+        faces: Vec<usize>,
+        budget: &Budget,
+    ) -> Result<Vec<usize>, LayerError> {
         let mut keep = vec![false; self.faces];
         for &f in &faces {
             keep[f] = true;
         }
         for &f in &faces {
+            budget.check()?;
             keep[f] = false;
-            if self.solve(Some(&keep))?.is_ok() {
+            if self.solve(Some(&keep), budget)?.is_ok() {
                 keep[f] = true;
             }
         }
@@ -334,13 +384,20 @@ impl Problem {
 
 /// Pairs of folded faces that overlap with positive area: sweep by x, then a
 /// separating-axis test with margin `eps`.
-fn overlapping_pairs(tri: &[[Vec2; 3]], eps: f64) -> Vec<(usize, usize)> {
+fn overlapping_pairs(
+    tri: &[[Vec2; 3]],
+    eps: f64,
+    budget: &Budget,
+) -> Result<Vec<(usize, usize)>, OverBudget> {
     let n = tri.len();
     let boxes: Vec<(Vec2, Vec2)> = tri.iter().map(|t| bounds(t)).collect();
     let mut order: Vec<usize> = (0..n).collect();
     order.sort_by(|&a, &b| boxes[a].0.x.total_cmp(&boxes[b].0.x));
     let mut pairs = Vec::new();
     for (k, &a) in order.iter().enumerate() {
+        budget.check()?;
+        // Each pair is a variable, and each becomes at least one constraint.
+        budget.check_size(pairs.len())?;
         for &b in &order[k + 1..] {
             if boxes[b].0.x >= boxes[a].1.x - eps {
                 break;
@@ -354,7 +411,7 @@ fn overlapping_pairs(tri: &[[Vec2; 3]], eps: f64) -> Vec<(usize, usize)> {
         }
     }
     pairs.sort_unstable();
-    pairs
+    Ok(pairs)
 }
 
 /// Where edge `e` lies in the folded state, seen from face `a`.

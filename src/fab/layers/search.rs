@@ -2,6 +2,7 @@
 //! forces, and depth-first decisions with an undo trail.
 
 use super::{Constraint, LayerError, Lit, Problem, SEARCH_BUDGET};
+use crate::fab::budget::Budget;
 
 /// Depth-first search with propagation and an undo trail.
 pub(super) struct Search<'a> {
@@ -10,6 +11,7 @@ pub(super) struct Search<'a> {
     pub(super) value: Vec<Option<bool>>,
     pub(super) trail: Vec<usize>,
     pub(super) decisions: usize,
+    pub(super) budget: &'a Budget,
 }
 
 impl Search<'_> {
@@ -105,6 +107,9 @@ impl Search<'_> {
             self.decisions += 1;
             if self.decisions > SEARCH_BUDGET {
                 return Err(LayerError::GaveUp(SEARCH_BUDGET));
+            }
+            if self.decisions.is_multiple_of(1024) {
+                self.budget.check()?;
             }
             let mark = self.trail.len();
             if self.assign(order[pos], true) {

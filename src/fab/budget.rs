@@ -1,0 +1,125 @@
+//! How much work an analysis may do: a deadline, a flag that cancels it when its answer
+//! is no longer wanted (the studio's design moved on), and a cap on what the layer-order
+//! problem may allocate. `verify` on the command line has no deadline but keeps the cap;
+//! the studio's live analysis has both, so a hostile or merely huge file never blocks it.
+
+use std::fmt;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// Layer-order constraints a problem may hold. Each takes about 72 bytes plus its
+/// watch lists (about 100 bytes in all), so the cap bounds the solver near 0.6 GB.
+pub const MAX_LAYER_CONSTRAINTS: usize = 6_000_000;
+
+/// A bound on an analysis's time and memory.
+#[derive(Clone, Debug)]
+pub struct Budget {
+    /// Give up after this instant; the duration it was given, for messages.
+    pub deadline: Option<(Instant, Duration)>,
+    /// Give up once this is set.
+    pub cancel: Option<Arc<AtomicBool>>,
+    /// Layer-order constraints the problem may hold.
+    pub max_constraints: usize,
+    /// What to tell the user when the budget runs out (e.g. "run `crease verify`").
+    pub advice: &'static str,
+}
+
+impl Default for Budget {
+    /// No deadline, no cancel flag, [`MAX_LAYER_CONSTRAINTS`].
+    fn default() -> Self {
+        Budget {
+            deadline: None,
+            cancel: None,
+            max_constraints: MAX_LAYER_CONSTRAINTS,
+            advice: "",
+        }
+    }
+}
+
+/// Why an analysis stopped before deciding.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Exceeded {
+    /// Past the deadline.
+    Time(Duration),
+    /// More constraints than the cap.
+    Size {
+        /// The cap.
+        limit: usize,
+    },
+    /// The answer is no longer wanted.
+    Cancelled,
+}
+
+/// An analysis stopped by its [`Budget`], with the advice to show.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct OverBudget {
+    /// What ran out.
+    pub exceeded: Exceeded,
+    /// What to do instead.
+    pub advice: &'static str,
+}
+
+impl fmt::Display for OverBudget {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match &self.exceeded {
+            Exceeded::Time(d) => write!(f, "over its time budget of {:.1} s", d.as_secs_f64())?,
+            Exceeded::Size { limit } => write!(
+                f,
+                "too large: more than {:.0e} layer constraints (faces stacked too deep)",
+                *limit as f64
+            )?,
+            Exceeded::Cancelled => write!(f, "cancelled: the design changed")?,
+        }
+        if !self.advice.is_empty() {
+            write!(f, " — {}", self.advice)?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for OverBudget {}
+
+impl Budget {
+    /// A budget of `time` from now, cancelled by `cancel`, with `advice` for the user.
+    pub fn live(time: Duration, cancel: Arc<AtomicBool>, advice: &'static str) -> Budget {
+        Budget {
+            deadline: Some((Instant::now() + time, time)),
+            cancel: Some(cancel),
+            max_constraints: MAX_LAYER_CONSTRAINTS / 3,
+            advice,
+        }
+    }
+
+    fn over(&self, exceeded: Exceeded) -> OverBudget {
+        OverBudget {
+            exceeded,
+            advice: self.advice,
+        }
+    }
+
+    /// Fails once the deadline has passed or the analysis was cancelled.
+    pub fn check(&self) -> Result<(), OverBudget> {
+        if self
+            .cancel
+            .as_ref()
+            .is_some_and(|c| c.load(Ordering::Relaxed))
+        {
+            return Err(self.over(Exceeded::Cancelled));
+        }
+        match self.deadline {
+            Some((at, given)) if Instant::now() > at => Err(self.over(Exceeded::Time(given))),
+            _ => Ok(()),
+        }
+    }
+
+    /// Fails when `constraints` is past the cap.
+    pub fn check_size(&self, constraints: usize) -> Result<(), OverBudget> {
+        if constraints > self.max_constraints {
+            return Err(self.over(Exceeded::Size {
+                limit: self.max_constraints,
+            }));
+        }
+        Ok(())
+    }
+}
