@@ -5,7 +5,7 @@
 //! second. Run it on one core with `taskset -c 0 cargo bench --bench studio`.
 
 use crease::generate::{generate, Params, PatternKind};
-use crease::studio::api::{handle, Request};
+use crease::studio::api::{handle, Request, Site};
 use crease::studio::Hub;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -16,29 +16,21 @@ static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 fn get(hub: &Hub, path: &str) -> serde_json::Value {
     let (path, query) = path.split_once('?').unwrap_or((path, ""));
+    let site = Site::default();
     let r = handle(
         hub,
-        None,
-        Request {
-            method: "GET",
-            path,
-            query,
-            body: Vec::new(),
-        },
+        &site,
+        Request::from_page(&site, "GET", path, query, Vec::new()),
     );
     serde_json::from_slice(&r.body).expect("JSON")
 }
 
 fn post(hub: &Hub, path: &str, body: serde_json::Value) {
+    let site = Site::default();
     let r = handle(
         hub,
-        None,
-        Request {
-            method: "POST",
-            path,
-            query: "",
-            body: body.to_string().into_bytes(),
-        },
+        &site,
+        Request::from_page(&site, "POST", path, "", body.to_string().into_bytes()),
     );
     assert_eq!(r.status, 200, "{}", String::from_utf8_lossy(&r.body));
 }
@@ -77,15 +69,12 @@ fn measure(
     let start = Instant::now();
     let mut counted_from = None;
     while start.elapsed().as_secs_f64() < seconds {
+        let query = format!("after={version}{have}");
+        let site = Site::default();
         let r = handle(
             hub,
-            None,
-            Request {
-                method: "GET",
-                path: "/api/frame",
-                query: &format!("after={version}{have}"),
-                body: Vec::new(),
-            },
+            &site,
+            Request::from_page(&site, "GET", "/api/frame", &query, Vec::new()),
         );
         let f: serde_json::Value = serde_json::from_slice(&r.body).unwrap();
         version = f["version"].as_u64().unwrap();

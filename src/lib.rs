@@ -9,6 +9,7 @@ pub mod fab;
 pub mod generate;
 pub mod geometry;
 pub mod io;
+pub mod limits;
 pub mod mesh;
 pub mod output;
 pub mod pipeline;

@@ -7,7 +7,7 @@ mod studio_process;
 
 use crease::generate::{generate, Params, PatternKind};
 use crease::mesh::Mesh;
-use crease::studio::api::{handle, Request, Response};
+use crease::studio::api::{handle, Request, Response, Site};
 use crease::studio::Hub;
 use serde_json::{json, Value};
 use std::sync::Arc;
@@ -20,15 +20,11 @@ fn miura() -> Mesh {
 
 fn call(hub: &Hub, method: &str, path: &str, body: &[u8]) -> Response {
     let (path, query) = path.split_once('?').unwrap_or((path, ""));
+    let site = Site::default();
     handle(
         hub,
-        None,
-        Request {
-            method,
-            path,
-            query,
-            body: body.to_vec(),
-        },
+        &site,
+        Request::from_page(&site, method, path, query, body.to_vec()),
     )
 }
 
@@ -220,6 +216,73 @@ fn simulation_mode_keeps_every_edge_length_while_dragging() {
 }
 
 #[test]
+fn absurd_generator_parameters_are_refused_and_the_design_stays() {
+    let hub = fresh_hub();
+    let before = state(&hub);
+    // serde_json reads no NaN: a JSON body cannot carry one, so it is the body's error.
+    for body in [
+        json!({"pattern": "resch", "size": 1e308}),
+        json!({"pattern": "plane", "size": 1e308}),
+        json!({"pattern": "miura", "size": 0}),
+        json!({"pattern": "miura", "size": -1}),
+        json!({"pattern": "miura", "size": 1e-308}),
+        json!({"pattern": "waterbomb", "nx": 0}),
+        json!({"pattern": "miura", "nx": 201}),
+        json!({"pattern": "yoshimura", "ny": 18446744073709551615u64}),
+        json!({"pattern": "miura", "angle": 90}),
+        json!({"pattern": "miura", "fold": 1.5}),
+    ] {
+        let (status, r) = json_call(&hub, "POST", "/api/generate", body.clone());
+        assert_eq!(status, 400, "{body}: {r}");
+        let message = r["error"].as_str().unwrap();
+        assert!(message.len() < 200 && !message.contains('\n'), "{message}");
+    }
+    let r = call(
+        &hub,
+        "POST",
+        "/api/generate",
+        br#"{"pattern": "miura", "size": NaN}"#,
+    );
+    assert_eq!(r.status, 400);
+    let after = state(&hub);
+    assert_eq!(after["positions"], before["positions"]);
+    assert_eq!(after["undo"], 0, "refused requests leave no history");
+    hub.stop();
+}
+
+#[test]
+fn simulation_after_a_design_drag_keeps_the_designed_lengths_and_folds_as_fold_does() {
+    let hub = fresh_hub();
+    let s0 = state(&hub);
+    let p = position(&s0, 30);
+    // Design mode changes lengths (the drag of the studio issue).
+    drag_to(&hub, 30, [p[0] + 6.0, p[1] + 3.0, p[2] + 12.0]);
+    json_call(&hub, "POST", "/api/release", json!({}));
+    let designed = state(&hub);
+    assert!(
+        distance(position(&designed, 30), p) > 1.0,
+        "the vertex moved"
+    );
+    let (status, r) = json_call(&hub, "POST", "/api/settings", json!({"mode": "simulation"}));
+    assert_eq!(status, 200, "{r}");
+    let s = state(&hub);
+    assert_eq!(s["mode"], "simulation");
+    let edge_length = s["residuals"]["edge-length"].as_f64().unwrap();
+    assert!(edge_length <= 1e-9, "edge-length {edge_length}");
+    assert_eq!(s["pass"], true, "{s}");
+    // Switching only polishes the design, as saving does (to 1e-12).
+    for v in 0..designed["vertices"].as_u64().unwrap() as usize {
+        let moved = distance(position(&s, v), position(&designed, v));
+        assert!(moved < 1e-6, "vertex {v} moved {moved} mm");
+    }
+    let (status, r) = json_call(&hub, "POST", "/api/fold", json!({"amount": 0.8}));
+    assert_eq!(status, 200, "{r}");
+    let folded = state(&hub);
+    assert!(folded["residuals"]["edge-length"].as_f64().unwrap() <= 1e-6);
+    hub.stop();
+}
+
+#[test]
 fn bad_requests_get_a_4xx_and_the_design_stays() {
     let hub = fresh_hub();
     let before = state(&hub);
@@ -265,6 +328,11 @@ fn bad_requests_get_a_4xx_and_the_design_stays() {
         ),
         ("/api/fold", json!({"amount": 3}), 400),
         ("/api/fabricate", json!({"machine": "no-such-cutter"}), 400),
+        (
+            "/api/fabricate",
+            json!({"machine": "generic-hpgl", "width": 1e-308}),
+            400,
+        ),
         ("/api/nothing", json!({}), 404),
     ] {
         let (got, r) = json_call(&hub, "POST", path, body.clone());

@@ -128,22 +128,8 @@ pub enum GenerateError {
 /// Generates a pattern.
 pub fn generate(p: &Params) -> Result<Mesh, GenerateError> {
     let bad = |m: String| Err(GenerateError::BadParameter(m));
-    if p.nx == 0 || p.ny == 0 || p.nx > 2000 || p.ny > 2000 {
-        return bad(format!(
-            "cells must be between 1 and 2000 (got {} × {})",
-            p.nx, p.ny
-        ));
-    }
-    if !(p.size.is_finite() && p.size > 0.0) {
-        return bad(format!(
-            "size must be a positive length in mm (got {})",
-            p.size
-        ));
-    }
-    if let Some(t) = p.fold {
-        if !(0.0..=1.0).contains(&t) {
-            return bad(format!("--fold must be in [0, 1] (got {t})"));
-        }
+    check_ranges(p)?;
+    if p.fold.is_some() {
         // Resch's closed form is its fully folded state; its generator checks the amount.
         if !p.kind.has_closed_form_3d() && p.kind != PatternKind::Resch {
             return bad(format!(
@@ -166,6 +152,28 @@ pub fn generate(p: &Params) -> Result<Mesh, GenerateError> {
     mesh.title = format!("{} {}x{}", p.kind.name(), p.nx, p.ny);
     mesh.lock_topology = p.kind == PatternKind::Resch;
     Ok(mesh)
+}
+
+/// Every parameter in its range ([`crate::limits`]), before anything is sized from it:
+/// cells along each side and in all, the cell size and the extent it gives, the angle
+/// and the fold amount.
+fn check_ranges(p: &Params) -> Result<(), GenerateError> {
+    use crate::limits::{CELLS, CELLS_IN_ALL, FRACTION, LENGTH, MIURA_ANGLE, PATTERN_EXTENT};
+    let bad = |e: crate::limits::OutOfRange| GenerateError::BadParameter(e.to_string());
+    CELLS.check_count("nx", p.nx as u64).map_err(bad)?;
+    CELLS.check_count("ny", p.ny as u64).map_err(bad)?;
+    CELLS_IN_ALL
+        .check_count("nx × ny", p.nx as u64 * p.ny as u64)
+        .map_err(bad)?;
+    LENGTH.check("size", p.size).map_err(bad)?;
+    PATTERN_EXTENT
+        .check("size × cells", p.size * p.nx.max(p.ny) as f64)
+        .map_err(bad)?;
+    MIURA_ANGLE.check("angle", p.angle_deg).map_err(bad)?;
+    if let Some(t) = p.fold {
+        FRACTION.check("fold", t).map_err(bad)?;
+    }
+    Ok(())
 }
 
 /// Sign of the fold angle decides mountain or valley for patterns with a closed form: the

@@ -1,6 +1,10 @@
 //! The studio's HTTP API, as a pure function from a request to a response so tests can
 //! call it without a socket (axum's `fn app()` habit). Every route is documented in the
 //! README; bad requests get a 4xx and a one-line message, and the session keeps its design.
+//!
+//! Only the studio's own page may talk to it ([`admit`]): the `Host` must name the
+//! loopback address it listens on (DNS rebinding), a present `Origin` must be its own,
+//! and bodies must carry a type no cross-site page can send without a preflight.
 
 use super::assets;
 use super::hub::Hub;
@@ -21,8 +25,133 @@ pub struct Request<'a> {
     pub path: &'a str,
     /// The query string, without `?`.
     pub query: &'a str,
+    /// The `Host` header.
+    pub host: Option<String>,
+    /// The `Origin` header.
+    pub origin: Option<String>,
+    /// The `Content-Type` header.
+    pub content_type: Option<String>,
     /// The body.
     pub body: Vec<u8>,
+}
+
+impl<'a> Request<'a> {
+    /// A request as the studio's own page at `site` sends it: its `Host` and `Origin`,
+    /// and a body typed as the route wants (for in-process callers: tests, benches).
+    pub fn from_page(
+        site: &Site,
+        method: &'a str,
+        path: &'a str,
+        query: &'a str,
+        body: Vec<u8>,
+    ) -> Request<'a> {
+        let authority = format!("127.0.0.1:{}", site.port);
+        let content_type = (method == "POST").then(|| {
+            if path == "/api/open" {
+                "application/octet-stream"
+            } else {
+                "application/json"
+            }
+            .to_string()
+        });
+        Request {
+            method,
+            path,
+            query,
+            origin: Some(format!("http://{authority}")),
+            host: Some(authority),
+            content_type,
+            body,
+        }
+    }
+}
+
+/// Where the studio is served: its port (the only `Host` and `Origin` it answers) and,
+/// for development, a folder of page files served before the embedded ones.
+#[derive(Clone, Debug, Default)]
+pub struct Site {
+    /// The port it listens on.
+    pub port: u16,
+    /// Page files served before the embedded ones.
+    pub assets: Option<PathBuf>,
+}
+
+impl Site {
+    /// Whether `authority` (`host:port`) is this studio on a loopback name.
+    fn is_own_authority(&self, authority: &str) -> bool {
+        let Some((host, port)) = authority.rsplit_once(':') else {
+            return false;
+        };
+        port.parse::<u16>().ok() == Some(self.port)
+            && (host == "127.0.0.1" || host == "[::1]" || host.eq_ignore_ascii_case("localhost"))
+    }
+}
+
+/// The request may reach the studio: its `Host` is the studio's (a page on another name
+/// that rebinds its DNS to 127.0.0.1 sends its own name), its `Origin`, when present, is
+/// the studio's page, and a POST's body type is one a cross-site page cannot send without
+/// a preflight (which the studio never grants). Jupyter Server and Vite refuse foreign
+/// `Host` names the same way.
+pub fn admit(site: &Site, request: &Request) -> Result<(), Response> {
+    let host = request.host.as_deref().unwrap_or("");
+    if !site.is_own_authority(host) {
+        return Err(Response::error(
+            403,
+            &format!(
+                "refused: Host \"{}\" is not this studio; open http://127.0.0.1:{}/ itself",
+                short(host),
+                site.port
+            ),
+        ));
+    }
+    if let Some(origin) = request.origin.as_deref() {
+        let own = origin
+            .strip_prefix("http://")
+            .is_some_and(|a| site.is_own_authority(a));
+        if !own {
+            return Err(Response::error(
+                403,
+                &format!(
+                    "refused: a request from the page at \"{}\"; only the studio's own page may talk to it",
+                    short(origin)
+                ),
+            ));
+        }
+    }
+    if request.method == "POST" {
+        let wanted = if request.path == "/api/open" {
+            "application/octet-stream"
+        } else {
+            "application/json"
+        };
+        let given = request
+            .content_type
+            .as_deref()
+            .and_then(|t| t.split(';').next())
+            .map(str::trim)
+            .unwrap_or("");
+        if !given.eq_ignore_ascii_case(wanted) {
+            return Err(Response::error(
+                415,
+                &format!(
+                    "{}: the body must be sent as {wanted}, not \"{}\"",
+                    request.path,
+                    short(given)
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// A header value cut for a message (a hostile one may be long).
+fn short(text: &str) -> String {
+    const MAX: usize = 60;
+    if text.chars().count() <= MAX {
+        return text.to_string();
+    }
+    let cut: String = text.chars().take(MAX).collect();
+    format!("{cut}…")
 }
 
 /// A response to send.
@@ -147,16 +276,20 @@ fn meta() -> serde_json::Value {
     })
 }
 
-/// Answers one request.
-pub fn handle(hub: &Hub, assets_dir: Option<&PathBuf>, request: Request) -> Response {
+/// Answers one request, once [`admit`] lets it in.
+pub fn handle(hub: &Hub, site: &Site, request: Request) -> Response {
+    if let Err(refused) = admit(site, &request) {
+        return refused;
+    }
     let Request {
         method,
         path,
         query,
         body,
+        ..
     } = request;
     if !path.starts_with("/api/") {
-        return page(method, path, assets_dir);
+        return page(method, path, site.assets.as_ref());
     }
     let command = match (method, &path[4..]) {
         ("GET", "/frame") => return frame(hub, query),
@@ -250,6 +383,8 @@ fn command_for(
         ("POST", "/fold") => Command::Fold {
             amount: parse::<FoldBody>(path, &body)?.amount,
         },
+        #[cfg(test)]
+        ("POST", "/panic") => Command::Panic,
         ("POST", "/generate") => Command::Generate(parse::<GenerateRequest>(path, &body)?),
         ("POST", "/fabricate") => Command::Fabricate(parse::<FabRequest>(path, &body)?),
         ("POST", "/open") => {
@@ -279,6 +414,67 @@ fn command_for(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_panic_inside_a_request_is_a_500_and_the_session_keeps_its_design() {
+        let mesh = crate::studio::session::Session::default_design();
+        let hub = Hub::start(mesh, "miura");
+        let site = Site::default();
+        let ask = |method, path: &str, body: &[u8]| {
+            handle(
+                &hub,
+                &site,
+                Request::from_page(&site, method, path, "", body.to_vec()),
+            )
+        };
+        let before = ask("GET", "/api/state", b"");
+        assert_eq!(before.status, 200);
+        let r = ask("POST", "/api/panic", b"{}");
+        assert_eq!(r.status, 500);
+        let message = String::from_utf8_lossy(&r.body).to_string();
+        assert!(message.contains("the design is kept"), "{message}");
+        for _ in 0..2 {
+            let state = ask("GET", "/api/state", b"");
+            assert_eq!(state.status, 200, "the session still answers");
+            let (a, b): (serde_json::Value, serde_json::Value) = (
+                serde_json::from_slice(&before.body).unwrap(),
+                serde_json::from_slice(&state.body).unwrap(),
+            );
+            assert_eq!(a["positions"], b["positions"]);
+            let saved = ask("GET", "/api/design.fold", b"");
+            assert_eq!(saved.status, 200);
+            assert!(crate::io::fold::parse(&String::from_utf8(saved.body).unwrap()).is_ok());
+        }
+        hub.stop();
+    }
+
+    #[test]
+    fn only_loopback_names_on_the_studios_port_are_its_own() {
+        let site = Site {
+            port: 8123,
+            assets: None,
+        };
+        for own in [
+            "127.0.0.1:8123",
+            "localhost:8123",
+            "LocalHost:8123",
+            "[::1]:8123",
+        ] {
+            assert!(site.is_own_authority(own), "{own}");
+        }
+        for foreign in [
+            "127.0.0.1",
+            "127.0.0.1:8124",
+            "evil.example:8123",
+            "127.0.0.1.evil.example:8123",
+            "localhost.:8123",
+            "127.0.0.2:8123",
+            "",
+            ":8123",
+        ] {
+            assert!(!site.is_own_authority(foreign), "{foreign}");
+        }
+    }
 
     #[test]
     fn query_values_are_found_and_decoded() {

@@ -49,20 +49,45 @@ pub fn content_type(name: &str) -> &'static str {
     }
 }
 
-/// The file at a URL path (`/` is the page), from `dir` when it has it, else embedded.
+/// The file at a URL path (`/` is the page): one of the page's own files, from `dir`
+/// when it has it (development), else embedded. A request names only which of those
+/// files it wants; no other path is ever opened.
 pub fn lookup(path: &str, dir: Option<&PathBuf>) -> Option<(&'static str, Vec<u8>)> {
     let name = path.trim_start_matches('/');
     let name = if name.is_empty() { "index.html" } else { name };
-    if name.split('/').any(|part| part == ".." || part.is_empty()) {
-        return None;
-    }
-    if let Some(bytes) = dir.and_then(|d| std::fs::read(d.join(name)).ok()) {
-        return Some((content_type(name), bytes));
-    }
-    FILES
-        .iter()
-        .find(|(n, _)| *n == name)
-        .map(|(n, b)| (content_type(n), b.to_vec()))
+    let &(name, embedded) = FILES.iter().find(|(n, _)| *n == name)?;
+    let bytes = dir
+        .and_then(|d| std::fs::read(d.join(name)).ok())
+        .unwrap_or_else(|| embedded.to_vec());
+    Some((content_type(name), bytes))
+}
+
+/// The page's import map, the one inline script it has (three.js is imported by name).
+fn import_map() -> &'static str {
+    let page = std::str::from_utf8(FILES[0].1).expect("index.html is UTF-8");
+    let open = r#"<script type="importmap">"#;
+    let start = page.find(open).expect("the page has an import map") + open.len();
+    let len = page[start..]
+        .find("</script>")
+        .expect("the import map ends");
+    &page[start..start + len]
+}
+
+/// The `Content-Security-Policy` of every reply: scripts, styles, images and requests
+/// only from the studio itself (plus the page's import map, by its SHA-256), no plugin,
+/// no base or form target elsewhere, and no page may frame the studio.
+pub fn policy() -> &'static str {
+    use base64::Engine;
+    use sha2::Digest;
+    static POLICY: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    POLICY.get_or_init(|| {
+        let digest = sha2::Sha256::digest(import_map().as_bytes());
+        let hash = base64::engine::general_purpose::STANDARD.encode(digest);
+        format!(
+            "default-src 'self'; script-src 'self' 'sha256-{hash}'; object-src 'none'; \
+             base-uri 'none'; form-action 'none'; frame-ancestors 'none'"
+        )
+    })
 }
 
 #[cfg(test)]
@@ -83,5 +108,41 @@ mod tests {
         assert!(core.contains(&format!("REVISION = '{}'", &THREE_VERSION[2..5])));
         assert!(lookup("/../Cargo.toml", None).is_none());
         assert!(lookup("/nothing.js", None).is_none());
+    }
+
+    #[test]
+    fn a_development_folder_serves_only_the_pages_own_files() {
+        let dir = std::env::temp_dir().join(format!("crease-assets-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("studio.css"), "body{}").unwrap();
+        std::fs::write(dir.join("secret.txt"), "precious").unwrap();
+        let served = lookup("/studio.css", Some(&dir))
+            .expect("the page's own file")
+            .1;
+        assert_eq!(served, b"body{}");
+        assert!(lookup("/secret.txt", Some(&dir)).is_none());
+        assert!(lookup("/../secret.txt", Some(&dir)).is_none());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn the_policy_admits_the_import_map_by_its_hash_and_nothing_inline_else() {
+        let page = String::from_utf8(lookup("/", None).unwrap().1).unwrap();
+        // One inline script (the import map); no inline style attribute or handler.
+        assert_eq!(page.matches("<script").count(), 2);
+        assert!(!page.contains("style=") && !page.contains(" onclick="));
+        let p = policy();
+        assert!(p.starts_with("default-src 'self'") && p.contains("frame-ancestors 'none'"));
+        // SHA-256 in base64 is 44 characters ending in '='.
+        let hash = p
+            .split("'sha256-")
+            .nth(1)
+            .unwrap()
+            .split('\'')
+            .next()
+            .unwrap();
+        assert_eq!(hash.len(), 44);
+        assert!(hash.ends_with('='));
+        assert!(import_map().contains("three.module.js"));
     }
 }

@@ -20,6 +20,30 @@ struct Envelope {
     reply: Sender<Answer>,
 }
 
+/// Runs `work` on the session, catching a panic (a bug) so that it cannot end the
+/// session: the drag under way is dropped, the design and history stay as they were
+/// before it, and the request gets a 500 naming the bug.
+fn guarded<T>(session: &mut Session, work: impl FnOnce(&mut Session) -> T) -> Result<T, Refusal> {
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| work(session))) {
+        Ok(t) => Ok(t),
+        Err(cause) => {
+            let what = cause
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| cause.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "no message".into());
+            session.recover();
+            let what: String = what.chars().take(120).collect();
+            Err(Refusal {
+                status: 500,
+                message: format!(
+                    "internal error, the design is kept (please report this bug): {what}"
+                ),
+            })
+        }
+    }
+}
+
 /// The shared side of the session thread.
 pub struct Hub {
     mailbox: Mutex<Sender<Envelope>>,
@@ -78,16 +102,19 @@ impl Hub {
             };
             match next {
                 Some(envelope) => {
-                    let answer = session.handle(envelope.command);
+                    let answer =
+                        guarded(&mut session, |s| s.handle(envelope.command)).unwrap_or_else(Err);
                     if session.take_unpublished() {
-                        self.publish(&mut session);
+                        let _ = guarded(&mut session, |s| self.publish(s));
                     }
                     // The asker may have gone (a closed tab): nothing to do then.
                     let _ = envelope.reply.send(answer);
                 }
                 None => {
-                    session.step();
-                    self.publish(&mut session);
+                    let _ = guarded(&mut session, |s| {
+                        s.step();
+                        self.publish(s);
+                    });
                 }
             }
         }

@@ -2,7 +2,7 @@
 //! request gets a thread of its own, so a long-poll never holds up a drag; a dropped
 //! socket ends only its own thread.
 
-use super::api::{self, Request};
+use super::api::{self, Request, Site};
 use super::hub::Hub;
 use crate::mesh::Mesh;
 use std::io::Read;
@@ -67,17 +67,20 @@ impl Studio {
             .unwrap_or(options.port);
         let server = Arc::new(server);
         let hub = Hub::start(mesh, title);
+        let site = Arc::new(Site {
+            port,
+            assets: options.assets.clone(),
+        });
         let accept = {
             let (server, hub) = (Arc::clone(&server), Arc::clone(&hub));
-            let assets = options.assets.clone();
             std::thread::Builder::new()
                 .name("studio-accept".into())
                 .spawn(move || {
                     for request in server.incoming_requests() {
-                        let (hub, assets) = (Arc::clone(&hub), assets.clone());
+                        let (hub, site) = (Arc::clone(&hub), Arc::clone(&site));
                         let _ = std::thread::Builder::new()
                             .name("studio-request".into())
-                            .spawn(move || respond(&hub, assets.as_ref(), request));
+                            .spawn(move || respond(&hub, &site, request));
                     }
                 })
                 .expect("the accept thread starts")
@@ -111,7 +114,31 @@ impl Drop for Studio {
     }
 }
 
-fn respond(hub: &Hub, assets: Option<&PathBuf>, mut request: tiny_http::Request) {
+/// The value of header `name`, if the request has it once (a repeated `Host` or
+/// `Origin` is refused as absent or foreign).
+fn header(request: &tiny_http::Request, name: &'static str) -> Option<String> {
+    let mut values = request
+        .headers()
+        .iter()
+        .filter(|h| h.field.equiv(name))
+        .map(|h| h.value.as_str().to_string());
+    let first = values.next();
+    match values.next() {
+        Some(_) => Some(String::new()),
+        None => first,
+    }
+}
+
+/// Headers every reply carries: no caching, a policy that lets the page load only its
+/// own files and no other page frame it, and no type sniffing.
+const SECURITY_HEADERS: [(&str, &str); 4] = [
+    ("Cache-Control", "no-store"),
+    ("X-Content-Type-Options", "nosniff"),
+    ("X-Frame-Options", "DENY"),
+    ("Referrer-Policy", "no-referrer"),
+];
+
+fn respond(hub: &Hub, site: &Site, mut request: tiny_http::Request) {
     let mut body = Vec::new();
     let limit = super::session::MAX_UPLOAD as u64 + 1;
     if request
@@ -126,13 +153,21 @@ fn respond(hub: &Hub, assets: Option<&PathBuf>, mut request: tiny_http::Request)
     let url = request.url().to_string();
     let (path, query) = url.split_once('?').unwrap_or((&url, ""));
     let method = request.method().as_str().to_string();
+    let (host, origin, content_type) = (
+        header(&request, "Host"),
+        header(&request, "Origin"),
+        header(&request, "Content-Type"),
+    );
     let response = api::handle(
         hub,
-        assets,
+        site,
         Request {
             method: &method,
             path,
             query,
+            host,
+            origin,
+            content_type,
             body,
         },
     );
@@ -143,8 +178,13 @@ fn respond(hub: &Hub, assets: Option<&PathBuf>, mut request: tiny_http::Request)
                 .expect("valid header"),
         )
         .with_header(
-            tiny_http::Header::from_bytes("Cache-Control", "no-store").expect("valid header"),
+            tiny_http::Header::from_bytes("Content-Security-Policy", super::assets::policy())
+                .expect("valid header"),
         );
+    for (name, value) in SECURITY_HEADERS {
+        reply =
+            reply.with_header(tiny_http::Header::from_bytes(name, value).expect("valid header"));
+    }
     if let Some(name) = response.download {
         let value = format!("attachment; filename=\"{name}\"");
         if let Ok(h) = tiny_http::Header::from_bytes("Content-Disposition", value) {

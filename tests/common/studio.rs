@@ -69,14 +69,41 @@ impl Drop for StudioProcess {
     }
 }
 
-/// One HTTP/1.1 request on its own connection (`Connection: close`).
+/// One HTTP/1.1 request on its own connection (`Connection: close`), as the studio's
+/// page sends it: its own `Host`, and a POST body typed as the route wants.
 pub fn http(port: u16, method: &str, path: &str, body: &[u8]) -> (u16, Vec<u8>) {
+    let host = format!("127.0.0.1:{port}");
+    let mut headers = vec![("Host", host.as_str())];
+    if method == "POST" {
+        let kind = if path.starts_with("/api/open") {
+            "application/octet-stream"
+        } else {
+            "application/json"
+        };
+        headers.push(("Content-Type", kind));
+    }
+    http_with(port, method, path, &headers, body)
+}
+
+/// One HTTP/1.1 request with exactly these headers (besides `Connection` and
+/// `Content-Length`).
+pub fn http_with(
+    port: u16,
+    method: &str,
+    path: &str,
+    headers: &[(&str, &str)],
+    body: &[u8],
+) -> (u16, Vec<u8>) {
     let mut s = TcpStream::connect(("127.0.0.1", port)).expect("connect to the studio");
     s.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
-    let head = format!(
-        "{method} {path} HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\nContent-Length: {}\r\n\r\n",
+    let mut head = format!("{method} {path} HTTP/1.1\r\n");
+    for (name, value) in headers {
+        head.push_str(&format!("{name}: {value}\r\n"));
+    }
+    head.push_str(&format!(
+        "Connection: close\r\nContent-Length: {}\r\n\r\n",
         body.len()
-    );
+    ));
     s.write_all(head.as_bytes()).unwrap();
     s.write_all(body).unwrap();
     let mut raw = Vec::new();

@@ -13,7 +13,7 @@ import { Panel } from '/panel.js';
 export async function api(path, body, raw) {
   const init = body === undefined ? {} : {
     method: 'POST',
-    headers: raw ? {} : { 'Content-Type': 'application/json' },
+    headers: { 'Content-Type': raw ? 'application/octet-stream' : 'application/json' },
     body: raw ? body : JSON.stringify(body),
   };
   const r = await fetch('/api' + path, init);

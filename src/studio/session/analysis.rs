@@ -6,10 +6,21 @@
 
 use super::super::frame;
 use crate::constraints::ConstraintSet;
-use crate::fab::{self, Report, Tolerances};
+use crate::fab::{self, Budget, Report, Tolerances};
 use crate::mesh::Mesh;
 use crate::pipeline;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, Receiver, Sender, TryRecvError};
+use std::sync::Arc;
+use std::time::Duration;
+
+/// How long the analysis of one design may judge its layer order: past it, the pane
+/// says the design is too large for live analysis instead of holding up the next one.
+pub const LIVE_BUDGET: Duration = Duration::from_secs(2);
+
+/// What the panes say when the budget runs out.
+pub const LIVE_ADVICE: &str =
+    "too large for live analysis: run `crease verify` on the saved design";
 
 /// Which design an analysis describes: the positions and topology versions.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -32,6 +43,8 @@ pub struct Job {
     pub with_pattern: bool,
     /// Which design this is.
     pub stamp: Stamp,
+    /// Time it may take.
+    pub time: Duration,
 }
 
 /// What an analysis found.
@@ -44,18 +57,21 @@ pub struct Analysis {
     pub stamp: Stamp,
 }
 
-/// Verifies the design (as `verify` would the saved file: fold angles recorded first) and,
-/// when asked, lays out its crease pattern and flat-folded state.
-pub fn analyse(job: Job) -> Analysis {
+/// Verifies the design (as `verify` would the saved file: fold angles recorded first)
+/// within the job's time and `cancel`, and, when asked, lays out its crease pattern and
+/// flat-folded state.
+pub fn analyse(job: Job, cancel: Arc<AtomicBool>) -> Analysis {
     let Job {
         mut mesh,
         set,
         relaid,
         with_pattern,
         stamp,
+        time,
     } = job;
     pipeline::record_fold_angles(&mut mesh);
-    let report = fab::verify(&mesh, Some(&set), Tolerances::default());
+    let budget = Budget::live(time, cancel, LIVE_ADVICE);
+    let report = fab::verify_within(&mesh, Some(&set), Tolerances::default(), &budget);
     let pattern_json = with_pattern.then(|| {
         let pattern = match (relaid, mesh.flat()) {
             (false, Some(f)) => Some(f.to_vec()),
@@ -70,23 +86,24 @@ pub fn analyse(job: Job) -> Analysis {
     }
 }
 
-/// The analysis thread, and whether it is working.
+/// The analysis thread, and which design it is working on.
 pub struct Analyst {
-    jobs: Sender<Job>,
+    jobs: Sender<(Job, Arc<AtomicBool>)>,
     results: Receiver<Analysis>,
-    busy: bool,
+    /// The design under analysis and the flag that cancels it.
+    working: Option<(Stamp, Arc<AtomicBool>)>,
 }
 
 impl Analyst {
     /// Starts the thread; it ends when the analyst is dropped.
     pub fn start() -> Analyst {
-        let (jobs, inbox) = mpsc::channel::<Job>();
+        let (jobs, inbox) = mpsc::channel::<(Job, Arc<AtomicBool>)>();
         let (outbox, results) = mpsc::channel();
         std::thread::Builder::new()
             .name("studio-analysis".into())
             .spawn(move || {
-                for job in inbox {
-                    if outbox.send(analyse(job)).is_err() {
+                for (job, cancel) in inbox {
+                    if outbox.send(analyse(job, cancel)).is_err() {
                         return;
                     }
                 }
@@ -95,30 +112,55 @@ impl Analyst {
         Analyst {
             jobs,
             results,
-            busy: false,
+            working: None,
         }
     }
 
     /// An analysis is under way.
     pub fn busy(&self) -> bool {
-        self.busy
+        self.working.is_some()
     }
 
     /// Starts analysing `job`.
     pub fn send(&mut self, job: Job) {
-        self.busy = self.jobs.send(job).is_ok();
+        let (stamp, cancel) = (job.stamp, Arc::new(AtomicBool::new(false)));
+        self.working = self
+            .jobs
+            .send((job, Arc::clone(&cancel)))
+            .is_ok()
+            .then_some((stamp, cancel));
     }
 
-    /// The finished analysis, if there is one.
-    pub fn collect(&mut self) -> Option<Analysis> {
-        match self.results.try_recv() {
+    /// Cancels the analysis under way unless it is of topology `keep` (the design's
+    /// positions may move on during a drag; a new design makes it worthless).
+    pub fn cancel_unless(&self, keep: u64) {
+        if let Some((stamp, cancel)) = &self.working {
+            if stamp.topology != keep {
+                cancel.store(true, Ordering::Relaxed);
+            }
+        }
+    }
+
+    /// The finished analysis, waiting up to `wait` for it.
+    pub fn collect(&mut self, wait: Duration) -> Option<Analysis> {
+        let got = if wait.is_zero() {
+            self.results
+                .try_recv()
+                .map_err(|e| e == TryRecvError::Disconnected)
+        } else {
+            self.results
+                .recv_timeout(wait)
+                .map_err(|e| e == mpsc::RecvTimeoutError::Disconnected)
+        };
+        match got {
             Ok(a) => {
-                self.busy = false;
+                self.working = None;
                 Some(a)
             }
-            Err(TryRecvError::Empty) => None,
-            Err(TryRecvError::Disconnected) => {
-                self.busy = false;
+            Err(disconnected) => {
+                if disconnected {
+                    self.working = None;
+                }
                 None
             }
         }

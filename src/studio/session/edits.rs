@@ -45,8 +45,21 @@ impl Session {
                 )));
             }
         }
+        let to_simulation = mode == Some(Mode::Simulation) && self.design.mode == Mode::Design;
         self.release();
         self.remember();
+        if to_simulation && self.design.relaid {
+            // Simulation keeps the paper's lengths: those of the design as it is now, so
+            // the design is finished as saving finishes it (polished, its crease pattern
+            // laid out anew) before the mode changes.
+            let mesh = self.finished().inspect_err(|_| {
+                self.history.pop();
+            })?;
+            self.solver = None;
+            self.design.mesh = mesh;
+            self.design.relaid = false;
+            self.design_changed(true);
+        }
         self.settle();
         if let Some(m) = mode {
             self.design.mode = m;
@@ -188,6 +201,15 @@ impl Session {
     }
 
     pub(super) fn fabricate(&mut self, r: FabRequest) -> Result<Reply, Refusal> {
+        // A name the page was offered, never a path: a request opens no file it names.
+        let known = crate::plotter::machine::known_machines();
+        if !known.contains(&r.machine) {
+            return Err(Refusal::bad(format!(
+                "machine \"{}\" is not one of the studio's machines ({}); profiles in other places are for `crease fab --machine PATH`",
+                r.machine.chars().take(60).collect::<String>(),
+                known.join(", ")
+            )));
+        }
         let machine = crate::plotter::Machine::load(&r.machine)
             .map_err(|e| Refusal::bad(format!("machine: {e}")))?;
         let media = r
@@ -197,13 +219,7 @@ impl Session {
             .map(fab::Media::parse)
             .transpose()
             .map_err(|e| Refusal::bad(format!("media: {e}")))?;
-        if let Some(w) = r.width {
-            if !(w.is_finite() && w > 0.0) {
-                return Err(Refusal::bad(format!(
-                    "width must be a positive length in mm (got {w})"
-                )));
-            }
-        }
+        // The width is checked where `fab`'s is (pipeline::fabricate), with the same range.
         let mesh = self.finished()?;
         let options = FabOptions {
             media,

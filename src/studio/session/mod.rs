@@ -32,6 +32,9 @@ pub const MAX_UPLOAD: usize = 64 << 20;
 /// Minimum time between crease-pattern rebuilds during a drag (the page redraws two flat
 /// views from them); at rest the pattern is always rebuilt.
 const RELAY_EVERY: Duration = Duration::from_millis(300);
+/// How long `/api/state` waits for the verdict of the design as it is now.
+const STATE_WAIT: Duration = Duration::from_millis(300);
+
 /// What undo restores: the design and every setting the user chose for it.
 #[derive(Clone)]
 struct Design {
@@ -248,6 +251,8 @@ impl Session {
                 })
             }
             Command::Fabricate(r) => self.fabricate(r),
+            #[cfg(test)]
+            Command::Panic => panic!("a panic injected by a test"),
             Command::FabFile(name) => self
                 .fab_files
                 .iter()
@@ -279,6 +284,17 @@ impl Session {
             Command::Drag { vertex, .. } => self.drag.as_ref().is_some_and(|d| d.vertex == *vertex),
             _ => false,
         }
+    }
+
+    /// After a request panicked (a bug): the solver and the drag are dropped, so the
+    /// design is the last settled one, and the page is sent a fresh frame.
+    pub fn recover(&mut self) {
+        self.solver = None;
+        self.drag = None;
+        self.blocked = None;
+        self.message = "an internal error stopped the last request; the design is kept".into();
+        self.design_changed(true);
+        self.unpublished = true;
     }
 
     /// Whether something changed since the last frame was built; clears the flag.
@@ -353,6 +369,7 @@ impl Session {
             relaid: self.design.relaid,
             with_pattern,
             stamp: self.stamp(),
+            time: analysis::LIVE_BUDGET,
         }
     }
 
@@ -376,7 +393,8 @@ impl Session {
     /// Takes in a finished analysis and starts the next one if the design has moved on.
     /// Returns whether anything new arrived.
     pub fn analyse(&mut self) -> bool {
-        let arrived = match self.analyst.collect() {
+        self.analyst.cancel_unless(self.versions.topology);
+        let arrived = match self.analyst.collect(Duration::ZERO) {
             Some(a) => self.accept(a),
             None => false,
         };
@@ -400,15 +418,26 @@ impl Session {
         arrived || self.meter.rate() != shown_rate
     }
 
-    /// The report of the design as it is now, computed here if the analyst has not.
-    fn fresh_report(&mut self) -> &Report {
-        if self.report_stamp != Some(self.stamp()) {
-            let job = self.job(false);
-            let a = analysis::analyse(job);
-            self.report = Some(a.report);
-            self.report_stamp = Some(a.stamp);
+    /// The report of the design as it is now, waiting up to [`STATE_WAIT`] for the
+    /// analyst (twice at most: for the analysis under way, then for this design's), so
+    /// `/api/state` answers within a second whatever the design; `None` when the verdict
+    /// is not in yet (the page's frames bring it when it is).
+    fn fresh_report(&mut self) -> Option<&Report> {
+        for _ in 0..2 {
+            let now = self.stamp();
+            if self.report_stamp == Some(now) {
+                break;
+            }
+            if !self.analyst.busy() {
+                self.analyse();
+            }
+            if let Some(a) = self.analyst.collect(STATE_WAIT) {
+                // The page has not seen it either: the next frame carries it.
+                self.unpublished |= self.accept(a);
+            }
         }
-        self.report.as_ref().expect("just computed")
+        let current = self.report_stamp == Some(self.stamp());
+        current.then_some(self.report.as_ref()).flatten()
     }
 
     /// The frame the page draws, rebuilt from what changed.
@@ -452,10 +481,10 @@ impl Session {
     /// `GET /api/state`: the documented object, positions at full precision.
     pub fn state_json(&mut self) -> serde_json::Value {
         let conditions = self.condition_set();
-        let report = self.fresh_report().clone();
+        let report = self.fresh_report().cloned();
         let residuals: serde_json::Map<String, serde_json::Value> = report
-            .families
             .iter()
+            .flat_map(|r| &r.families)
             .filter(|f| f.gating)
             .map(|f| (f.name.to_string(), f.max.into()))
             .collect();
@@ -466,7 +495,8 @@ impl Session {
             "pinned": self.design.pinned,
             "mode": mode_name(self.design.mode),
             "residuals": residuals,
-            "pass": report.pass(),
+            "pass": report.as_ref().map(Report::pass),
+            "judged": report.is_some(),
             "title": self.title,
             "dragging": self.drag.as_ref().map(|d| d.vertex),
             "settled": !self.wants_to_step(),

@@ -49,6 +49,9 @@ pub enum Command {
     Fabricate(FabRequest),
     /// A file of the last fabrication.
     FabFile(String),
+    /// Panics inside the session (tests of the mailbox's guard only).
+    #[cfg(test)]
+    Panic,
 }
 
 /// Settings a request may change; absent fields stay.
