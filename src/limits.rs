@@ -138,6 +138,14 @@ pub const PATTERN_EXTENT: Range = Range {
     max: 100_000.0,
 };
 
+/// The falloff radius of a drag (how far round the dragged vertex the wish reaches).
+pub const RADIUS: Range = Range {
+    what: "the drag radius",
+    unit: "mm",
+    min: 0.01,
+    max: 100_000.0,
+};
+
 /// Solver steps of one command.
 pub const STEPS: Range = Range {
     what: "the number of steps",

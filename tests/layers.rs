@@ -321,3 +321,74 @@ fn the_bird_base_folds_to_its_known_shape() {
     assert!(((place(1) - place(2)).norm() - side).abs() < 1e-9);
     assert!(((place(0) - place(2)).norm() - side / 2f64.sqrt()).abs() < 1e-9);
 }
+
+/// A fan of `n` triangles round one vertex, creases alternating valley and mountain: every
+/// face lies on every other once folded, so the problem grows as n³.
+fn fan(n: usize) -> Mesh {
+    let mut coords = vec!["[0,0]".to_string()];
+    let (mut edges, mut kinds, mut angles, mut faces) = (vec![], vec![], vec![], vec![]);
+    for i in 0..n {
+        let a = std::f64::consts::TAU * i as f64 / n as f64;
+        coords.push(format!("[{}, {}]", 100.0 * a.cos(), 100.0 * a.sin()));
+        faces.push(format!("[0, {}, {}]", 1 + i, 1 + (i + 1) % n));
+        edges.push(format!("[0, {}]", 1 + i));
+        kinds.push(if i % 2 == 0 { "\"V\"" } else { "\"M\"" });
+        angles.push(if i % 2 == 0 { "180" } else { "-180" });
+    }
+    for i in 0..n {
+        edges.push(format!("[{}, {}]", 1 + i, 1 + (i + 1) % n));
+        kinds.push("\"B\"");
+        angles.push("0");
+    }
+    let text = format!(
+        r#"{{"file_spec": 1.1, "vertices_coords": [{}], "faces_vertices": [{}],
+            "edges_vertices": [{}], "edges_assignment": [{}], "edges_foldAngle": [{}]}}"#,
+        coords.join(","),
+        faces.join(","),
+        edges.join(","),
+        kinds.join(","),
+        angles.join(",")
+    );
+    crease::io::fold::parse(&text).unwrap()
+}
+
+#[test]
+fn a_budget_bounds_the_layer_problem_and_says_what_ran_out() {
+    use crease::fab::budget::{Budget, Exceeded};
+    use crease::fab::{layer_order_within, LayerError};
+    use std::sync::atomic::AtomicBool;
+    use std::sync::Arc;
+    use std::time::Duration;
+    let exceeded = |mesh: &Mesh, budget: &Budget| match layer_order_within(mesh, budget) {
+        Err(LayerError::OverBudget(e)) => e.exceeded,
+        other => panic!("expected the budget to run out, got {other:?}"),
+    };
+    // 1,200 faces on one point: past the default cap instead of gigabytes.
+    assert!(matches!(
+        exceeded(&fan(1200), &Budget::default()),
+        Exceeded::Size { .. }
+    ));
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let pyramid =
+        crease::io::read(&root.join("tests/data/origamisimulator/BoxPleatPyramid.fold")).unwrap();
+    let unlimited = layer_order(&pyramid).unwrap();
+    assert!(matches!(unlimited, LayerOrder::Found(_)));
+    // The same pattern under a deadline already passed, a cancelled flag, a small cap.
+    let cancel = Arc::new(AtomicBool::new(false));
+    let late = Budget::live(Duration::ZERO, Arc::clone(&cancel), "run crease verify");
+    std::thread::sleep(Duration::from_millis(2));
+    assert_eq!(exceeded(&pyramid, &late), Exceeded::Time(Duration::ZERO));
+    let message = layer_order_within(&pyramid, &late).unwrap_err().to_string();
+    assert!(message.ends_with("— run crease verify"), "{message}");
+    cancel.store(true, std::sync::atomic::Ordering::Relaxed);
+    let cancelled = Budget::live(Duration::from_secs(60), cancel, "");
+    assert_eq!(exceeded(&pyramid, &cancelled), Exceeded::Cancelled);
+    let small = Budget {
+        max_constraints: 1000,
+        ..Budget::default()
+    };
+    assert_eq!(exceeded(&pyramid, &small), Exceeded::Size { limit: 1000 });
+    // Within a generous budget the answer is the unlimited one.
+    let roomy = Budget::live(Duration::from_secs(600), Arc::default(), "");
+    assert_eq!(layer_order_within(&pyramid, &roomy).unwrap(), unlimited);
+}

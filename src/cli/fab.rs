@@ -93,7 +93,7 @@ pub fn fab(args: FabArgs) -> Result<u8, String> {
         eprintln!(
             "{}: the sheet is larger than {}; sheet.pdf is tiled over pages with {} mm overlap and registration marks (no cutter job written)",
             dir.display(),
-            machine.media,
+            options.media.as_ref().map_or(&machine.media, |m| &m.name),
             crease::pipeline::TILE_OVERLAP_MM
         );
         return Ok(0);

@@ -207,8 +207,31 @@ pub fn plot(args: PlotArgs) -> Result<u8, String> {
         Language::Hpgl => crease::output::hpgl::interpret(&text),
         Language::Gpgl => crease::output::gpgl::interpret(&text),
     }
-    .map_err(|e| format!("{}: {e}", job_path.display()))?;
+    .map_err(|e| {
+        // The reader quotes what it could not read: one line of it, cut short.
+        let first: String = e
+            .to_string()
+            .lines()
+            .next()
+            .unwrap_or("")
+            .chars()
+            .take(100)
+            .collect();
+        format!(
+            "{}: not a job this machine reads: {first}",
+            job_path.display()
+        )
+    })?;
+    if path.segments.is_empty() {
+        return Err(format!(
+            "{}: an empty job (no pen-down stroke): nothing to plot; make one with `crease fab`",
+            job_path.display()
+        ));
+    }
     let baud = args.baud.unwrap_or(line.baud);
+    crease::limits::BAUD
+        .check_count("--baud", baud as u64)
+        .map_err(|e| e.to_string())?;
     let flow = FlowMode::parse(args.flow.as_deref().unwrap_or(&line.flow))?;
     let unfinished = stream::unfinished(text.as_bytes(), &job_path);
     if let (Some(j), false, false) = (&unfinished, args.resume, args.restart) {
@@ -356,10 +379,14 @@ pub fn emulate(args: EmulateArgs) -> Result<u8, String> {
         language,
         no_media,
     } = args;
+    use crease::limits::{BAUD, BUFFER, DRAW_RATE};
     use crease::plotter::{emulator, EmulatorConfig, Flow};
-    if buffer == 0 || rate.is_nan() || rate <= 0.0 {
-        return Err("--buffer and --rate must be positive".into());
-    }
+    let text = |e: crease::limits::OutOfRange| e.to_string();
+    BUFFER
+        .check_count("--buffer", buffer as u64)
+        .map_err(text)?;
+    DRAW_RATE.check("--rate", rate).map_err(text)?;
+    BAUD.check_count("--baud", baud as u64).map_err(text)?;
     let config = EmulatorConfig {
         buffer,
         rate,
@@ -372,6 +399,8 @@ pub fn emulate(args: EmulateArgs) -> Result<u8, String> {
             .ok_or_else(|| format!("--language {language}: use hpgl or gpgl"))?,
         media_loaded: !no_media,
     };
+    // Refused before the banner: a user's file at that path is never replaced.
+    emulator::check_link_path(&link).map_err(|e| e.to_string())?;
     let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
     let flag = stop.clone();
     ctrlc::set_handler(move || flag.store(true, std::sync::atomic::Ordering::SeqCst))

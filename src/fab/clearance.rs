@@ -115,8 +115,9 @@ pub fn keep_clear(strokes: Vec<Stroke>, sheet: &Sheet, settings: &ScoreSettings)
         lb.total_cmp(&la).then(a.line.cmp(&b.line))
     });
     // Kept strokes in a grid of cells a few clearances wide, each listed in every cell its
-    // box, grown by the clearance, touches.
-    let cell = 4.0 * c;
+    // box, grown by the clearance, touches. A tiny clearance would make the cells tiny and
+    // a long cut cover millions of them: no cell is narrower than 1/512 of the media.
+    let cell = (4.0 * c).max(sheet.media.width.max(sheet.media.height) / 512.0);
     let key = |p: Vec2| ((p.x / cell).floor() as i64, (p.y / cell).floor() as i64);
     let mut grid: std::collections::HashMap<(i64, i64), Vec<usize>> = Default::default();
     let mut kept: Vec<Stroke> = Vec::with_capacity(fixed.len() + dashes.len());

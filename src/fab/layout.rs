@@ -46,10 +46,12 @@ impl Media {
                     a.trim().parse().map_err(|_| bad())?,
                     b.trim().parse().map_err(|_| bad())?,
                 );
-                if !(a > 0.0 && b > 0.0 && a.is_finite() && b.is_finite()) {
-                    return Err(bad());
-                }
-                (a * unit, b * unit)
+                let side = |v: f64| {
+                    crate::limits::MEDIA_SIDE
+                        .check(format!("media \"{}\"", text.trim()), v * unit)
+                        .map_err(|e| e.to_string())
+                };
+                (side(a)?, side(b)?)
             }
         };
         Ok(Media {
@@ -208,18 +210,15 @@ pub fn layout(
 
 /// Refuses a width or margin that is not a length.
 fn check_sizes(sizing: Sizing, margin: f64) -> Result<(), LayoutError> {
+    use crate::limits::{MARGIN, SHEET_WIDTH};
     if let Sizing::Width(w) = sizing {
-        if !(w.is_finite() && w > 0.0) {
-            return Err(LayoutError::Bad(format!(
-                "--width must be a positive length in mm (got {w})"
-            )));
-        }
+        SHEET_WIDTH
+            .check("--width", w)
+            .map_err(|e| LayoutError::Bad(e.to_string()))?;
     }
-    if !(margin.is_finite() && margin >= 0.0) {
-        return Err(LayoutError::Bad(format!(
-            "--margin must be a length of 0 mm or more (got {margin})"
-        )));
-    }
+    MARGIN
+        .check("--margin", margin)
+        .map_err(|e| LayoutError::Bad(e.to_string()))?;
     Ok(())
 }
 
@@ -330,7 +329,7 @@ pub fn layout_tiled(
             margin,
             overlap,
         );
-        c * r
+        c.saturating_mul(r)
     };
     let best = turns(vertices, sizing, usable)
         .into_iter()
@@ -340,6 +339,19 @@ pub fn layout_tiled(
                 .expect("finite sizes")
         })
         .expect("at least two turns");
+    // Each page is drawn in full: their count bounds the PDF's size and the work.
+    let needed = pages(best.2);
+    if crate::limits::PAGES
+        .check_count("--tile", needed as u64)
+        .is_err()
+    {
+        return Err(LayoutError::Bad(format!(
+            "--tile: the sheet would need {} pages of {}, more than {}: use larger --media, a smaller --width or a smaller --margin",
+            crate::limits::short(needed as f64),
+            page.name,
+            crate::limits::PAGES.max
+        )));
+    }
     let size = best.2;
     let sheet_media = Media {
         name: format!(

@@ -60,6 +60,10 @@ impl Format {
             "cp" => Ok(Format::Cp),
             "svg" => Ok(Format::Svg),
             "obj" => Ok(Format::Obj),
+            "" => Err(FileError::new(
+                path,
+                "the file name has no extension to tell its format: name it .fold, .cp, .svg or .obj",
+            )),
             _ => Err(FileError::new(
                 path,
                 format!("unknown file type \".{ext}\" (expected .fold, .cp, .svg or .obj)"),

@@ -26,8 +26,9 @@ pub struct FabOptions {
 }
 
 /// Narrowest sheet `--width` may ask for, mm: a cutter's step is 0.025–0.05 mm, and a
-/// pattern much smaller than this leaves strokes that round to nothing.
-pub const MIN_WIDTH_MM: f64 = 5.0;
+/// pattern much smaller than this leaves strokes that round to nothing (the lower end of
+/// [`crate::limits::SHEET_WIDTH`]).
+pub const MIN_WIDTH_MM: f64 = crate::limits::SHEET_WIDTH.min;
 
 /// Overlap between tiled PDF pages (mm).
 pub const TILE_OVERLAP_MM: f64 = 10.0;
@@ -86,8 +87,19 @@ pub fn fabricate(
     let margin = options.margin.unwrap_or(machine.margin_mm);
     let lines = crease_lines(mesh, &flat);
     let (sheet, tiled) = lay_out(&flat, &lines, &page, margin, sizing, options)?;
+    check_cuttable(&sheet, machine)?;
     let settings = machine.score_settings();
     let (strokes, unscored) = score_lines(&sheet, &settings);
+    if crate::limits::STROKES
+        .check_count("strokes", strokes.len() as u64)
+        .is_err()
+    {
+        return Err(FabError::Input(format!(
+            "the sheet would need {} strokes, more than {} a job may have: use a smaller --width or --media, or a longer dash in the machine's profile",
+            crate::limits::short(strokes.len() as f64),
+            crate::limits::STROKES.max
+        )));
+    }
     let tools = machine.hpgl_settings().tools;
     // Two-sided jobs register by crosses, unless tiled (no machine takes the sheet).
     let registered = options.mountains_from_back && !tiled;
@@ -146,16 +158,32 @@ pub fn fabricate(
     })
 }
 
+/// A sheet the machine can cut: at least [`MIN_WIDTH_MM`] across and several of the
+/// machine's steps, else every stroke would round to nothing on the job.
+fn check_cuttable(
+    sheet: &crate::fab::Sheet,
+    machine: &crate::plotter::Machine,
+) -> Result<(), FabError> {
+    let across = sheet.size[0].max(sheet.size[1]);
+    let step = 1.0 / machine.units_per_mm;
+    if !(across >= MIN_WIDTH_MM && across >= 100.0 * step) {
+        return Err(FabError::Input(format!(
+            "the design is {} mm across: nothing on it could be cut (the smallest sheet is {MIN_WIDTH_MM} mm); scale it with --width or --fit",
+            crate::limits::short(across)
+        )));
+    }
+    Ok(())
+}
+
 /// How the options size the sheet; a width too small to cut, or both `--fit` and
 /// `--width`, is refused.
 fn sizing_of(options: &FabOptions) -> Result<crate::fab::Sizing, FabError> {
     use crate::fab::Sizing;
     if let Some(w) = options.width {
-        if !(w.is_finite() && w >= MIN_WIDTH_MM) {
-            return Err(FabError::Input(format!(
-                "--width {w}: a sheet must be at least {MIN_WIDTH_MM} mm wide to be cut (below that every stroke is shorter than the machine's step)"
-            )));
-        }
+        // Below the range's 5 mm every stroke is shorter than a blade's dash.
+        crate::limits::SHEET_WIDTH
+            .check("--width", w)
+            .map_err(|e| FabError::Input(e.to_string()))?;
     }
     match (options.fit, options.width) {
         (true, Some(_)) => Err(FabError::Input(

@@ -271,11 +271,9 @@ fn drag_phase(
     solver.correct()?;
     let (lo, hi) = solver.mesh().bounding_box();
     let radius = radius.unwrap_or(0.25 * (hi - lo).norm());
-    if !(radius.is_finite() && radius > 0.0) {
-        return Err(PipelineError::Input(format!(
-            "radius must be a positive length (got {radius})"
-        )));
-    }
+    crate::limits::RADIUS
+        .check("--radius", radius)
+        .map_err(|e| PipelineError::Input(e.to_string()))?;
     let total: usize = stages.iter().map(|s| s.steps).sum();
     let mut done = 0;
     let mut drags = Vec::new();
@@ -356,11 +354,24 @@ fn check_targets(
         }
         None => size,
     };
+    let total: usize = stages
+        .iter()
+        .map(|s| s.steps)
+        .fold(0, usize::saturating_add);
+    crate::limits::STEPS
+        .check_count("steps in all", total as u64)
+        .map_err(|e| PipelineError::Input(e.to_string()))?;
     for stage in stages {
-        if stage.steps == 0 {
-            return Err(PipelineError::Input(
-                "a drag needs at least one step".into(),
-            ));
+        crate::limits::STEPS
+            .check_count("steps", stage.steps as u64)
+            .map_err(|e| PipelineError::Input(e.to_string()))?;
+        for (k, m) in stage.moves.iter().enumerate() {
+            if stage.moves[..k].iter().any(|o| o.vertex == m.vertex) {
+                return Err(PipelineError::Input(format!(
+                    "vertex {} is dragged twice in one stage: give it one target",
+                    m.vertex
+                )));
+            }
         }
         for m in &stage.moves {
             if m.vertex >= mesh.vertex_count() {

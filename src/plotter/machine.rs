@@ -242,20 +242,13 @@ impl Machine {
             1000.0,
             "must be between 1 and 1000 plotter units per mm",
         )?;
-        within(
-            "margin_mm",
-            self.margin_mm,
-            0.0,
-            500.0,
-            "must be 0 to 500 mm",
-        )?;
-        within(
-            "clearance_mm",
-            self.clearance_mm,
-            0.0,
-            50.0,
-            "must be 0 to 50 mm",
-        )?;
+        crate::limits::CLEARANCE
+            .check("clearance_mm", self.clearance_mm)
+            .map_err(|e| e.to_string())?;
+        crate::limits::MARGIN
+            .check("margin_mm", self.margin_mm)
+            .map_err(|e| e.to_string())?;
+        crate::fab::Media::parse(&self.media).map_err(|e| format!("media: {e}"))?;
         within(
             "pen_up_speed_mm_s",
             self.pen_up_speed_mm_s,
@@ -449,7 +442,7 @@ fn within(key: &str, v: f64, lo: f64, hi: f64, what: &str) -> Result<(), String>
     if v.is_finite() && v >= lo && v <= hi {
         Ok(())
     } else {
-        Err(format!("{key} = {v}: {what}"))
+        Err(format!("{key} = {}: {what}", crate::limits::short(v)))
     }
 }
 

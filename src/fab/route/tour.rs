@@ -199,8 +199,11 @@ fn nearest_ends(strokes: &[Stroke], k: usize) -> Vec<[Vec<(usize, usize)>; 2]> {
                     }
                 }
             }
+            // Only the k nearest so far can be among the k nearest: a crease's own dashes
+            // crowd the rings around its ends, and kept they made every ring's sort longer.
             let full = |v: &mut Vec<(f64, usize)>| {
                 v.sort_by(|a, b| a.0.total_cmp(&b.0));
+                v.truncate(k);
                 v.len() >= k && v[k - 1].0 <= ring as f64 * size
             };
             let (a, b) = (full(&mut any), full(&mut other));

@@ -49,6 +49,8 @@ struct Frame {
     lock_topology: Option<bool>,
     #[serde(rename = "crease:coincidentVertices")]
     coincident: Option<Vec<Vec<usize>>>,
+    #[serde(rename = "faceOrders")]
+    face_orders: Option<Vec<serde_json::Value>>,
 }
 
 impl Frame {
@@ -109,6 +111,13 @@ fn coords(frame: &Frame) -> Result<Vec<Vec3>, String> {
                     c.len()
                 ));
             }
+            if c.len() != raw[0].len() {
+                return Err(format!(
+                    "vertex {i} has {} coordinates but vertex 0 has {}: a frame is 2D or 3D throughout",
+                    c.len(),
+                    raw[0].len()
+                ));
+            }
             Ok(Vec3::new(c[0], c[1], c.get(2).copied().unwrap_or(0.0)) * scale)
         })
         .collect()
@@ -160,6 +169,7 @@ pub fn parse(text: &str) -> Result<Mesh, String> {
     let frames = frames_of(&file)?;
     let top = &frames[0];
     let face_lists = top.faces_vertices.clone().unwrap_or_default();
+    check_face_orders(top.face_orders.as_deref(), face_lists.len())?;
     let (flat, folded) = layouts(&frames, &face_lists)?;
     let n = flat
         .as_ref()
@@ -192,6 +202,31 @@ pub fn parse(text: &str) -> Result<Mesh, String> {
         top.frame_unit.clone(),
     )));
     Ok(mesh)
+}
+
+/// FOLD `faceOrders`: triples `[f, g, s]` of two different listed faces and s ∈ {−1, 0,
+/// +1}. They are copied through on writing, so a bad one is refused here.
+fn check_face_orders(orders: Option<&[serde_json::Value]>, faces: usize) -> Result<(), String> {
+    for (k, order) in orders.unwrap_or_default().iter().enumerate() {
+        let triple = order.as_array().filter(|t| t.len() == 3);
+        let ints: Option<Vec<i64>> = triple.and_then(|t| t.iter().map(|x| x.as_i64()).collect());
+        let shown: String = order.to_string().chars().take(40).collect();
+        let bad = |why: String| Err(format!("faceOrders[{k}] = {shown}: {why}"));
+        let Some([f, g, s]) = ints.as_deref().map(|v| [v[0], v[1], v[2]]) else {
+            return bad("not three whole numbers [f, g, s]".into());
+        };
+        for face in [f, g] {
+            if face < 0 || face as usize >= faces {
+                return bad(format!(
+                    "face {face} is not one of the file's {faces} faces"
+                ));
+            }
+        }
+        if f == g || !(-1..=1).contains(&s) {
+            return bad("needs two different faces and s of -1, 0 or 1".into());
+        }
+    }
+    Ok(())
 }
 
 /// The file's frames, frame 0 (the file's own) first, each inheriting what it says from

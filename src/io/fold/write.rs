@@ -99,7 +99,9 @@ struct Fields(String);
 
 impl Fields {
     fn field(&mut self, name: &str, value: String) {
-        let _ = writeln!(self.0, "  \"{name}\": {value},");
+        // A key copied from the input may hold any character: written as JSON writes it.
+        let key = serde_json::to_string(name).expect("a string is JSON");
+        let _ = writeln!(self.0, "  {key}: {value},");
     }
 }
 

@@ -140,12 +140,48 @@ fn open_line(link: &Path) -> std::io::Result<Line> {
     let target = slave
         .name()
         .ok_or_else(|| std::io::Error::other("pty has no name"))?;
-    // Point the link at the new pty atomically.
+    // Point the link at the new pty atomically; what is made is removed if that fails.
     let tmp = link.with_extension("linking");
-    let _ = std::fs::remove_file(&tmp);
+    if is_emulator_link(&tmp) {
+        let _ = std::fs::remove_file(&tmp);
+    }
     std::os::unix::fs::symlink(&target, &tmp)?;
-    std::fs::rename(&tmp, link)?;
+    if let Err(e) = std::fs::rename(&tmp, link) {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(e);
+    }
     Ok(Line { master, slave })
+}
+
+/// Whether `path` is a symlink to a pseudo-terminal, as the emulator makes: the only
+/// thing at a `--link` path it may replace or remove.
+fn is_emulator_link(path: &Path) -> bool {
+    std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink())
+        && std::fs::read_link(path).is_ok_and(|t| t.starts_with("/dev/pts/"))
+}
+
+/// Removes the emulator's link at `path`, and nothing else that may be there.
+pub(super) fn remove_emulator_link(path: &Path) {
+    if is_emulator_link(path) {
+        let _ = std::fs::remove_file(path);
+    }
+}
+
+/// Refuses a `--link` path (or its `.linking` neighbour) that holds anything but an
+/// emulator's own link: a user's file there must survive.
+pub fn check_link_path(link: &Path) -> std::io::Result<()> {
+    for p in [link.to_path_buf(), link.with_extension("linking")] {
+        if std::fs::symlink_metadata(&p).is_ok() && !is_emulator_link(&p) {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::AlreadyExists,
+                format!(
+                    "{} exists and is not an emulator's link: choose another --link path (nothing was changed)",
+                    p.display()
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Host-side flow-control flags from the slave's termios: (IXON, CRTSCTS).
@@ -322,6 +358,7 @@ impl Emulator {
     pub fn start(link: &Path, config: EmulatorConfig) -> std::io::Result<Emulator> {
         let state = Arc::new(Mutex::new(EmulatorState::default()));
         let stop = Arc::new(AtomicBool::new(false));
+        check_link_path(link)?;
         let line = open_line(link)?;
         let (st, sp, lk) = (state.clone(), stop.clone(), link.to_path_buf());
         let thread = std::thread::spawn(move || ticks::run(line, lk, config, st, sp));
@@ -363,7 +400,7 @@ impl Emulator {
         if let Some(t) = self.thread.take() {
             let _ = t.join();
         }
-        let _ = std::fs::remove_file(&self.link);
+        remove_emulator_link(&self.link);
         self.state()
     }
 }

@@ -190,7 +190,7 @@ impl Session {
             self.plotter = Plotter::new(self.config.clone());
             self.host_queue.clear();
         }
-        let _ = std::fs::remove_file(&self.link);
+        super::remove_emulator_link(&self.link);
         self.unplugged_at = Some(Instant::now());
     }
 }

@@ -1,0 +1,394 @@
+//! The hostile-input table: absurd options, impossible profiles and malformed files, each
+//! run through the real binary. Every row must end with its exit code and one short line
+//! naming the input, within a bound on time and memory (a hang or a blow-up is a
+//! failure, not a slow pass), and leave nothing half-written.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// Past this a run is taken for a hang (every row below ends in well under a second).
+const HANG: Duration = Duration::from_secs(30);
+/// Peak resident memory a row may reach (kB).
+const MEMORY_KB: u64 = 1_000_000;
+
+struct Run {
+    code: i32,
+    stderr: String,
+    peak_kb: u64,
+}
+
+/// Runs the binary, watching its peak memory (the kernel's high-water mark) until it ends.
+fn run(args: &[&str]) -> Run {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_crease"))
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("crease runs");
+    let start = Instant::now();
+    let mut peak_kb = 0;
+    let status = loop {
+        let status_file = format!("/proc/{}/status", child.id());
+        if let Ok(text) = std::fs::read_to_string(status_file) {
+            if let Some(kb) = text
+                .lines()
+                .find_map(|l| l.strip_prefix("VmHWM:"))
+                .and_then(|v| v.trim().trim_end_matches("kB").trim().parse().ok())
+            {
+                peak_kb = peak_kb.max(kb);
+            }
+        }
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        if start.elapsed() > HANG {
+            let _ = child.kill();
+            panic!("crease {args:?} ran past {HANG:?}");
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    let mut stderr = String::new();
+    std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut stderr).unwrap();
+    Run {
+        code: status.code().unwrap_or(-1),
+        stderr,
+        peak_kb,
+    }
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("crease-hostile-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn root(path: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(path)
+        .display()
+        .to_string()
+}
+
+/// Exit 2 with one line under 200 characters that names `names`; no output written.
+fn refused(args: &[&str], names: &str, out: Option<&Path>) {
+    let r = run(args);
+    assert_eq!(r.code, 2, "{args:?}: exit {}: {}", r.code, r.stderr);
+    let line = r.stderr.trim_end();
+    assert_eq!(line.lines().count(), 1, "{args:?}: {line}");
+    assert!(
+        line.len() < 200,
+        "{args:?}: {} characters: {line}",
+        line.len()
+    );
+    assert!(
+        line.to_lowercase().contains(&names.to_lowercase()),
+        "{args:?}: does not name {names:?}: {line}"
+    );
+    assert!(!line.contains("panicked"), "{line}");
+    assert!(r.peak_kb < MEMORY_KB, "{args:?}: peak {} kB", r.peak_kb);
+    if let Some(out) = out {
+        assert!(!out.exists(), "{args:?}: wrote {}", out.display());
+    }
+}
+
+fn profile(name: &str, change: (&str, &str)) -> String {
+    let text = std::fs::read_to_string(root("machines/generic-hpgl.toml")).unwrap();
+    let (key, value) = change;
+    let changed: String = text
+        .lines()
+        .map(|l| {
+            if l.trim_start().starts_with(&format!("{key} ")) || l.starts_with(&format!("{key}=")) {
+                format!("{key} = {value}")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    assert!(
+        changed.contains(&format!("{key} = {value}")),
+        "{key} in profile"
+    );
+    let path = scratch(name);
+    std::fs::write(&path, changed).unwrap();
+    path.display().to_string()
+}
+
+#[test]
+fn absurd_media_widths_margins_and_pages_are_refused_with_short_messages() {
+    let design = root("patterns/miura-bent.fold");
+    let out = scratch("fab-out");
+    let o = out.to_str().unwrap();
+    for media in ["1e308x1e308mm", "1e20x1e20mm", "300x1e308mm", "0x10mm"] {
+        refused(
+            &["fab", &design, "--media", media, "--out", o],
+            media,
+            Some(&out),
+        );
+    }
+    for media in ["1e15x1e15mm", "1e20x1e20mm", "1e5x1e5mm"] {
+        refused(
+            &["fab", &design, "--fit", "--media", media, "--out", o],
+            media,
+            Some(&out),
+        );
+    }
+    // A sheet that fits but would need more strokes than a job may have.
+    refused(
+        &[
+            "fab",
+            &design,
+            "--fit",
+            "--media",
+            "50000x50000mm",
+            "--out",
+            o,
+        ],
+        "strokes",
+        Some(&out),
+    );
+    refused(
+        &[
+            "fab",
+            &design,
+            "--tile",
+            "--media",
+            "10.01x10.01mm",
+            "--margin",
+            "0",
+            "--out",
+            o,
+        ],
+        "pages",
+        Some(&out),
+    );
+    refused(
+        &["fab", &design, "--width", "1e6", "--tile", "--out", o],
+        "--width",
+        Some(&out),
+    );
+    refused(
+        &["fab", &design, "--width", "1e-308", "--out", o],
+        "--width",
+        Some(&out),
+    );
+    refused(
+        &["fab", &design, "--margin", "1e308", "--out", o],
+        "--margin",
+        Some(&out),
+    );
+    // The media given is named, not the machine's default.
+    refused(
+        &["fab", &design, "--tile", "--media", "20x20mm", "--out", o],
+        "20x20mm",
+        Some(&out),
+    );
+}
+
+#[test]
+fn impossible_profiles_name_the_file_and_the_key() {
+    let design = root("patterns/miura-bent.fold");
+    let out = scratch("profile-out");
+    let o = out.to_str().unwrap();
+    for (key, value) in [
+        ("media", "\"300x1e308mm\""),
+        ("media", "\"huge\""),
+        ("units_per_mm", "1e300"),
+        ("clearance_mm", "-1"),
+        ("margin_mm", "1e308"),
+    ] {
+        let p = profile(&format!("bad-{key}.toml"), (key, value));
+        let r = run(&["fab", &design, "--machine", &p, "--out", o]);
+        assert_eq!(r.code, 2, "{key} = {value}: {}", r.stderr);
+        let line = r.stderr.trim_end();
+        assert!(line.contains(&p) && line.contains(key), "{line}");
+        assert!(line.len() < 300 && line.lines().count() == 1, "{line}");
+        assert!(!out.exists());
+    }
+    // A tiny clearance is a legal value: it must cost no more than a normal one.
+    let p = profile("tiny-clearance.toml", ("clearance_mm", "0.001"));
+    let r = run(&["fab", &design, "--machine", &p, "--out", o]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert!(r.peak_kb < MEMORY_KB, "peak {} kB", r.peak_kb);
+}
+
+#[test]
+fn generators_and_deform_refuse_sizes_counts_and_steps_past_their_limits() {
+    let out = scratch("gen.fold");
+    let o = out.to_str().unwrap();
+    for pattern in ["resch", "plane"] {
+        refused(
+            &["generate", pattern, "--size", "1e308", "-o", o],
+            "size",
+            Some(&out),
+        );
+    }
+    for (nx, ny) in [("2000", "2000"), ("1000", "1000"), ("0", "3")] {
+        refused(
+            &["generate", "miura", "--nx", nx, "--ny", ny, "-o", o],
+            "nx",
+            Some(&out),
+        );
+    }
+    refused(
+        &["generate", "yoshimura", "--angle", "nan", "-o", o],
+        "angle",
+        Some(&out),
+    );
+    let design = root("patterns/miura.fold");
+    let moved = scratch("deformed.fold");
+    let m = moved.to_str().unwrap();
+    for steps in ["1000000", "18446744073709551615"] {
+        refused(
+            &[
+                "deform",
+                &design,
+                "--drag",
+                "0=+0,+0,+5",
+                "--steps",
+                steps,
+                "-o",
+                m,
+            ],
+            "steps",
+            Some(&moved),
+        );
+    }
+    refused(
+        &[
+            "deform",
+            &design,
+            "--drag",
+            "0=0,0,40",
+            "--drag",
+            "0=0,0,-40",
+            "-o",
+            m,
+        ],
+        "vertex 0",
+        Some(&moved),
+    );
+    refused(
+        &[
+            "deform",
+            &design,
+            "--drag",
+            "0=+0,+0,+5",
+            "--radius",
+            "1e-308",
+            "-o",
+            m,
+        ],
+        "--radius",
+        Some(&moved),
+    );
+}
+
+#[test]
+fn malformed_files_and_designs_too_small_to_cut_are_refused() {
+    let write = |name: &str, text: &str| {
+        let p = scratch(name);
+        std::fs::write(&p, text).unwrap();
+        p.display().to_string()
+    };
+    let square = |side: f64, extra: &str| {
+        format!(
+            r#"{{"file_spec": 1.1, "vertices_coords": [[0,0],[{side},0],[{side},{side}],[0,{side}]],
+            "edges_vertices": [[0,1],[1,2],[2,3],[3,0],[0,2]], "edges_assignment": ["B","B","B","B","F"],
+            "faces_vertices": [[0,1,2],[0,2,3]]{extra}}}"#
+        )
+    };
+    let out = scratch("converted.fold");
+    let o = out.to_str().unwrap();
+    let orders = write(
+        "orders.fold",
+        &square(10.0, r#", "faceOrders": [[0, 99999, 1], [-1, 2, 7]]"#),
+    );
+    refused(&["convert", &orders, o], "faceOrders", Some(&out));
+    let mixed = write(
+        "mixed.fold",
+        &square(10.0, "").replace("[[0,0],[10,0]", "[[0,0,0],[10,0]"),
+    );
+    refused(&["convert", &mixed, o], "coordinates", Some(&out));
+    let bare = write("no-extension", &square(10.0, ""));
+    refused(&["convert", &bare, o], "no-extension", Some(&out));
+    let tiny = write("tiny.fold", &square(1e-9, ""));
+    let fab_out = scratch("tiny-out");
+    refused(
+        &["fab", &tiny, "--out", fab_out.to_str().unwrap()],
+        "across",
+        Some(&fab_out),
+    );
+    // A key that needs escaping is copied through as valid JSON.
+    let quoted = write(
+        "quoted.fold",
+        &square(10.0, r#", "my \"key\"": {"a\\b": "c\"d"}"#),
+    );
+    let r = run(&["convert", &quoted, o]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    let text = std::fs::read_to_string(&out).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&text).expect("valid JSON");
+    assert_eq!(v["my \"key\""]["a\\b"], "c\"d");
+}
+
+#[test]
+fn plot_and_emulate_refuse_bad_rates_empty_jobs_and_a_path_that_is_not_theirs() {
+    let job = scratch("empty.hpgl");
+    std::fs::write(&job, "").unwrap();
+    let j = job.to_str().unwrap();
+    refused(
+        &["plot", j, "--port", "/dev/null", "--dry-run"],
+        "empty",
+        None,
+    );
+    let real = scratch("real-job");
+    let r = run(&[
+        "fab",
+        &root("patterns/miura.fold"),
+        "--out",
+        real.to_str().unwrap(),
+    ]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    let sheet = real.join("sheet.hpgl").display().to_string();
+    refused(
+        &[
+            "plot",
+            &sheet,
+            "--port",
+            "/dev/null",
+            "--dry-run",
+            "--baud",
+            "0",
+        ],
+        "--baud",
+        None,
+    );
+    refused(
+        &["plot", "/etc/passwd", "--port", "/dev/null", "--dry-run"],
+        "/etc/passwd",
+        None,
+    );
+    // An existing file at --link survives; a directory gets no stray link beside it.
+    let precious = scratch("precious.txt");
+    std::fs::write(&precious, "precious").unwrap();
+    let p = precious.to_str().unwrap();
+    refused(&["emulate", "--link", p], "precious.txt", None);
+    assert_eq!(std::fs::read_to_string(&precious).unwrap(), "precious");
+    let dir = scratch("a-dir");
+    std::fs::create_dir_all(&dir).unwrap();
+    refused(&["emulate", "--link", dir.to_str().unwrap()], "a-dir", None);
+    assert!(!dir.with_extension("linking").exists(), "a stray link");
+    assert!(dir.is_dir());
+    let link = scratch("cutter-link");
+    let l = link.to_str().unwrap();
+    for (flag, value) in [
+        ("--baud", "0"),
+        ("--buffer", "18446744073709551615"),
+        ("--buffer", "0"),
+        ("--rate", "1e308"),
+    ] {
+        refused(&["emulate", "--link", l, flag, value], flag, Some(&link));
+    }
+}
