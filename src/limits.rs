@@ -194,6 +194,22 @@ pub const FRACTION: Range = Range {
     max: 1.0,
 };
 
+/// The twist allowance α of a facet line (§2.4), in [0, 1).
+pub const ALPHA: Range = Range {
+    what: "alpha",
+    unit: "",
+    min: 0.0,
+    max: 0.999,
+};
+
+/// The remeshing threshold (§4): a fraction of the mean edge, in (0, 1).
+pub const REMESH: Range = Range {
+    what: "the remesh threshold (a fraction of the mean edge)",
+    unit: "",
+    min: 0.001,
+    max: 0.999,
+};
+
 /// The Miura parallelogram angle γ, degrees (strictly between 0 and 90).
 pub const MIURA_ANGLE: Range = Range {
     what: "the parallelogram angle",

@@ -5,24 +5,9 @@
 
 mod common;
 
-use common::run_crease;
+use common::{run_crease, Rng};
 use crease::io::{self, Format};
 use std::path::{Path, PathBuf};
-
-/// xorshift64*: a reproducible stream without a dependency.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-}
 
 /// Tokens that break parsers: numbers at the edges, structure, other formats' syntax.
 const TOKENS: &[&str] = &[

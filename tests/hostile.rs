@@ -3,6 +3,9 @@
 //! naming the input, within a bound on time and memory (a hang or a blow-up is a
 //! failure, not a slow pass), and leave nothing half-written.
 
+mod common;
+
+use common::Rng;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -390,5 +393,123 @@ fn plot_and_emulate_refuse_bad_rates_empty_jobs_and_a_path_that_is_not_theirs() 
         ("--rate", "1e308"),
     ] {
         refused(&["emulate", "--link", l, flag, value], flag, Some(&link));
+    }
+}
+
+/// Numbers at and past every edge a quantity has.
+const ABSURD: &[&str] = &[
+    "0",
+    "-0",
+    "-1",
+    "1e-308",
+    "1e308",
+    "nan",
+    "inf",
+    "-inf",
+    "18446744073709551615",
+    "1e-9",
+    "0.001",
+    "3",
+    "1e6",
+    "1e20",
+    "2000",
+    "0.5",
+];
+
+/// One seeded command line with an absurd number in one place: a flag of fab, generate
+/// or deform, or a key of a machine profile.
+fn absurd_command(rng: &mut Rng, case: usize) -> Vec<String> {
+    let n = |rng: &mut Rng| ABSURD[rng.below(ABSURD.len())].to_string();
+    let design = root("patterns/miura-bent.fold");
+    let out = scratch(&format!("sweep-{case}")).display().to_string();
+    let s = |x: &str| x.to_string();
+    match rng.below(4) {
+        0 => {
+            let flag = ["--width", "--margin", "--media"][rng.below(3)];
+            let value = if flag == "--media" {
+                format!("{}x{}mm", n(rng), n(rng))
+            } else {
+                n(rng)
+            };
+            vec![s("fab"), design, s(flag), value, s("--out"), out]
+        }
+        1 => {
+            let pattern = [
+                "miura",
+                "waterbomb",
+                "yoshimura",
+                "resch",
+                "plane",
+                "curved",
+            ];
+            let flag = ["--nx", "--ny", "--size", "--angle", "--fold", "--alpha"][rng.below(6)];
+            let p = pattern[rng.below(pattern.len())];
+            vec![
+                s("generate"),
+                s(p),
+                s(flag),
+                n(rng),
+                s("-o"),
+                format!("{out}.fold"),
+            ]
+        }
+        2 => {
+            let flag = ["--steps", "--radius", "--alpha", "--fold"][rng.below(4)];
+            let (d, o) = (root("patterns/miura.fold"), format!("{out}.fold"));
+            vec![
+                s("deform"),
+                d,
+                s("--drag"),
+                s("0=+0,+0,+3"),
+                s(flag),
+                n(rng),
+                s("-o"),
+                o,
+            ]
+        }
+        _ => {
+            let key = [
+                "units_per_mm",
+                "margin_mm",
+                "clearance_mm",
+                "pen_up_speed_mm_s",
+            ];
+            let key = key[rng.below(key.len())];
+            // TOML reads nan and inf; a 20-digit integer is its own parse error.
+            let value = n(rng);
+            let p = profile(&format!("sweep-{case}.toml"), (key, &value));
+            vec![s("fab"), design, s("--machine"), p, s("--out"), out]
+        }
+    }
+}
+
+#[test]
+fn a_seeded_sweep_of_absurd_numbers_through_flags_and_profiles_ends_cleanly() {
+    let cases = std::env::var("CREASE_FUZZ_CASES")
+        .ok()
+        .and_then(|n| n.parse().ok())
+        .map_or(40, |n: usize| n.max(1));
+    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    for case in 0..cases {
+        let args = absurd_command(&mut rng, case);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let r = run(&args);
+        assert!(
+            [0, 1, 2].contains(&r.code),
+            "{args:?}: exit {}: {}",
+            r.code,
+            r.stderr
+        );
+        assert!(!r.stderr.contains("panicked"), "{args:?}: {}", r.stderr);
+        assert!(r.peak_kb < MEMORY_KB, "{args:?}: peak {} kB", r.peak_kb);
+        if r.code == 2 {
+            let line = r.stderr.trim_end();
+            assert_eq!(line.lines().count(), 1, "{args:?}: {line}");
+            assert!(
+                line.len() < 300,
+                "{args:?}: {} characters: {line}",
+                line.len()
+            );
+        }
     }
 }

@@ -77,17 +77,26 @@ fn piercing(
     q: &[Vec3; 3],
     eps: f64,
 ) -> Option<(Vec3, f64)> {
-    let n = (q[1] - q[0]).cross(&(q[2] - q[0]));
-    let area2 = n.norm();
-    if area2 <= eps * eps {
-        return None; // a degenerate face has no interior
-    }
-    let n = n / area2;
+    // An edge whose box misses q's cannot pierce it. Around a vertex where many long thin
+    // faces meet (a cone's apex) every pair's boxes overlap, but the edges opposite the
+    // shared vertex are short: this test rejects nearly all such pairs before any plane.
+    let q_box = Aabb::around(q.iter().copied(), eps);
+    let mut normal = None;
     for k in 0..3 {
         let (i, j) = (k, (k + 1) % 3);
         if q_ids.contains(&p_ids[i]) || q_ids.contains(&p_ids[j]) {
             continue;
         }
+        if !q_box.overlaps(&Aabb::around([p[i], p[j]].into_iter(), 0.0)) {
+            continue;
+        }
+        let n = *normal.get_or_insert_with(|| {
+            let n = (q[1] - q[0]).cross(&(q[2] - q[0]));
+            let area2 = n.norm();
+            // A degenerate face has no interior.
+            (area2 > eps * eps).then(|| n / area2)
+        });
+        let n = n?;
         let (di, dj) = ((p[i] - q[0]).dot(&n), (p[j] - q[0]).dot(&n));
         if di * dj >= 0.0 || di.abs() <= eps || dj.abs() <= eps {
             continue;

@@ -138,9 +138,9 @@ pub fn generate(p: &Params) -> Result<Mesh, GenerateError> {
             ));
         }
     }
-    if !(0.0..1.0).contains(&p.alpha) {
-        return bad(format!("alpha must be in [0, 1) (got {})", p.alpha));
-    }
+    crate::limits::ALPHA
+        .check("alpha", p.alpha)
+        .map_err(|e| GenerateError::BadParameter(e.to_string()))?;
     let mut mesh = match p.kind {
         PatternKind::Miura => miura(p)?,
         PatternKind::Waterbomb => waterbomb(p)?,

@@ -174,11 +174,9 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
     let fixed = fixed.unwrap_or_else(|| Solver::default_fixed(&mesh, &dragged));
     let mut fold_report = None;
     if let Some(amount) = fold {
-        if !(0.0..=1.0).contains(&amount) {
-            return Err(PipelineError::Input(format!(
-                "fold amount must be in [0, 1] (got {amount})"
-            )));
-        }
+        crate::limits::FRACTION
+            .check("fold amount", amount)
+            .map_err(|e| PipelineError::Input(e.to_string()))?;
         let (folded, report) = fold_phase(mesh, amount, &fold_anchor, &options, "fold", progress)?;
         (mesh, fold_report) = (folded, Some(report));
     } else if !stages.is_empty() && is_flat_start(&mesh) {
@@ -223,11 +221,9 @@ fn check_options(
     fixed: [&Option<Vec<usize>>; 2],
 ) -> Result<(), PipelineError> {
     if let Some(r) = remesh {
-        if !(r > 0.0 && r < 1.0) {
-            return Err(PipelineError::Input(format!(
-                "remesh threshold must be in (0, 1), a fraction of the mean edge (got {r})"
-            )));
-        }
+        crate::limits::REMESH
+            .check("remesh", r)
+            .map_err(|e| PipelineError::Input(e.to_string()))?;
     }
     let n = mesh.vertex_count();
     for list in fixed {
@@ -312,11 +308,9 @@ pub fn is_flat_start(mesh: &Mesh) -> bool {
 /// Gives every untwisted facet line (target 0, flat or join) the twist allowance α of
 /// §2.4, which must lie in [0, 1).
 pub fn set_alpha(mesh: &mut Mesh, alpha: f64) -> Result<(), PipelineError> {
-    if !(0.0..1.0).contains(&alpha) {
-        return Err(PipelineError::Input(format!(
-            "alpha must be in [0, 1) (got {alpha})"
-        )));
-    }
+    crate::limits::ALPHA
+        .check("alpha", alpha)
+        .map_err(|e| PipelineError::Input(e.to_string()))?;
     for e in mesh.edges_mut() {
         if e.target == 0.0 && matches!(e.assignment, Assignment::Flat | Assignment::Join) {
             e.alpha = alpha;

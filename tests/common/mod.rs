@@ -32,3 +32,20 @@ pub fn scratch_file(suite: &str, name: &str, content: &str) -> std::path::PathBu
     std::fs::write(&p, content).unwrap();
     p
 }
+
+/// xorshift64*: a reproducible stream without a dependency.
+#[allow(dead_code)] // only the fuzzing tests draw from it
+pub struct Rng(pub u64);
+
+#[allow(dead_code)]
+impl Rng {
+    pub fn next(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+    }
+    pub fn below(&mut self, n: usize) -> usize {
+        (self.next() % n.max(1) as u64) as usize
+    }
+}

@@ -33,17 +33,12 @@ impl Session {
             })
             .transpose()
             .map_err(Refusal::bad)?;
+        let bad = |e: crate::limits::OutOfRange| Refusal::bad(e.to_string());
         if let Some(a) = s.alpha {
-            if !(0.0..1.0).contains(&a) {
-                return Err(Refusal::bad(format!("alpha must be in [0, 1) (got {a})")));
-            }
+            crate::limits::ALPHA.check("alpha", a).map_err(bad)?;
         }
         if let Some(r) = s.remesh {
-            if !(r > 0.0 && r < 1.0) {
-                return Err(Refusal::bad(format!(
-                    "the remesh threshold must be in (0, 1), a fraction of the mean edge (got {r})"
-                )));
-            }
+            crate::limits::REMESH.check("remesh", r).map_err(bad)?;
         }
         let to_simulation = mode == Some(Mode::Simulation) && self.design.mode == Mode::Design;
         self.release();
@@ -86,11 +81,9 @@ impl Session {
     }
 
     pub(super) fn fold(&mut self, amount: f64) -> Result<Reply, Refusal> {
-        if !(0.0..=1.0).contains(&amount) {
-            return Err(Refusal::bad(format!(
-                "the fold amount must be in [0, 1] (got {amount})"
-            )));
-        }
+        crate::limits::FRACTION
+            .check("amount", amount)
+            .map_err(|e| Refusal::bad(e.to_string()))?;
         if self.design.mode != Mode::Simulation {
             return Err(Refusal::conflict(
                 "folding keeps every edge length: switch to simulation mode first",
