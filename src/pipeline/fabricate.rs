@@ -158,22 +158,27 @@ pub fn fabricate(
     })
 }
 
-/// A sheet the machine can cut: at least [`MIN_WIDTH_MM`] across and several of the
-/// machine's steps, else every stroke would round to nothing on the job.
+/// A sheet the machine can cut: at least [`MIN_STEPS_ACROSS`] of its steps across, else
+/// every stroke would round to a point or nothing on the job.
 fn check_cuttable(
     sheet: &crate::fab::Sheet,
     machine: &crate::plotter::Machine,
 ) -> Result<(), FabError> {
     let across = sheet.size[0].max(sheet.size[1]);
     let step = 1.0 / machine.units_per_mm;
-    if !(across >= MIN_WIDTH_MM && across >= 100.0 * step) {
+    // NaN (a degenerate sheet) is refused too.
+    if across.is_nan() || across < MIN_STEPS_ACROSS * step {
         return Err(FabError::Input(format!(
-            "the design is {} mm across: nothing on it could be cut (the smallest sheet is {MIN_WIDTH_MM} mm); scale it with --width or --fit",
-            crate::limits::short(across)
+            "the design is {} mm across, under {MIN_STEPS_ACROSS} of the machine's {} mm steps: nothing on it could be cut; scale it with --width or --fit",
+            crate::limits::short(across),
+            crate::limits::short(step)
         )));
     }
     Ok(())
 }
+
+/// The fewest machine steps a design may span and still be cut.
+const MIN_STEPS_ACROSS: f64 = 20.0;
 
 /// How the options size the sheet; a width too small to cut, or both `--fit` and
 /// `--width`, is refused.
