@@ -513,3 +513,30 @@ fn a_seeded_sweep_of_absurd_numbers_through_flags_and_profiles_ends_cleanly() {
         }
     }
 }
+
+#[test]
+fn a_cone_of_twenty_thousand_sectors_is_verified_within_bounds() {
+    // Every face meets every other at the apex: candidate pairs once grew as n².
+    let n = 20_000;
+    let mut coords = vec!["[0,0,30]".to_string()];
+    for i in 0..n {
+        let a = std::f64::consts::TAU * i as f64 / n as f64;
+        coords.push(format!("[{:.9},{:.9},0]", 100.0 * a.cos(), 100.0 * a.sin()));
+    }
+    let faces: Vec<String> = (0..n)
+        .map(|i| format!("[0,{},{}]", 1 + i, 1 + (i + 1) % n))
+        .collect();
+    let cone = scratch("cone.fold");
+    std::fs::write(
+        &cone,
+        format!(
+            r#"{{"file_spec": 1.1, "vertices_coords": [{}], "faces_vertices": [{}]}}"#,
+            coords.join(","),
+            faces.join(",")
+        ),
+    )
+    .unwrap();
+    let r = run(&["verify", cone.to_str().unwrap()]);
+    assert!([0, 1].contains(&r.code), "exit {}: {}", r.code, r.stderr);
+    assert!(r.peak_kb < MEMORY_KB, "peak {} kB", r.peak_kb);
+}
