@@ -278,7 +278,11 @@ impl Bvh {
         let mut stack = vec![0];
         while let Some(n) = stack.pop() {
             let node = &self.nodes[n];
-            if !node.bounds.overlaps(query) || self.shared[n].iter().any(|v| skip.contains(v)) {
+            let skipped = self
+                .shared
+                .get(n)
+                .is_some_and(|s| s.iter().any(|v| skip.contains(v)));
+            if skipped || !node.bounds.overlaps(query) {
                 continue;
             }
             match node.kind {
@@ -296,25 +300,7 @@ impl Bvh {
     /// Items whose boxes overlap `query`, appended to `out`.
     #[cfg(test)]
     fn overlapping(&self, query: &Aabb, out: &mut Vec<usize>) {
-        if self.nodes.is_empty() {
-            return;
-        }
-        let mut stack = vec![0];
-        while let Some(n) = stack.pop() {
-            let node = &self.nodes[n];
-            if !node.bounds.overlaps(query) {
-                continue;
-            }
-            match node.kind {
-                NodeKind::Leaf(a, b) => out.extend(
-                    self.items[a..b]
-                        .iter()
-                        .copied()
-                        .filter(|&i| self.boxes[i].overlaps(query)),
-                ),
-                NodeKind::Inner(l, r) => stack.extend([l, r]),
-            }
-        }
+        self.overlapping_without(query, &[], out);
     }
 }
 
