@@ -162,6 +162,46 @@ pub const BAUD: Range = Range {
     max: 4_000_000.0,
 };
 
+/// A profile's plotter units per millimetre (HP-GL's 40, GP-GL's 20, a laser's 100).
+pub const UNITS_PER_MM: Range = Range {
+    what: "the plotter units per mm",
+    unit: "",
+    min: 1.0,
+    max: 1_000.0,
+};
+
+/// A tool's or the pen-up travel's speed: positive, up to 10 m/s.
+pub const SPEED: Range = Range {
+    what: "a speed",
+    unit: "mm/s",
+    min: 1e-3,
+    max: 10_000.0,
+};
+
+/// A tool's force, in the machine's own units: positive.
+pub const FORCE: Range = Range {
+    what: "a force",
+    unit: "",
+    min: 1e-6,
+    max: 1e6,
+};
+
+/// A drag knife's offset: 0 (a pen) to 2.5 mm.
+pub const BLADE_OFFSET: Range = Range {
+    what: "the blade offset",
+    unit: "mm",
+    min: 0.0,
+    max: 2.5,
+};
+
+/// A cut or a gap of a dash code: a blade makes none shorter than 0.1 mm.
+pub const DASH: Range = Range {
+    what: "a dash's cut or gap",
+    unit: "mm",
+    min: 0.1,
+    max: 1_000.0,
+};
+
 /// A plotter's input buffer.
 pub const BUFFER: Range = Range {
     what: "the buffer",

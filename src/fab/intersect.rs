@@ -104,9 +104,8 @@ fn piercing(
     q: &[Vec3; 3],
     eps: f64,
 ) -> Option<(Vec3, f64)> {
-    // An edge whose box misses q's cannot pierce it. Around a vertex where many long thin
-    // faces meet (a cone's apex) every pair's boxes overlap, but the edges opposite the
-    // shared vertex are short: this test rejects nearly all such pairs before any plane.
+    // An edge whose box misses q's cannot pierce it: a candidate pair was found through
+    // one of its edges, and this rejects the others before any plane is computed.
     let q_box = Aabb::around(q.iter().copied(), eps);
     let mut normal = None;
     for k in 0..3 {

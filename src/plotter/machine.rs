@@ -136,7 +136,7 @@ pub const STANDARD_BAUDS: [u32; 12] = [
 pub const MAX_PEN: u32 = 8;
 /// Shortest dash or bridge a profile may ask for, mm: a few plotter steps, below which a
 /// blade only tears and a sheet of dashes grows without bound.
-pub const MIN_DASH_MM: f64 = 0.1;
+pub const MIN_DASH_MM: f64 = crate::limits::DASH.min;
 
 /// Folders searched for profiles by name: `$CREASE_MACHINES`, `.`, `./machines`, and the
 /// `machines/` folder crease was built from.
@@ -235,44 +235,33 @@ impl Machine {
     }
 
     fn check_ranges(&self) -> Result<(), String> {
-        within(
-            "units_per_mm",
-            self.units_per_mm,
-            1.0,
-            1000.0,
-            "must be between 1 and 1000 plotter units per mm",
-        )?;
-        crate::limits::CLEARANCE
+        use crate::limits::{BLADE_OFFSET, BUFFER, CLEARANCE, MARGIN, SPEED, UNITS_PER_MM};
+        UNITS_PER_MM
+            .check("units_per_mm", self.units_per_mm)
+            .map_err(text)?;
+        CLEARANCE
             .check("clearance_mm", self.clearance_mm)
-            .map_err(|e| e.to_string())?;
-        crate::limits::MARGIN
-            .check("margin_mm", self.margin_mm)
-            .map_err(|e| e.to_string())?;
+            .map_err(text)?;
+        MARGIN.check("margin_mm", self.margin_mm).map_err(text)?;
         crate::fab::Media::parse(&self.media).map_err(|e| format!("media: {e}"))?;
-        within(
-            "pen_up_speed_mm_s",
-            self.pen_up_speed_mm_s,
-            1e-3,
-            10_000.0,
-            "must be a positive speed up to 10 m/s",
-        )?;
+        SPEED
+            .check("pen_up_speed_mm_s", self.pen_up_speed_mm_s)
+            .map_err(text)?;
         if let Some(baud) = self.baud.filter(|b| !STANDARD_BAUDS.contains(b)) {
             return Err(format!(
                 "baud = {baud}: not a standard rate ({})",
                 STANDARD_BAUDS.map(|b| b.to_string()).join(", ")
             ));
         }
-        if let Some(bytes) = self.buffer_bytes.filter(|b| !(1..=(1 << 24)).contains(b)) {
-            return Err(format!("buffer_bytes = {bytes}: must be 1 byte to 16 MiB"));
+        if let Some(bytes) = self.buffer_bytes {
+            BUFFER
+                .check_count("buffer_bytes", bytes as u64)
+                .map_err(text)?;
         }
         if let Some(offset) = self.gpgl.as_ref().and_then(|g| g.blade_offset_mm) {
-            within(
-                "gpgl.blade_offset_mm",
-                offset,
-                0.0,
-                2.5,
-                "must be 0 (a pen) to 2.5 mm",
-            )?;
+            BLADE_OFFSET
+                .check("gpgl.blade_offset_mm", offset)
+                .map_err(text)?;
         }
         for (k, t) in &self.tools {
             check_tool(k, t)?;
@@ -437,13 +426,9 @@ impl Machine {
     }
 }
 
-/// `v` within `lo..=hi`, else the error naming the profile's `key` and `what` it must be.
-fn within(key: &str, v: f64, lo: f64, hi: f64, what: &str) -> Result<(), String> {
-    if v.is_finite() && v >= lo && v <= hi {
-        Ok(())
-    } else {
-        Err(format!("{key} = {}: {what}", crate::limits::short(v)))
-    }
+/// A range's refusal as the profile's error text (it names the key).
+fn text(e: crate::limits::OutOfRange) -> String {
+    e.to_string()
 }
 
 /// A tool's pen, speed, force and dash within what a machine can do.
@@ -454,35 +439,18 @@ fn check_tool(k: &str, t: &Tool) -> Result<(), String> {
             t.pen
         ));
     }
+    use crate::limits::{DASH, FORCE, SPEED};
     if let Some(v) = t.speed_mm_s {
-        within(
-            &format!("tools.{k}.speed_mm_s"),
-            v,
-            1e-3,
-            10_000.0,
-            "must be a positive speed up to 10 m/s",
-        )?;
+        SPEED
+            .check(format!("tools.{k}.speed_mm_s"), v)
+            .map_err(text)?;
     }
     if let Some(v) = t.force {
-        within(
-            &format!("tools.{k}.force"),
-            v,
-            1e-6,
-            1e6,
-            "must be a positive force",
-        )?;
+        FORCE.check(format!("tools.{k}.force"), v).map_err(text)?;
     }
     if let Some(d) = t.dash {
         for v in d {
-            within(
-                    &format!("tools.{k}.dash"),
-                    v,
-                    MIN_DASH_MM,
-                    1000.0,
-                    &format!(
-                        "cut and gap must each be at least {MIN_DASH_MM} mm (a blade cannot make shorter ones)"
-                    ),
-                )?;
+            DASH.check(format!("tools.{k}.dash"), v).map_err(text)?;
         }
     }
     Ok(())
