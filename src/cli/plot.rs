@@ -199,13 +199,16 @@ fn open_job(
     Ok((job_path, text, settings))
 }
 
-/// `crease plot`: stream an HP-GL or GP-GL job to a port.
-pub fn plot(args: PlotArgs) -> Result<u8, String> {
-    use crease::plotter::{stream, FlowMode, StreamOptions};
-    let (job_path, text, line) = open_job(args.job, args.machine.as_deref())?;
-    let path = match line.language {
-        Language::Hpgl => crease::output::hpgl::interpret(&text),
-        Language::Gpgl => crease::output::gpgl::interpret(&text),
+/// What the job draws, read back as the machine will: a file the reader cannot read is
+/// named with one short line of what it met, and a job that draws nothing is refused.
+fn pen_path(
+    text: &str,
+    language: Language,
+    job_path: &Path,
+) -> Result<crease::output::hpgl::PenPath, String> {
+    let path = match language {
+        Language::Hpgl => crease::output::hpgl::interpret(text),
+        Language::Gpgl => crease::output::gpgl::interpret(text),
     }
     .map_err(|e| {
         // The reader quotes what it could not read: one line of it, cut short.
@@ -228,6 +231,14 @@ pub fn plot(args: PlotArgs) -> Result<u8, String> {
             job_path.display()
         ));
     }
+    Ok(path)
+}
+
+/// `crease plot`: stream an HP-GL or GP-GL job to a port.
+pub fn plot(args: PlotArgs) -> Result<u8, String> {
+    use crease::plotter::{stream, FlowMode, StreamOptions};
+    let (job_path, text, line) = open_job(args.job, args.machine.as_deref())?;
+    let path = pen_path(&text, line.language, &job_path)?;
     let baud = args.baud.unwrap_or(line.baud);
     crease::limits::BAUD
         .check_count("--baud", baud as u64)
