@@ -45,11 +45,7 @@ fn routes() -> Vec<(&'static str, &'static str, Vec<u8>)> {
 }
 
 fn content_type_for(path: &str) -> &'static str {
-    if path.starts_with("/api/open") {
-        "application/octet-stream"
-    } else {
-        "application/json"
-    }
+    crease::studio::api::body_type(path.split('?').next().unwrap_or(path))
 }
 
 fn unchanged(studio: &StudioProcess, before: &Value) {

@@ -46,14 +46,7 @@ impl<'a> Request<'a> {
         body: Vec<u8>,
     ) -> Request<'a> {
         let authority = format!("127.0.0.1:{}", site.port);
-        let content_type = (method == "POST").then(|| {
-            if path == "/api/open" {
-                "application/octet-stream"
-            } else {
-                "application/json"
-            }
-            .to_string()
-        });
+        let content_type = (method == "POST").then(|| body_type(path).to_string());
         Request {
             method,
             path,
@@ -119,11 +112,7 @@ pub fn admit(site: &Site, request: &Request) -> Result<(), Response> {
         }
     }
     if request.method == "POST" {
-        let wanted = if request.path == "/api/open" {
-            "application/octet-stream"
-        } else {
-            "application/json"
-        };
+        let wanted = body_type(request.path);
         let given = request
             .content_type
             .as_deref()
@@ -142,6 +131,16 @@ pub fn admit(site: &Site, request: &Request) -> Result<(), Response> {
         }
     }
     Ok(())
+}
+
+/// The type a POST to `path` must carry: file bytes for `/api/open`, JSON elsewhere
+/// (neither is a type a cross-site page may send without a preflight).
+pub fn body_type(path: &str) -> &'static str {
+    if path == "/api/open" {
+        "application/octet-stream"
+    } else {
+        "application/json"
+    }
 }
 
 /// A header value cut for a message (a hostile one may be long).

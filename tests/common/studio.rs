@@ -75,12 +75,8 @@ pub fn http(port: u16, method: &str, path: &str, body: &[u8]) -> (u16, Vec<u8>) 
     let host = format!("127.0.0.1:{port}");
     let mut headers = vec![("Host", host.as_str())];
     if method == "POST" {
-        let kind = if path.starts_with("/api/open") {
-            "application/octet-stream"
-        } else {
-            "application/json"
-        };
-        headers.push(("Content-Type", kind));
+        let route = path.split('?').next().unwrap_or(path);
+        headers.push(("Content-Type", crease::studio::api::body_type(route)));
     }
     http_with(port, method, path, &headers, body)
 }

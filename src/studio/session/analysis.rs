@@ -43,8 +43,6 @@ pub struct Job {
     pub with_pattern: bool,
     /// Which design this is.
     pub stamp: Stamp,
-    /// Time it may take.
-    pub time: Duration,
 }
 
 /// What an analysis found.
@@ -60,17 +58,16 @@ pub struct Analysis {
 /// Verifies the design (as `verify` would the saved file: fold angles recorded first)
 /// within the job's time and `cancel`, and, when asked, lays out its crease pattern and
 /// flat-folded state.
-pub fn analyse(job: Job, cancel: Arc<AtomicBool>) -> Analysis {
+fn analyse(job: Job, cancel: Arc<AtomicBool>) -> Analysis {
     let Job {
         mut mesh,
         set,
         relaid,
         with_pattern,
         stamp,
-        time,
     } = job;
     pipeline::record_fold_angles(&mut mesh);
-    let budget = Budget::live(time, cancel, LIVE_ADVICE);
+    let budget = Budget::live(LIVE_BUDGET, cancel, LIVE_ADVICE);
     let report = fab::verify_within(&mesh, Some(&set), Tolerances::default(), &budget);
     let pattern_json = with_pattern.then(|| {
         let pattern = match (relaid, mesh.flat()) {

@@ -369,7 +369,6 @@ impl Session {
             relaid: self.design.relaid,
             with_pattern,
             stamp: self.stamp(),
-            time: analysis::LIVE_BUDGET,
         }
     }
 
