@@ -6,6 +6,7 @@
 pub mod allocator;
 pub mod constraints;
 pub mod fab;
+pub mod fit;
 pub mod generate;
 pub mod geometry;
 pub mod io;
@@ -16,3 +17,4 @@ pub mod pipeline;
 pub mod plotter;
 pub mod solver;
 pub mod studio;
+pub mod surface;

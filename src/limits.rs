@@ -275,6 +275,55 @@ pub const PAGES: Range = Range {
     max: 500.0,
 };
 
+/// The extent (bounding-box diagonal) of a target surface for `crease fit`: a sheet is
+/// fitted to objects from a millimetre to a façade; a kilometre is no sheet's target.
+pub const TARGET_EXTENT: Range = Range {
+    what: "a target surface's extent",
+    unit: "mm",
+    min: 1.0,
+    max: 100_000.0,
+};
+
+/// Triangles of a target surface: its hierarchy costs about 100 bytes a triangle.
+pub const TARGET_TRIANGLES: Range = Range {
+    what: "the number of triangles",
+    unit: "",
+    min: 1.0,
+    max: 4_000_000.0,
+};
+
+/// Triangles along one side of a generated target surface.
+pub const SURFACE_RESOLUTION: Range = Range {
+    what: "triangles along a side",
+    unit: "",
+    min: 1.0,
+    max: 1_000.0,
+};
+
+/// A fit's distance goal (`--within`), in mm.
+pub const FIT_GOAL: Range = Range {
+    what: "the distance goal",
+    unit: "mm",
+    min: 1e-6,
+    max: 100_000.0,
+};
+
+/// A shift of a target surface (the studio's placement), per axis.
+pub const TARGET_SHIFT: Range = Range {
+    what: "a shift of the target",
+    unit: "mm",
+    min: -100_000.0,
+    max: 100_000.0,
+};
+
+/// A turn about one axis.
+pub const TURN: Range = Range {
+    what: "a turn",
+    unit: "degrees",
+    min: -360.0,
+    max: 360.0,
+};
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -62,6 +62,12 @@ enum Command {
     Fold(cli::fold::FoldArgs),
     /// Vary a pattern by dragging vertices while the chosen conditions keep holding.
     Deform(cli::deform::DeformArgs),
+    /// Fit a pattern to a target surface (OBJ or STL, mm): placed on it, then pulled
+    /// onto it while the chosen conditions keep holding; writes OUT and OUT.fit.json
+    /// (exit 1 when the distance goal is not met; the best design is still written).
+    Fit(cli::fit::FitArgs),
+    /// Write a target surface for `fit`: a spherical cap, a saddle or a cylinder.
+    Surface(cli::fit::SurfaceArgs),
     /// Fabricate a design: verify, unfold, lay out on the media, score folds with the
     /// machine's dash codes, and write sheet.svg, sheet.pdf, sheet.hpgl, sheet.dxf,
     /// crease-pattern.svg, crease-pattern.fold (with faceOrders when it folds flat) and
@@ -168,6 +174,8 @@ fn run(cli: Cli) -> Result<u8, String> {
         }
         Command::Fold(args) => cli::fold::fold(args),
         Command::Deform(args) => cli::deform::deform(args),
+        Command::Fit(args) => cli::fit::fit(args),
+        Command::Surface(args) => cli::fit::surface(args),
         Command::Fab(args) => cli::fab::fab(args),
         Command::Machines => cli::machines(),
         Command::Plot(args) => cli::plot::plot(args),

@@ -25,6 +25,7 @@ fn run_script(name: &str, keep_stages: bool) -> Mesh {
     let mut job = DesignJob::from_script(&script, patterns_dir(), None).unwrap();
     if !keep_stages {
         job.stages.clear();
+        job.fit = None;
     }
     run_design(job, &mut |_, _, _| {}).unwrap().mesh
 }
@@ -62,6 +63,9 @@ fn designs_rebuild_from_their_scripts_verify_and_differ_from_the_regular_pattern
         "yoshimura-shell",
         "plane-crumpled",
         "resch-dome",
+        "miura-dome",
+        "miura-saddle",
+        "resch-cap",
     ] {
         let rebuilt = run_script(name, true);
         let regular = run_script(name, false);

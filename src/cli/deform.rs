@@ -94,9 +94,9 @@ pub fn deform(args: DeformArgs) -> Result<u8, String> {
             .collect::<Result<_, _>>()?;
         job.stages.push(Stage { steps, moves });
     }
-    if job.stages.is_empty() && job.fold.is_none() {
+    if job.stages.is_empty() && job.fold.is_none() && job.fit.is_none() {
         return Err(
-            "nothing to do: give --drag V=X,Y,Z or a --script with stages or a fold".into(),
+            "nothing to do: give --drag V=X,Y,Z or a --script with stages, a fold or a fit".into(),
         );
     }
     if !fix.is_empty() {
@@ -148,6 +148,9 @@ fn print_summary(outcome: &DesignOutcome, output: &Path, asked_fold: bool, job_r
         .fold((0, 0), |(c, f), d| (c + d.collapses, f + d.flips));
     if collapses + flips > 0 || job_remesh {
         eprintln!("remeshing: {collapses} edge collapse(s), {flips} flip(s)");
+    }
+    if let Some(fit) = &outcome.fit {
+        eprintln!("{}", fit.summary());
     }
     for d in outcome.drags.iter().flat_map(|d| &d.distances) {
         eprintln!(

@@ -3,6 +3,7 @@
 
 pub mod deform;
 pub mod fab;
+pub mod fit;
 pub mod fold;
 pub mod plot;
 pub mod studio;

@@ -10,6 +10,9 @@ mod svg_path;
 mod svg_read;
 mod svg_transform;
 mod svg_write;
+mod target;
+
+pub use target::{read_target, read_target_bytes, write_target};
 
 use crate::mesh::Mesh;
 use std::path::{Path, PathBuf};

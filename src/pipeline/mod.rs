@@ -4,11 +4,13 @@
 
 mod fab_report;
 mod fabricate;
+mod fit;
 
 pub use fabricate::{
     fabricate, remove_stale_outputs, FabError, FabOptions, FabOutput, Rejected, MIN_WIDTH_MM,
     OUTPUT_FILES, TILE_OVERLAP_MM,
 };
+pub use fit::{BlockedBy, ConditionResidual, Distances, FitReport, FitStage, PlacementRecord};
 
 use crate::constraints::{tracked_fold_angle, ConstraintSet, Reference};
 use crate::fab::{unfold, UnfoldError};
@@ -70,6 +72,8 @@ pub struct DesignJob {
     pub remesh: Option<f64>,
     /// The drags.
     pub stages: Vec<Stage>,
+    /// A fit to a target surface after the drags.
+    pub fit: Option<FitStage>,
     /// Solver settings.
     pub options: Options,
 }
@@ -85,6 +89,8 @@ pub struct DesignOutcome {
     pub drags: Vec<DragReport>,
     /// The folding phase, if any.
     pub fold: Option<FoldReport>,
+    /// The fit, if any: how close the design came to its target.
+    pub fit: Option<FitReport>,
 }
 
 impl DesignJob {
@@ -101,6 +107,7 @@ impl DesignJob {
             fold: None,
             remesh: None,
             stages: Vec::new(),
+            fit: None,
             options: Options::default(),
         }
     }
@@ -138,6 +145,9 @@ impl DesignJob {
         job.fold = script.fold;
         job.remesh = script.remesh;
         job.stages = script.stage.clone();
+        if let Some(f) = &script.fit {
+            job.fit = Some(fit_from_script(f, script_dir)?);
+        }
         Ok(job)
     }
 }
@@ -159,6 +169,7 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
         fold,
         remesh,
         stages,
+        fit,
         options,
     } = job;
     if let Some(a) = alpha {
@@ -169,8 +180,13 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
         .flat_map(|s| s.moves.iter().map(|m| m.vertex))
         .collect();
     check_options(&mesh, remesh, [&fixed, &fold_fixed])?;
+    if let Some(f) = &fit {
+        check_fit(f)?;
+    }
+    let moves = !stages.is_empty() || fit.is_some();
     // Folding shrinks the sheet: unless told otherwise, a face in the middle is held.
     let fold_anchor = fold_fixed.unwrap_or_else(|| Solver::default_fixed(&mesh, &[]));
+    let pins = fixed.clone();
     let fixed = fixed.unwrap_or_else(|| Solver::default_fixed(&mesh, &dragged));
     let mut fold_report = None;
     if let Some(amount) = fold {
@@ -179,7 +195,7 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
             .map_err(|e| PipelineError::Input(e.to_string()))?;
         let (folded, report) = fold_phase(mesh, amount, &fold_anchor, &options, "fold", progress)?;
         (mesh, fold_report) = (folded, Some(report));
-    } else if !stages.is_empty() && is_flat_start(&mesh) {
+    } else if moves && is_flat_start(&mesh) {
         let (folded, report) = fold_phase(
             mesh,
             LEAVE_FLAT_AMOUNT,
@@ -190,27 +206,101 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
         )?;
         (mesh, fold_report) = (folded, Some(report));
     }
+    let set = match mode {
+        Mode::Simulation => Mode::simulation_set(),
+        Mode::Design => conditions
+            .clone()
+            .unwrap_or_else(|| ConstraintSet::default_for(&Reference::new(&mesh))),
+    };
     let mut stats = Stats::default();
     let mut drags = Vec::new();
     if !stages.is_empty() {
         check_targets(&mesh, &stages, &fixed, mode)?;
-        let set = match mode {
-            Mode::Simulation => Mode::simulation_set(),
-            Mode::Design => {
-                conditions.unwrap_or_else(|| ConstraintSet::default_for(&Reference::new(&mesh)))
-            }
-        };
-        let mut solver = Solver::new(mesh, set, &fixed, options)?;
+        let mut solver = Solver::new(mesh, set.clone(), &fixed, options.clone())?;
         drags = drag_phase(&mut solver, &stages, radius, remesh, progress)?;
         stats = solver.stats.clone();
         mesh = solver.into_mesh();
     }
-    finish_design(&mut mesh, mode == Mode::Design && !stages.is_empty())?;
+    let mut fit_phase = None;
+    if let Some(stage) = &fit {
+        let (placed, placement) = fit::placed(mesh, stage);
+        // Placed on the target, the design holds no anchor unless pinned: rigid motions
+        // stay in the null space and the placement keeps refining while it bends.
+        let anchor = match (&pins, stage.align) {
+            (Some(p), _) => p.clone(),
+            (None, true) => Vec::new(),
+            (None, false) => Solver::default_fixed(&placed, &[]),
+        };
+        let fit_options = Options {
+            max_halvings: crate::fit::FIT_HALVINGS,
+            ..options.clone()
+        };
+        let mut solver = Solver::new(placed, set.clone(), &anchor, fit_options)?;
+        solver.correct()?;
+        fit_phase = Some(fit::pull(&mut solver, stage, placement, progress)?);
+        add_stats(&mut stats, &solver.stats);
+        mesh = solver.into_mesh();
+    }
+    finish_design(&mut mesh, mode == Mode::Design && moves)?;
+    let fit_report = fit_phase
+        .zip(fit.as_ref())
+        .map(|(phase, stage)| fit::report(phase, &mesh, &stage.target, &set, &stats));
     Ok(DesignOutcome {
         mesh,
         stats,
         drags,
         fold: fold_report,
+        fit: fit_report,
+    })
+}
+
+/// Adds a later phase's solver counters to the job's.
+fn add_stats(total: &mut Stats, more: &Stats) {
+    total.steps += more.steps;
+    total.newton_iterations += more.newton_iterations;
+    total.halvings += more.halvings;
+    total.worst_residual = total.worst_residual.max(more.worst_residual);
+    total.factorisations += more.factorisations;
+    total.restarted_predictions += more.restarted_predictions;
+    total.one_solve_steps += more.one_solve_steps;
+    total.solves += more.solves;
+}
+
+/// A fit's step count and goal within their ranges.
+fn check_fit(stage: &FitStage) -> Result<(), PipelineError> {
+    let bad = |e: crate::limits::OutOfRange| PipelineError::Input(e.to_string());
+    crate::limits::STEPS
+        .check_count("--steps", stage.options.max_steps as u64)
+        .map_err(bad)?;
+    if let Some(g) = stage.options.goal {
+        crate::limits::FIT_GOAL.check("--within", g).map_err(bad)?;
+    }
+    if let Some(r) = stage.options.remesh {
+        crate::limits::REMESH.check("--remesh", r).map_err(bad)?;
+    }
+    Ok(())
+}
+
+/// A script's `[fit]` as a stage, its target read relative to `script_dir`.
+fn fit_from_script(
+    f: &crate::solver::ScriptFit,
+    script_dir: &Path,
+) -> Result<FitStage, PipelineError> {
+    let path = script_dir.join(&f.target);
+    let target = crate::io::read_target(&path).map_err(|e| PipelineError::Input(e.to_string()))?;
+    let mut options = crate::fit::FitOptions::default();
+    if let Some(s) = &f.surface {
+        options.surface = crate::fit::SurfaceChoice::parse(s).map_err(PipelineError::Input)?;
+    }
+    if let Some(n) = f.steps {
+        options.max_steps = n;
+    }
+    options.goal = f.within;
+    Ok(FitStage {
+        target: std::sync::Arc::new(target),
+        target_name: f.target.display().to_string(),
+        align: f.align.unwrap_or(true),
+        options,
     })
 }
 

@@ -52,6 +52,24 @@ pub struct Script {
     /// The drags, in order.
     #[serde(default)]
     pub stage: Vec<Stage>,
+    /// A fit to a target surface after the drags (`crease fit`).
+    pub fit: Option<ScriptFit>,
+}
+
+/// A script's `[fit]`: the target surface and the fit's settings (as `crease fit`).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ScriptFit {
+    /// The target surface (.obj, .stl), relative to the script's folder.
+    pub target: PathBuf,
+    /// "mid" (default) or "all".
+    pub surface: Option<String>,
+    /// Steps at most.
+    pub steps: Option<usize>,
+    /// The distance goal in mm.
+    pub within: Option<f64>,
+    /// Place the design on the target first (default true).
+    pub align: Option<bool>,
 }
 
 impl Script {

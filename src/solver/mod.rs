@@ -11,13 +11,15 @@ mod mode;
 mod ordering;
 mod predict;
 mod remesh;
+mod resist;
 
-pub use drag::{pull, run_stage, DragReport, Move, Script, Stage};
+pub use drag::{pull, run_stage, DragReport, Move, Script, ScriptFit, Stage};
 pub use error::{Blocker, SolverError};
 pub use fold::{fold_toward, FoldReport};
 pub use linear::{LinearError, NormalSolver};
 pub use mode::Mode;
 pub use remesh::{collapse_edge, flip_edge, Change, Refusal, RemeshOutcome};
+pub use resist::Resistance;
 
 use crate::constraints::{ConstraintSet, Family, Reference, Rows};
 use crate::mesh::{Mesh, Vec3};
@@ -259,6 +261,18 @@ impl Solver {
     /// Whether a vertex is held still.
     pub fn is_fixed(&self, v: usize) -> bool {
         self.fixed[v]
+    }
+
+    /// Puts the positions back to `x`, a state of the same mesh this solver accepted
+    /// before (a fit's best): the factor, the active set and the predicted corrections of
+    /// the steps since no longer apply, and the fold angles' branches follow.
+    pub fn restore(&mut self, x: Vec<Vec3>) {
+        assert_eq!(x.len(), self.x.len(), "a state of the same mesh");
+        self.x = x;
+        self.forget_last_step();
+        self.factored.clear();
+        self.accepted_folds = None;
+        self.reference.track_folds(&self.mesh, &self.x);
     }
 
     /// The mesh with the solved positions.

@@ -1,0 +1,499 @@
+//! Fitting a design to a target surface (`crease fit`): the paper's design method (§3,
+//! §5) with the wished motion dx₀ taken from a shape instead of a mouse.
+//!
+//! Each step measures the design's surface points ([`groups`]: a facet's mean, or a
+//! vertex) against the target, asks every vertex to cover the mean of its groups' gaps
+//! to their nearest target points (capped at a fraction of the mean edge, so the Euler
+//! step stays small), and hands that wish to the solver: it is projected into the null
+//! space of the chosen conditions (eq. 10) and corrected by Newton, so every condition
+//! holds at every step exactly as in a drag. Without an anchor the rigid motions are
+//! in that null space too, so the placement keeps refining while the design bends.
+//! The fit stops when the distance stops improving, and names the condition that
+//! refuses most of what the target still asks for ([`crate::solver::Resistance`]).
+
+pub mod align;
+pub mod groups;
+
+pub use align::{kabsch, place, Placement};
+pub use groups::{surface_groups, SurfaceChoice};
+
+use crate::mesh::Vec3;
+use crate::solver::{Resistance, Solver, SolverError};
+use crate::surface::TriSurface;
+use std::sync::Arc;
+
+/// Steps a fit takes at most unless told otherwise.
+pub const DEFAULT_STEPS: usize = 400;
+
+/// The distance goal unless told otherwise: this fraction of the fitted design's
+/// bounding-box diagonal (one-sided Hausdorff distance of the surface points).
+pub const DEFAULT_GOAL_FRACTION: f64 = 0.01;
+
+/// The largest wish a step gives any vertex, as a fraction of the mean edge: small
+/// enough for Newton to return to the conditions from the Euler step.
+const STEP_CAP_EDGES: f64 = 0.5;
+
+/// The weight of the preference for the starting edge lengths in each step's wish, as
+/// a spring constant per unit of length change: an edge off its length by δ asks its
+/// ends to close a fifth of δ, against the target's pull of the whole gap.
+const KEEP_LENGTHS: f64 = 0.2;
+
+/// The same for the distances between neighbouring surface points: weaker, since
+/// taking a doubly curved target needs the mid-surface to change its lengths a little.
+const KEEP_SIZE: f64 = 0.05;
+
+/// The softness at which a settled fit stops loosening (three quarterings).
+const MIN_SOFTNESS: f64 = 1.0 / 64.0;
+
+/// Steps over which a fit must improve its distance by [`STALL_IMPROVEMENT`] to go on.
+const STALL_WINDOW: usize = 15;
+
+/// The relative improvement of the RMS and largest distance over [`STALL_WINDOW`]
+/// steps below which the fit has stopped improving.
+const STALL_IMPROVEMENT: f64 = 0.005;
+
+/// The smallest step cap Newton's effort alone may shrink the cap to, as a fraction of
+/// the largest (failed steps shrink it further).
+const MIN_CAP_FRACTION: f64 = 0.05;
+
+/// Times the solver halves a fit's step before the step fails: the fit then shrinks the
+/// next step itself, so a step the conditions refuse costs three corrections, not seven.
+pub const FIT_HALVINGS: usize = 2;
+
+/// Failed steps in a row (each already halved by the solver) that end a fit
+/// as blocked.
+const MAX_CONSECUTIVE_FAILURES: usize = 4;
+
+/// A fit whose largest distance falls to this fraction of its goal has converged: what
+/// is left is far below anything paper shows (a tenth of 1% of the diagonal by default).
+const CONVERGED_FRACTION: f64 = 0.1;
+
+/// How the surface points stand against the target.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Measure {
+    /// Each group's point (the mean of its vertices).
+    pub points: Vec<Vec3>,
+    /// Each point's nearest target point.
+    pub nearest: Vec<Vec3>,
+    /// Largest distance: the one-sided Hausdorff distance from the points to the target.
+    pub largest: f64,
+    /// The group with the largest distance.
+    pub worst: usize,
+    /// Root mean square of the distances.
+    pub rms: f64,
+}
+
+/// The mean of a group's vertices.
+fn group_point(x: &[Vec3], group: &[usize]) -> Vec3 {
+    group.iter().map(|&v| x[v]).sum::<Vec3>() / group.len() as f64
+}
+
+/// Pairs of groups (g < h) that share a vertex or hold the two ends of an edge.
+fn neighbouring_groups(mesh: &crate::mesh::Mesh, groups: &[Vec<usize>]) -> Vec<(usize, usize)> {
+    let mut of_vertex: Vec<Vec<usize>> = vec![Vec::new(); mesh.vertex_count()];
+    for (g, members) in groups.iter().enumerate() {
+        members.iter().for_each(|&v| of_vertex[v].push(g));
+    }
+    let mut pairs = std::collections::BTreeSet::new();
+    let mut add = |a: &[usize], b: &[usize]| {
+        for &g in a {
+            for &h in b {
+                if g != h {
+                    pairs.insert((g.min(h), g.max(h)));
+                }
+            }
+        }
+    };
+    for list in &of_vertex {
+        add(list, list);
+    }
+    for e in mesh.edges() {
+        add(&of_vertex[e.vertices[0]], &of_vertex[e.vertices[1]]);
+    }
+    pairs.into_iter().collect()
+}
+
+/// The surface points of `groups` at `x` and their distances to `target`.
+pub fn measure(x: &[Vec3], groups: &[Vec<usize>], target: &TriSurface) -> Measure {
+    let points: Vec<Vec3> = groups.iter().map(|g| group_point(x, g)).collect();
+    let mut nearest = Vec::with_capacity(points.len());
+    let (mut largest, mut worst, mut sum) = (0.0f64, 0, 0.0);
+    for (k, &p) in points.iter().enumerate() {
+        let c = target.closest(p);
+        if c.distance > largest {
+            (largest, worst) = (c.distance, k);
+        }
+        sum += c.distance * c.distance;
+        nearest.push(c.point);
+    }
+    Measure {
+        rms: (sum / points.len().max(1) as f64).sqrt(),
+        points,
+        nearest,
+        largest,
+        worst,
+    }
+}
+
+/// Why a fit stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stop {
+    /// The distance stopped improving with the goal met.
+    Converged,
+    /// The distance stopped improving short of the goal.
+    Stalled,
+    /// The step limit came first.
+    StepLimit,
+    /// Steps kept failing however small: the conditions hold the design where it is.
+    Blocked,
+}
+
+impl Stop {
+    /// The word in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Stop::Converged => "converged",
+            Stop::Stalled => "stalled",
+            Stop::StepLimit => "step limit",
+            Stop::Blocked => "blocked",
+        }
+    }
+}
+
+/// Settings of a fit.
+#[derive(Clone, Debug)]
+pub struct FitOptions {
+    /// Which points represent the surface.
+    pub surface: SurfaceChoice,
+    /// Steps at most.
+    pub max_steps: usize,
+    /// The distance goal in mm; `None`: [`DEFAULT_GOAL_FRACTION`] of the diagonal.
+    pub goal: Option<f64>,
+    /// Collapse edges shorter than this fraction of the mean edge (§4).
+    pub remesh: Option<f64>,
+}
+
+impl Default for FitOptions {
+    fn default() -> Self {
+        FitOptions {
+            surface: SurfaceChoice::Mid,
+            max_steps: DEFAULT_STEPS,
+            goal: None,
+            remesh: None,
+        }
+    }
+}
+
+/// A fit under way: the solver, the target and what the steps so far achieved. The CLI
+/// runs it to the end ([`Fitter::run`]); the studio steps it on its session thread.
+pub struct Fitter {
+    target: Arc<TriSurface>,
+    options: FitOptions,
+    groups: Vec<Vec<usize>>,
+    /// How many groups each vertex is in.
+    memberships: Vec<f64>,
+    /// The positions the last step ended at and their distances: the next step starts
+    /// from them unless the solver has moved since (a drag in the studio).
+    last: Option<(Vec<Vec3>, Measure)>,
+    /// The factor on the preference for the starting lengths: 1 at first, quartered
+    /// each time the fit settles, down to [`MIN_SOFTNESS`] (a continuation: the
+    /// preference shapes the path, the target decides where it ends).
+    softness: f64,
+    /// The step at which the softness last changed (stalls are judged after it).
+    settled_at: usize,
+    /// Each edge's length when the fit started (or the mesh last changed).
+    rest: Vec<f64>,
+    /// Pairs of neighbouring groups and the distance of their points then: the
+    /// mid-surface's own lengths, which a Miura-ori's folding (a mechanism that keeps
+    /// every edge) changes.
+    neighbours: Vec<(usize, usize, f64)>,
+    /// The largest wish of one step (mm), shrunk when a step fails.
+    cap: f64,
+    /// Distances after each step (RMS, largest), the start first.
+    pub history: Vec<(f64, f64)>,
+    /// Steps that failed and were retried smaller.
+    pub failures: usize,
+    /// Failures since the last accepted step.
+    consecutive_failures: usize,
+    /// The best state so far: (largest distance, positions), when it is not the current.
+    best: Option<(f64, Vec<Vec3>)>,
+    stop: Option<Stop>,
+}
+
+impl Fitter {
+    /// Prepares a fit of the solver's design onto `target`.
+    pub fn new(solver: &Solver, target: Arc<TriSurface>, options: FitOptions) -> Fitter {
+        let groups = surface_groups(solver.mesh(), options.surface);
+        let mut fitter = Fitter {
+            target,
+            options,
+            groups,
+            memberships: Vec::new(),
+            last: None,
+            softness: 1.0,
+            settled_at: 0,
+            rest: Vec::new(),
+            neighbours: Vec::new(),
+            cap: 0.0,
+            history: Vec::new(),
+            failures: 0,
+            consecutive_failures: 0,
+            best: None,
+            stop: None,
+        };
+        fitter.regroup(solver);
+        let m = fitter.measure(solver);
+        fitter.history.push((m.rms, m.largest));
+        fitter
+    }
+
+    /// Groups and the step cap for the solver's mesh as it is (after remeshing, or when
+    /// the studio resumes a fit on a solver built anew after a drag).
+    pub fn regroup(&mut self, solver: &Solver) {
+        let mesh = solver.mesh();
+        self.groups = surface_groups(mesh, self.options.surface);
+        self.memberships = vec![0.0; mesh.vertex_count()];
+        for &v in self.groups.iter().flatten() {
+            self.memberships[v] += 1.0;
+        }
+        let x = solver.positions();
+        self.rest = mesh
+            .edges()
+            .iter()
+            .map(|e| (x[e.vertices[0]] - x[e.vertices[1]]).norm())
+            .collect();
+        self.neighbours = neighbouring_groups(mesh, &self.groups)
+            .into_iter()
+            .map(|(g, h)| {
+                let (p, q) = (
+                    group_point(x, &self.groups[g]),
+                    group_point(x, &self.groups[h]),
+                );
+                (g, h, (p - q).norm())
+            })
+            .collect();
+        let mean_edge = self.rest.iter().sum::<f64>() / self.rest.len().max(1) as f64;
+        self.cap = STEP_CAP_EDGES * mean_edge;
+        self.best = None;
+    }
+
+    /// The surface groups (vertex ids of the solver's current mesh).
+    pub fn groups(&self) -> &[Vec<usize>] {
+        &self.groups
+    }
+
+    /// The target.
+    pub fn target(&self) -> &TriSurface {
+        &self.target
+    }
+
+    /// Why the fit stopped, once it has.
+    pub fn stopped(&self) -> Option<Stop> {
+        self.stop
+    }
+
+    /// The solver's surface points against the target.
+    pub fn measure(&self, solver: &Solver) -> Measure {
+        measure(solver.positions(), &self.groups, &self.target)
+    }
+
+    /// The distance goal at the solver's current size.
+    pub fn goal(&self, solver: &Solver) -> f64 {
+        self.options.goal.unwrap_or_else(|| {
+            let (lo, hi) = crate::mesh::bounds(solver.positions());
+            DEFAULT_GOAL_FRACTION * (hi - lo).norm()
+        })
+    }
+
+    /// What the target asks of each vertex: the mean of its groups' gaps to their
+    /// nearest target points.
+    fn pull(&self, m: &Measure, vertices: usize) -> Vec<Vec3> {
+        let mut dx0 = vec![Vec3::zeros(); vertices];
+        for (g, (p, q)) in self.groups.iter().zip(m.points.iter().zip(&m.nearest)) {
+            for &v in g {
+                dx0[v] += (q - p) / self.memberships[v];
+            }
+        }
+        dx0
+    }
+
+    /// The wish of a step: the target's pull plus a soft preference ([`KEEP_LENGTHS`]) for
+    /// the lengths the fit started from — every edge's, and the distance between
+    /// neighbouring surface points — the whole scaled so no vertex is asked to move more
+    /// than the cap. Design mode lets lengths change freely: without the first, a vertex
+    /// the pull does not hold (a boundary corner, measured only through its facet's mean)
+    /// drifts with every correction and cells distort; without the second, a Miura-ori
+    /// on a dome folds itself smaller (pulling points toward a sphere's centre contracts
+    /// the sheet, and its folding keeps every edge). The preference keeps the design's
+    /// cells and size wherever the target does not ask otherwise.
+    fn wish(&self, m: &Measure, x: &[Vec3], edges: &[crate::mesh::Edge]) -> Vec<Vec3> {
+        let mut dx0 = self.pull(m, x.len());
+        for (e, &rest) in edges.iter().zip(&self.rest) {
+            let [a, b] = e.vertices;
+            let d = x[a] - x[b];
+            let l = d.norm();
+            if l > 0.0 {
+                let f = d * (self.softness * KEEP_LENGTHS * 0.5 * (rest - l) / l);
+                dx0[a] += f;
+                dx0[b] -= f;
+            }
+        }
+        for &(g, h, rest) in &self.neighbours {
+            let d = m.points[g] - m.points[h];
+            let l = d.norm();
+            if l > 0.0 {
+                let f = d * (self.softness * KEEP_SIZE * 0.5 * (rest - l) / l);
+                for &v in &self.groups[g] {
+                    dx0[v] += f / self.memberships[v];
+                }
+                for &v in &self.groups[h] {
+                    dx0[v] -= f / self.memberships[v];
+                }
+            }
+        }
+        let longest = dx0.iter().map(|d| d.norm()).fold(0.0, f64::max);
+        if longest > self.cap {
+            let s = self.cap / longest;
+            dx0.iter_mut().for_each(|d| *d *= s);
+        }
+        dx0
+    }
+
+    /// One step of the fit; returns the distances after it. After the fit has stopped
+    /// (see [`Fitter::stopped`]) it does nothing.
+    pub fn step(&mut self, solver: &mut Solver) -> Result<Measure, SolverError> {
+        let m = match self.last.take() {
+            // The distances the last step ended with, if the solver is still there.
+            Some((at, m)) if at == solver.positions() => m,
+            _ => self.measure(solver),
+        };
+        if self.stop.is_some() {
+            return Ok(m);
+        }
+        let dx0 = self.wish(&m, solver.positions(), solver.mesh().edges());
+        let newton_before = solver.stats.newton_iterations;
+        match solver.step(&dx0) {
+            Ok(_) => {
+                self.consecutive_failures = 0;
+                // Newton's effort says whether the step was about right: a correction
+                // that needed many iterations (inequalities switching on and off, a
+                // sharply curved constraint surface) asks for shorter steps.
+                match solver.stats.newton_iterations - newton_before {
+                    0..=3 => self.cap *= 1.25,
+                    4..=9 => {}
+                    _ => self.cap = (0.8 * self.cap).max(MIN_CAP_FRACTION * self.max_cap(solver)),
+                }
+            }
+            Err(SolverError::NotConverged { .. }) => {
+                // The solver has already halved this step (twice, see [`FIT_HALVINGS`]):
+                // the next try starts below where it gave up, and a few failures in a row
+                // end the fit.
+                self.failures += 1;
+                self.consecutive_failures += 1;
+                self.cap /= 8.0;
+                if self.consecutive_failures >= MAX_CONSECUTIVE_FAILURES {
+                    self.stop = Some(Stop::Blocked);
+                }
+                return Ok(m);
+            }
+            Err(e) => return Err(e),
+        }
+        if let Some(threshold) = self.options.remesh {
+            let outcome = solver.remesh(&[], threshold);
+            if outcome.renumbered.is_some() || outcome.collapses + outcome.flips > 0 {
+                self.regroup(solver);
+            }
+        }
+        self.cap = self.cap.min(self.max_cap(solver));
+        let after = self.measure(solver);
+        self.history.push((after.rms, after.largest));
+        self.keep_best(solver, &after);
+        self.judge(solver, &after);
+        self.last = Some((solver.positions().to_vec(), after.clone()));
+        Ok(after)
+    }
+
+    /// The cap never grows past [`STEP_CAP_EDGES`] of the mean edge.
+    fn max_cap(&self, solver: &Solver) -> f64 {
+        let x = solver.positions();
+        let edges = solver.mesh().edges();
+        STEP_CAP_EDGES
+            * edges
+                .iter()
+                .map(|e| (x[e.vertices[0]] - x[e.vertices[1]]).norm())
+                .sum::<f64>()
+            / edges.len().max(1) as f64
+    }
+
+    /// Remembers the state with the smallest largest distance seen since the mesh last
+    /// changed its vertices.
+    fn keep_best(&mut self, solver: &Solver, m: &Measure) {
+        if self.best.as_ref().is_none_or(|(b, _)| m.largest < *b) {
+            self.best = Some((m.largest, solver.positions().to_vec()));
+        }
+    }
+
+    /// Puts the solver back on the best state the fit reached, when the last steps made
+    /// it worse (a target out of reach can leave the design swinging).
+    pub fn settle_on_best(&mut self, solver: &mut Solver) {
+        let now = self.measure(solver).largest;
+        if let Some((best, x)) = self.best.take() {
+            if best < now && x.len() == solver.positions().len() {
+                solver.restore(x);
+            }
+        }
+    }
+
+    /// Stops on a stall or the step limit.
+    fn judge(&mut self, solver: &Solver, m: &Measure) {
+        let steps = self.history.len() - 1;
+        if m.largest <= CONVERGED_FRACTION * self.goal(solver) {
+            self.stop = Some(Stop::Converged);
+            return;
+        }
+        if steps >= self.settled_at + STALL_WINDOW {
+            let (rms0, max0) = self.history[self.history.len() - 1 - STALL_WINDOW];
+            let improved = |before: f64, now: f64| now < before * (1.0 - STALL_IMPROVEMENT);
+            if !(improved(rms0, m.rms) || improved(max0, m.largest)) {
+                if self.softness > MIN_SOFTNESS {
+                    // The preference for the starting lengths has done its work: the design
+                    // is as near the target as it lets it come. Loosen it and go on.
+                    self.softness *= 0.25;
+                    self.settled_at = steps;
+                } else {
+                    self.stop = Some(if m.largest <= self.goal(solver) {
+                        Stop::Converged
+                    } else {
+                        Stop::Stalled
+                    });
+                    return;
+                }
+            }
+        }
+        if steps >= self.options.max_steps {
+            self.stop = Some(Stop::StepLimit);
+        }
+    }
+
+    /// Steps until the fit stops; `progress` sees each step's distances.
+    pub fn run(
+        &mut self,
+        solver: &mut Solver,
+        progress: &mut dyn FnMut(usize, &Measure),
+    ) -> Result<Stop, SolverError> {
+        let mut k = 0;
+        while self.stop.is_none() {
+            let m = self.step(solver)?;
+            k += 1;
+            progress(k, &m);
+        }
+        Ok(self.stop.expect("the loop ran to a stop"))
+    }
+
+    /// What refuses the motion the target still asks for, at the solver's state.
+    pub fn resistance(&self, solver: &mut Solver) -> Result<Option<Resistance>, SolverError> {
+        let m = self.measure(solver);
+        let dx0 = self.pull(&m, solver.positions().len());
+        solver.resisting(&dx0)
+    }
+}

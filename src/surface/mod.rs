@@ -1,0 +1,178 @@
+//! Target surfaces a design is fitted onto (`crease fit`): a triangle mesh in millimetres
+//! that never moves, with the nearest-point query the fit pulls toward
+//! ([`closest`]) and a few shapes a maker asks for by name ([`shapes`]).
+
+pub mod closest;
+pub mod shapes;
+
+pub use closest::{closest_on_triangle, Closest, ClosestPointTree};
+
+use crate::limits::{self, OutOfRange};
+use crate::mesh::Vec3;
+
+/// Why a set of triangles is no target.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum SurfaceError {
+    /// No triangle at all, or none with an area.
+    #[error("it has no triangles{0}")]
+    Empty(&'static str),
+    /// A coordinate is NaN or infinite.
+    #[error("vertex {0} has a coordinate that is not a number")]
+    NotFinite(usize),
+    /// A triangle names a vertex that is not there.
+    #[error("triangle {triangle} names vertex {vertex}, but there are {count}")]
+    BadIndex {
+        /// The triangle.
+        triangle: usize,
+        /// The vertex it names.
+        vertex: usize,
+        /// Vertices in the file.
+        count: usize,
+    },
+    /// Too large, too small or too many triangles.
+    #[error(transparent)]
+    Range(#[from] OutOfRange),
+}
+
+/// A triangle mesh in millimetres with its nearest-point hierarchy.
+#[derive(Clone, Debug)]
+pub struct TriSurface {
+    vertices: Vec<Vec3>,
+    triangles: Vec<[usize; 3]>,
+    tree: ClosestPointTree,
+}
+
+impl TriSurface {
+    /// Checks and indexes a surface: every coordinate a number, every index in range,
+    /// its extent and triangle count within [`limits::TARGET_EXTENT`] and
+    /// [`limits::TARGET_TRIANGLES`]. Triangles without area are left out (they hold no
+    /// nearest point a neighbour does not).
+    pub fn new(
+        vertices: Vec<Vec3>,
+        triangles: Vec<[usize; 3]>,
+    ) -> Result<TriSurface, SurfaceError> {
+        if triangles.is_empty() {
+            return Err(SurfaceError::Empty(""));
+        }
+        limits::TARGET_TRIANGLES.check_count("triangles", triangles.len() as u64)?;
+        if let Some(v) = vertices
+            .iter()
+            .position(|p| !p.iter().all(|c| c.is_finite()))
+        {
+            return Err(SurfaceError::NotFinite(v));
+        }
+        for (t, tri) in triangles.iter().enumerate() {
+            if let Some(&v) = tri.iter().find(|&&v| v >= vertices.len()) {
+                return Err(SurfaceError::BadIndex {
+                    triangle: t,
+                    vertex: v,
+                    count: vertices.len(),
+                });
+            }
+        }
+        let (lo, hi) = crate::mesh::bounds(&vertices);
+        limits::TARGET_EXTENT.check("its extent", (hi - lo).norm())?;
+        let scale = (hi - lo).norm();
+        let triangles: Vec<[usize; 3]> = triangles
+            .into_iter()
+            .filter(|t| {
+                let [a, b, c] = t.map(|v| vertices[v]);
+                (b - a).cross(&(c - a)).norm() > 1e-12 * scale * scale
+            })
+            .collect();
+        if triangles.is_empty() {
+            return Err(SurfaceError::Empty(" with an area"));
+        }
+        let tree = ClosestPointTree::build(&vertices, &triangles);
+        Ok(TriSurface {
+            vertices,
+            triangles,
+            tree,
+        })
+    }
+
+    /// The vertices (mm).
+    pub fn vertices(&self) -> &[Vec3] {
+        &self.vertices
+    }
+
+    /// The triangles with an area.
+    pub fn triangles(&self) -> &[[usize; 3]] {
+        &self.triangles
+    }
+
+    /// The surface's nearest point to `p`.
+    pub fn closest(&self, p: Vec3) -> Closest {
+        self.tree
+            .closest(&self.vertices, &self.triangles, p)
+            .expect("a surface has triangles")
+    }
+
+    /// Unit normal of triangle `t` (by its corners' order).
+    pub fn normal(&self, t: usize) -> Vec3 {
+        let [a, b, c] = self.triangles[t].map(|v| self.vertices[v]);
+        (b - a).cross(&(c - a)).normalize()
+    }
+
+    /// The smallest box around the vertices.
+    pub fn bounding_box(&self) -> (Vec3, Vec3) {
+        crate::mesh::bounds(&self.vertices)
+    }
+
+    /// The area-weighted mean of the triangles' centroids and the total area.
+    pub fn centroid(&self) -> (Vec3, f64) {
+        let mut sum = Vec3::zeros();
+        let mut area = 0.0;
+        for t in &self.triangles {
+            let [a, b, c] = t.map(|v| self.vertices[v]);
+            let w = (b - a).cross(&(c - a)).norm() / 2.0;
+            sum += (a + b + c) / 3.0 * w;
+            area += w;
+        }
+        (sum / area, area)
+    }
+
+    /// The surface moved: each vertex first `offset` mm along its normal (the area-weighted
+    /// mean of its triangles'), then turned by `rotation` about the area centroid and
+    /// shifted by `shift`. The studio places a loaded target with it.
+    pub fn moved(&self, offset: f64, rotation: &nalgebra::Matrix3<f64>, shift: Vec3) -> TriSurface {
+        let mut normals = vec![Vec3::zeros(); self.vertices.len()];
+        for t in &self.triangles {
+            let [a, b, c] = t.map(|v| self.vertices[v]);
+            let n = (b - a).cross(&(c - a));
+            t.iter().for_each(|&v| normals[v] += n);
+        }
+        let (centre, _) = self.centroid();
+        let vertices: Vec<Vec3> = self
+            .vertices
+            .iter()
+            .zip(&normals)
+            .map(|(p, n)| {
+                let p = p + n.try_normalize(0.0).unwrap_or_else(Vec3::zeros) * offset;
+                rotation * (p - centre) + centre + shift
+            })
+            .collect();
+        let tree = ClosestPointTree::build(&vertices, &self.triangles);
+        TriSurface {
+            vertices,
+            triangles: self.triangles.clone(),
+            tree,
+        }
+    }
+
+    /// Wavefront OBJ text: `v x y z` lines, then `f a b c` (1-based).
+    pub fn to_obj(&self, comment: &str) -> String {
+        use std::fmt::Write;
+        let mut s = String::new();
+        for line in comment.lines() {
+            let _ = writeln!(s, "# {line}");
+        }
+        for v in &self.vertices {
+            let _ = writeln!(s, "v {} {} {}", v.x, v.y, v.z);
+        }
+        for t in &self.triangles {
+            let _ = writeln!(s, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
+        }
+        s
+    }
+}
