@@ -534,3 +534,156 @@ fn panels_that_pass_through_each_other_are_reported_and_marked() {
         .expect("two faces to mark");
     assert_eq!(faces.len(), 2);
 }
+
+/// The largest distance of the default Miura-ori's parallelograms (by their means) from
+/// the cap, computed here from the state's positions: the figure the fit must bring down.
+fn largest_facet_distance(s: &Value, cap: &crease::surface::TriSurface, mesh: &Mesh) -> f64 {
+    let groups = crease::fit::surface_groups(mesh, crease::fit::SurfaceChoice::Mid);
+    groups
+        .iter()
+        .map(|g| {
+            let p = g
+                .iter()
+                .map(|&v| {
+                    let q = position(s, v);
+                    crease::mesh::Vec3::new(q[0], q[1], q[2])
+                })
+                .sum::<crease::mesh::Vec3>()
+                / g.len() as f64;
+            cap.closest(p).distance
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn a_fit_to_a_loaded_target_brings_the_design_onto_it_holds_every_condition_and_undoes() {
+    let hub = fresh_hub();
+    let mesh = miura();
+    // A dome under the sheet's middle: the cap's apex at the top of the corrugation.
+    let cap = crease::surface::shapes::Shape::Cap { radius: 250.0 }
+        .surface(300.0, 40)
+        .unwrap();
+    let (lo, hi) = mesh.bounding_box();
+    let middle = (lo + hi) / 2.0;
+    let r = call(
+        &hub,
+        "POST",
+        "/api/target?name=dome.obj",
+        cap.to_obj("a dome").as_bytes(),
+    );
+    assert_eq!(r.status, 200, "{}", String::from_utf8_lossy(&r.body));
+    let (status, r) = json_call(
+        &hub,
+        "POST",
+        "/api/target/place",
+        json!({"shift": [middle.x, middle.y, middle.z]}),
+    );
+    assert_eq!(status, 200, "{r}");
+    let placed = cap.moved(0.0, &nalgebra::Matrix3::identity(), middle);
+    let (status, t) = json_call(&hub, "GET", "/api/target", json!(null));
+    assert_eq!(status, 200);
+    assert_eq!(
+        t["triangles"].as_array().unwrap().len(),
+        cap.triangles().len()
+    );
+    let before = state(&hub);
+    let distance_before = largest_facet_distance(&before, &placed, &mesh);
+    assert!(distance_before > 5.0, "{distance_before}");
+    // Bad fit and placement requests are refused and change nothing.
+    let (status, _) = json_call(&hub, "POST", "/api/fit", json!({"within": -1}));
+    assert_eq!(status, 400);
+    let (status, _) = json_call(
+        &hub,
+        "POST",
+        "/api/target/place",
+        json!({"turn": [1e308, 0, 0]}),
+    );
+    assert_eq!(status, 400);
+    let (status, r) = json_call(&hub, "POST", "/api/fit", json!({}));
+    assert_eq!(status, 200, "{r}");
+    let start = Instant::now();
+    let mut seen = Vec::new();
+    loop {
+        let s = state(&hub);
+        seen.push(s["fit"]["largest"].as_f64().unwrap());
+        if s["fit"]["running"] == false {
+            break;
+        }
+        assert!(start.elapsed() < Duration::from_secs(60), "the fit ends");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let after = state(&hub);
+    assert_eq!(after["fit"]["stopped"], "converged", "{}", after["fit"]);
+    let distance_after = largest_facet_distance(&after, &placed, &mesh);
+    // The page's figure is the one measured here, and it fell to within the goal.
+    assert!((after["fit"]["largest"].as_f64().unwrap() - distance_after).abs() < 1e-3);
+    assert!(distance_after <= after["fit"]["goal"].as_f64().unwrap());
+    assert!(
+        distance_after < 0.1 * distance_before,
+        "{distance_before} → {distance_after}"
+    );
+    assert!(seen.len() >= 2 && seen.last() < seen.first(), "{seen:?}");
+    assert_eq!(after["pass"], true, "{after}");
+    for (name, value) in after["residuals"].as_object().unwrap() {
+        assert!(value.as_f64().unwrap() < 1e-6, "{name} {value}");
+    }
+    // Undo returns to before the fit, exactly.
+    let (status, _) = json_call(&hub, "POST", "/api/undo", json!({}));
+    assert_eq!(status, 200);
+    let undone = state(&hub);
+    assert_eq!(undone["positions"], before["positions"]);
+    assert_eq!(undone["fit"], Value::Null);
+    hub.stop();
+}
+
+#[test]
+fn pins_hold_still_while_fitting_and_stop_ends_the_fit() {
+    let hub = fresh_hub();
+    let mesh = miura();
+    let cap = crease::surface::shapes::Shape::Cap { radius: 250.0 }
+        .surface(300.0, 40)
+        .unwrap();
+    let (lo, hi) = mesh.bounding_box();
+    let middle = (lo + hi) / 2.0;
+    call(
+        &hub,
+        "POST",
+        "/api/target?name=dome.obj",
+        cap.to_obj("").as_bytes(),
+    );
+    json_call(
+        &hub,
+        "POST",
+        "/api/target/place",
+        json!({"shift": [middle.x, middle.y, middle.z + 20.0]}),
+    );
+    let pinned = 40;
+    let (status, _) = json_call(
+        &hub,
+        "POST",
+        "/api/pin",
+        json!({"vertex": pinned, "pinned": true}),
+    );
+    assert_eq!(status, 200);
+    let before = position(&state(&hub), pinned);
+    let (status, _) = json_call(&hub, "POST", "/api/fit", json!({"steps": 400}));
+    assert_eq!(status, 200);
+    let start = Instant::now();
+    while state(&hub)["fit"]["steps"].as_u64().unwrap() < 5 {
+        assert!(start.elapsed() < Duration::from_secs(60), "the fit steps");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let (status, _) = json_call(&hub, "POST", "/api/fit/stop", json!({}));
+    assert_eq!(status, 200);
+    let s = state(&hub);
+    assert!(s["fit"].is_null(), "{}", s["fit"]);
+    assert!(distance(position(&s, pinned), before) < 1e-9);
+    let steps_then = s["positions"].clone();
+    std::thread::sleep(Duration::from_millis(200));
+    assert_eq!(
+        state(&hub)["positions"],
+        steps_then,
+        "nothing moves after Stop"
+    );
+    hub.stop();
+}

@@ -204,6 +204,10 @@ async fn dragging_a_vertex_with_the_mouse_moves_it_and_every_condition_still_hol
 
     let png = client.screenshot().await.expect("a screenshot");
     std::fs::write(out_dir().join("studio.png"), png).unwrap();
+
+    fit_to_a_dome_by_pressing_fit(&client, &before).await;
+    let png = client.screenshot().await.expect("a screenshot");
+    std::fs::write(out_dir().join("studio-fit.png"), png).unwrap();
     let _ = client.close().await;
     let _ = std::fs::remove_dir_all(&profile);
 }
@@ -288,5 +292,83 @@ fn assert_saved_design_verifies(port: u16) {
         Some(0),
         "{}",
         String::from_utf8_lossy(&verify.stdout)
+    );
+}
+
+/// The page loads a dome as its target (the request the target picker sends), places it
+/// under the sheet, and the Fit button is pressed with a real click: the fit runs to its
+/// goal and the design still holds every condition.
+async fn fit_to_a_dome_by_pressing_fit(client: &Client, before: &Value) {
+    // The pin of the Shift-click above would hold a corner off the dome.
+    let status = eval(
+        client,
+        "return fetch('/api/pin', {method: 'POST', headers: {'Content-Type': 'application/json'}, \
+         body: JSON.stringify({vertex: 0, pinned: false})}).then(r => r.status);",
+        vec![],
+    )
+    .await;
+    assert_eq!(status, json!(200));
+    assert_eq!(page_state(client).await["pinned"], json!([]));
+    let dome = crease::surface::shapes::Shape::Cap { radius: 250.0 }
+        .surface(300.0, 30)
+        .unwrap()
+        .to_obj("a dome");
+    let n = before["vertices"].as_u64().unwrap() as usize;
+    let middle: Vec<f64> = (0..3)
+        .map(|k| (0..n).map(|v| position(before, v)[k]).sum::<f64>() / n as f64)
+        .collect();
+    let status = eval(
+        client,
+        "return fetch('/api/target?name=dome.obj', {method: 'POST', \
+         headers: {'Content-Type': 'application/octet-stream'}, body: arguments[0]}) \
+         .then(r => r.status);",
+        vec![json!(dome)],
+    )
+    .await;
+    assert_eq!(status, json!(200));
+    let status = eval(
+        client,
+        "return fetch('/api/target/place', {method: 'POST', headers: {'Content-Type': 'application/json'}, \
+         body: JSON.stringify({shift: arguments[0]})}).then(r => r.status);",
+        vec![json!(middle)],
+    )
+    .await;
+    assert_eq!(status, json!(200));
+    wait_until(
+        client,
+        "the Fit button to be enabled",
+        "return !document.getElementById('fit-go').disabled;",
+    )
+    .await;
+    client
+        .find(fantoccini::Locator::Id("fit-go"))
+        .await
+        .expect("the Fit button")
+        .click()
+        .await
+        .expect("a click on Fit");
+    wait_until(
+        client,
+        "the fit to end",
+        "return window.crease.state().then(s => s.fit !== null && !s.fit.running);",
+    )
+    .await;
+    let s = page_state(client).await;
+    assert!(
+        s["fit"]["largest"].as_f64().unwrap() <= s["fit"]["goal"].as_f64().unwrap(),
+        "{}",
+        s["fit"]
+    );
+    assert_eq!(s["pass"], true, "{}", s["residuals"]);
+    // The page shows the fit's figures.
+    let shown = eval(
+        client,
+        "return document.getElementById('fit-progress').textContent;",
+        vec![],
+    )
+    .await;
+    assert!(
+        shown.as_str().unwrap().contains("largest distance"),
+        "{shown}"
     );
 }

@@ -8,7 +8,9 @@
 
 use super::assets;
 use super::hub::Hub;
-use super::session::{Command, FabRequest, GenerateRequest, Reply, Settings, MAX_UPLOAD};
+use super::session::{
+    Command, FabRequest, FitRequest, GenerateRequest, Reply, Settings, TargetPlacement, MAX_UPLOAD,
+};
 use crate::constraints::Family;
 use crate::generate::{Params, PatternKind};
 use serde::de::DeserializeOwned;
@@ -136,7 +138,7 @@ pub fn admit(site: &Site, request: &Request) -> Result<(), Response> {
 /// The type a POST to `path` must carry: file bytes for `/api/open`, JSON elsewhere
 /// (neither is a type a cross-site page may send without a preflight).
 pub fn body_type(path: &str) -> &'static str {
-    if path == "/api/open" {
+    if path == "/api/open" || path == "/api/target" {
         "application/octet-stream"
     } else {
         "application/json"
@@ -401,6 +403,26 @@ fn command_for(
             }
             Command::Open { name, bytes: body }
         }
+        ("POST", "/target") => {
+            let Some(name) = query_value(query, "name").map(percent_decode) else {
+                return Err(Response::error(
+                    400,
+                    "/api/target needs ?name=FILE (.obj or .stl)",
+                ));
+            };
+            if body.len() > MAX_UPLOAD {
+                return Err(Response::error(
+                    413,
+                    &format!("{name}: larger than {} MiB", MAX_UPLOAD >> 20),
+                ));
+            }
+            Command::LoadTarget { name, bytes: body }
+        }
+        ("GET", "/target") => Command::TargetMesh,
+        ("POST", "/target/place") => Command::PlaceTarget(parse::<TargetPlacement>(path, &body)?),
+        ("POST", "/target/clear") => Command::ClearTarget,
+        ("POST", "/fit") => Command::Fit(parse::<FitRequest>(path, &body)?),
+        ("POST", "/fit/stop") => Command::StopFit,
         (_, r) => {
             return Err(Response::error(
                 404,

@@ -17,6 +17,7 @@ const FILES: &[(&str, &[u8])] = &[
     ("view3d.js", include_bytes!("assets/view3d.js")),
     ("panes.js", include_bytes!("assets/panes.js")),
     ("panel.js", include_bytes!("assets/panel.js")),
+    ("fit.js", include_bytes!("assets/fit.js")),
     (
         "vendor/three/three.module.js",
         include_bytes!("assets/vendor/three/three.module.js"),

@@ -207,6 +207,10 @@ pub struct Live<'a> {
     pub remesh: Option<f64>,
     /// Design title.
     pub title: &'a str,
+    /// The target surface's name, version and placement (null without one).
+    pub target: Value,
+    /// The fit's progress (null without one).
+    pub fit: Value,
 }
 
 /// The element to highlight: a vertex, or an edge (an index into the topology's edges).
@@ -240,6 +244,8 @@ struct LiveOut<'a> {
     alpha: f64,
     remesh: Option<f64>,
     title: &'a str,
+    target: &'a Value,
+    fit: &'a Value,
 }
 
 /// Positions and numbers, serialised directly (no JSON tree of the positions).
@@ -294,6 +300,8 @@ pub fn live_json(l: &Live) -> String {
         alpha: l.alpha,
         remesh: l.remesh,
         title: l.title,
+        target: &l.target,
+        fit: &l.fit,
     })
     .expect("the live frame serialises")
 }

@@ -8,6 +8,7 @@
 import { View3D } from '/view3d.js';
 import { PatternPane, XrayPane } from '/panes.js';
 import { Panel } from '/panel.js';
+import { FitPanel } from '/fit.js';
 
 /** JSON request; a 4xx/5xx rejects with the server's one-line message. */
 export async function api(path, body, raw) {
@@ -39,6 +40,7 @@ const view = new View3D(document.getElementById('view3d'), {
     api('/pin', { vertex: v, pinned }).catch((e) => showStatus(e.message, true));
   },
 });
+const fitPanel = new FitPanel(api, showStatus, view);
 const cpPane = new PatternPane(document.getElementById('cp'));
 const xrayPane = new XrayPane(document.getElementById('xray'), document.getElementById('xray-reason'));
 
@@ -102,6 +104,7 @@ function apply(frame) {
     xrayPane.draw(model);
   }
   panel.update(model);
+  fitPanel.update(model);
   paintStatus();
 }
 
@@ -135,4 +138,5 @@ window.addEventListener('keydown', (e) => {
 });
 setInterval(paintStatus, 1000);
 
+fitPanel.init();
 panel.init().then(poll);

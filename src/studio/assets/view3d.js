@@ -51,6 +51,27 @@ export class View3D {
     this.resize();
   }
 
+  /** Draws the fit's target surface translucent over the design (null removes it). */
+  setTarget(target) {
+    if (this.target) {
+      this.scene.remove(this.target);
+      this.target.geometry.dispose();
+      this.target = null;
+    }
+    if (target) {
+      const g = new THREE.BufferGeometry();
+      g.setAttribute('position', new THREE.BufferAttribute(Float32Array.from(target.vertices.flat()), 3));
+      g.setIndex(target.triangles.flat());
+      g.computeVertexNormals();
+      this.target = new THREE.Mesh(g, new THREE.MeshLambertMaterial({
+        color: 0x3aa37a, transparent: true, opacity: 0.3, side: THREE.DoubleSide, depthWrite: false,
+      }));
+      this.target.renderOrder = 1;
+      this.scene.add(this.target);
+    }
+    this.render();
+  }
+
   markers(colour, size) {
     const m = new THREE.Points(new THREE.BufferGeometry(), new THREE.PointsMaterial({
       color: colour, size, sizeAttenuation: false, depthTest: false,

@@ -129,7 +129,7 @@ impl Session {
 
     /// One Euler step of the drag (§3, §5): pull the dragged vertex a bounded share of its
     /// way to the pointer, project into the null space, correct with Newton.
-    pub fn step(&mut self) {
+    pub(super) fn drag_step(&mut self) {
         let Some(drag) = &self.drag else { return };
         let (v, target) = (drag.vertex, drag.target);
         let Some(solver) = self.solver.as_mut() else {

@@ -10,9 +10,12 @@
 mod analysis;
 mod drag;
 mod edits;
+mod fit;
 mod requests;
 
-pub use requests::{Command, FabRequest, GenerateRequest, Refusal, Reply, Settings};
+pub use requests::{
+    Command, FabRequest, FitRequest, GenerateRequest, Refusal, Reply, Settings, TargetPlacement,
+};
 
 use super::frame::{self, Frame, Meter};
 use crate::constraints::{ConstraintSet, Family, Reference};
@@ -78,6 +81,10 @@ pub struct Session {
     in_force: Option<ConstraintSet>,
     /// A request changed what the page shows since the last frame.
     unpublished: bool,
+    /// The target surface a fit pulls toward, as the user placed it.
+    target: Option<fit::StudioTarget>,
+    /// The fit under way or finished.
+    fit: Option<fit::FitRun>,
 }
 
 impl Session {
@@ -112,6 +119,8 @@ impl Session {
             fab_files: Vec::new(),
             in_force: None,
             unpublished: false,
+            target: None,
+            fit: None,
         };
         s.design.alpha = s.mesh_alpha();
         s.design_changed(true);
@@ -134,9 +143,22 @@ impl Session {
             .fold(0.0, f64::max)
     }
 
-    /// Whether the session has work to do without a request: a drag that can go on.
+    /// Whether the session has work to do without a request: a drag that can go on, or
+    /// a fit (paused while a drag is under way).
     pub fn wants_to_step(&self) -> bool {
-        self.drag.as_ref().is_some_and(|d| !d.stuck)
+        match &self.drag {
+            Some(d) => !d.stuck,
+            None => self.fit_running(),
+        }
+    }
+
+    /// One step of what is under way: the drag, else the fit.
+    pub fn step(&mut self) {
+        if self.drag.is_some() {
+            self.drag_step();
+        } else {
+            self.fit_step();
+        }
     }
 
     /// The design as it stands (the solver's positions during a drag).
@@ -184,6 +206,7 @@ impl Session {
     }
 
     fn restore(&mut self, design: Design) {
+        self.stop_fit("undo");
         self.solver = None;
         self.drag = None;
         self.design = design;
@@ -251,6 +274,15 @@ impl Session {
                 })
             }
             Command::Fabricate(r) => self.fabricate(r),
+            Command::LoadTarget { name, bytes } => self.load_target(&name, &bytes),
+            Command::PlaceTarget(p) => self.place_target(p),
+            Command::ClearTarget => Ok(self.clear_target()),
+            Command::TargetMesh => self.target_mesh(),
+            Command::Fit(r) => self.start_fit(r),
+            Command::StopFit => {
+                self.stop_fit("Stop");
+                Ok(ok())
+            }
             #[cfg(test)]
             Command::Panic => panic!("a panic injected by a test"),
             Command::FabFile(name) => self
@@ -280,7 +312,7 @@ impl Session {
     /// milliseconds, and a mouse sends sixty positions a second.
     fn is_quiet(&self, command: &Command) -> bool {
         match command {
-            Command::State | Command::FabFile(_) => true,
+            Command::State | Command::FabFile(_) | Command::TargetMesh => true,
             Command::Drag { vertex, .. } => self.drag.as_ref().is_some_and(|d| d.vertex == *vertex),
             _ => false,
         }
@@ -473,6 +505,8 @@ impl Session {
                 alpha: self.design.alpha,
                 remesh: self.design.remesh,
                 title: &self.title,
+                target: self.target_json(),
+                fit: self.fit_json(),
             }),
         }
     }
@@ -509,6 +543,8 @@ impl Session {
             "conditions": conditions.families.iter().map(|f| f.name()).collect::<Vec<_>>(),
             "stepsPerSecond": self.meter.rate(),
             "topologyVersion": self.versions.topology,
+            "target": self.target_json(),
+            "fit": self.fit_json(),
         })
     }
 }

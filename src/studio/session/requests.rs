@@ -49,6 +49,23 @@ pub enum Command {
     Fabricate(FabRequest),
     /// A file of the last fabrication.
     FabFile(String),
+    /// Load a target surface for the fit from a file's bytes (.obj, .stl).
+    LoadTarget {
+        /// Its name (the extension picks the format).
+        name: String,
+        /// Its content.
+        bytes: Vec<u8>,
+    },
+    /// Place the loaded target: shift, turn and offset from where its file put it.
+    PlaceTarget(TargetPlacement),
+    /// Drop the target (and stop a fit).
+    ClearTarget,
+    /// The target as placed, for drawing.
+    TargetMesh,
+    /// Start fitting the design to the target, live.
+    Fit(FitRequest),
+    /// Stop the fit where it is.
+    StopFit,
     /// Panics inside the session (tests of the mailbox's guard only).
     #[cfg(test)]
     Panic,
@@ -86,6 +103,31 @@ pub struct GenerateRequest {
     pub angle: Option<f64>,
     /// Closed-form fold amount, or none for flat.
     pub fold: Option<f64>,
+}
+
+/// Where the loaded target goes, from where its file put it (absolute, so the page's
+/// sliders can be sent as they stand).
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TargetPlacement {
+    /// Shift (mm) along x, y, z.
+    pub shift: Option<[f64; 3]>,
+    /// Turns (degrees) about x, y and z through the target's centre, in that order.
+    pub turn: Option<[f64; 3]>,
+    /// Offset along the surface's normals (mm).
+    pub offset: Option<f64>,
+}
+
+/// A fit's settings; absent fields take `crease fit`'s defaults.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FitRequest {
+    /// Steps at most.
+    pub steps: Option<usize>,
+    /// The distance goal (mm).
+    pub within: Option<f64>,
+    /// "mid" or "all".
+    pub surface: Option<String>,
 }
 
 /// A fabrication request.
