@@ -231,10 +231,7 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
             (None, true) => Vec::new(),
             (None, false) => Solver::default_fixed(&placed, &[]),
         };
-        let fit_options = Options {
-            max_halvings: crate::fit::FIT_HALVINGS,
-            ..options.clone()
-        };
+        let fit_options = crate::fit::solver_options(&options);
         let mut solver = Solver::new(placed, set.clone(), &anchor, fit_options)?;
         solver.correct()?;
         fit_phase = Some(fit::pull(&mut solver, stage, placement, progress)?);

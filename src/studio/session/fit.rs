@@ -7,7 +7,7 @@
 
 use super::requests::{FitRequest, Refusal, Reply, TargetPlacement};
 use super::{ok, Session};
-use crate::fit::{FitOptions, Fitter, SurfaceChoice, FIT_HALVINGS};
+use crate::fit::{FitOptions, Fitter, SurfaceChoice};
 use crate::limits;
 use crate::mesh::Vec3;
 use crate::pipeline;
@@ -247,10 +247,7 @@ impl Session {
                 .map_err(|r| r.message)?;
         }
         let set = self.condition_set();
-        let options = Options {
-            max_halvings: FIT_HALVINGS,
-            ..Options::default()
-        };
+        let options = crate::fit::solver_options(&Options::default());
         let mut solver = Solver::new(self.design.mesh.clone(), set, &pins, options)
             .map_err(|e| e.to_string())?;
         solver.correct().map_err(|e| {
