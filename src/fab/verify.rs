@@ -276,7 +276,7 @@ pub fn verify_within(
             &default
         }
     };
-    let rows = set.evaluate(mesh, &reference, mesh.positions());
+    let rows = set.evaluate_values(mesh, &reference, mesh.positions());
     let bounds = tol.rounding.then(|| RoundingBounds::new(mesh)).flatten();
     let precision = bounds.as_ref().map_or(0.0, |b| b.precision);
     let mut families = Vec::new();

@@ -257,7 +257,7 @@ pub(super) fn report(
         met: largest <= goal,
         worst_group: worst,
     };
-    let rows = set.evaluate(mesh, &Reference::new(mesh), mesh.positions());
+    let rows = set.evaluate_values(mesh, &Reference::new(mesh), mesh.positions());
     let conditions = set
         .families
         .iter()

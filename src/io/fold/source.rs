@@ -94,6 +94,43 @@ const MODELLED: [&str; 17] = [
     "crease:coincidentVertices",
 ];
 
+/// The top-level fields a source record keeps (those crease does not model, and frame
+/// 0's coordinates, classes and attributes), in the order of their names as a JSON
+/// object holds them, the last of a repeated name winning. The modelled fields — the bulk
+/// of a large file — are skipped without being parsed into a tree.
+struct Unmodelled(Vec<(String, serde_json::Value)>);
+
+impl<'de> serde::Deserialize<'de> for Unmodelled {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Fields;
+        impl<'de> serde::de::Visitor<'de> for Fields {
+            type Value = Unmodelled;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a FOLD object")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                mut map: A,
+            ) -> Result<Unmodelled, A::Error> {
+                let mut kept = std::collections::BTreeMap::new();
+                while let Some(name) = map.next_key::<String>()? {
+                    let wanted = matches!(
+                        name.as_str(),
+                        "vertices_coords" | "frame_classes" | "frame_attributes"
+                    ) || !MODELLED.contains(&name.as_str());
+                    if wanted {
+                        kept.insert(name, map.next_value::<serde_json::Value>()?);
+                    } else {
+                        map.next_value::<serde::de::IgnoredAny>()?;
+                    }
+                }
+                Ok(Unmodelled(kept.into_iter().collect()))
+            }
+        }
+        d.deserialize_map(Fields)
+    }
+}
+
 /// What the file has beyond the mesh: its polygons, its descriptive `file_*`/`frame_*`
 /// fields, its other fields (kept while the geometry is unchanged) and its unit.
 pub(super) fn source_record(
@@ -108,7 +145,7 @@ pub(super) fn source_record(
         imported: Fingerprint::of(mesh),
         ..Default::default()
     };
-    if let Ok(serde_json::Value::Object(fields)) = serde_json::from_str(text) {
+    if let Ok(Unmodelled(fields)) = serde_json::from_str(text) {
         for (name, value) in fields {
             if matches!(
                 name.as_str(),
