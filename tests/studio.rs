@@ -402,8 +402,16 @@ fn fabricate_writes_every_file_fab_writes_and_serves_them() {
         ..Default::default()
     };
     let cli = crease::pipeline::fabricate(&mesh, &machine, &options).unwrap();
-    let names: Vec<String> = cli.files.iter().map(|(n, _)| n.clone()).collect();
+    let mut names: Vec<String> = cli.files.iter().map(|(n, _)| n.clone()).collect();
+    // Plus the picture the page shows: the same toolpath at a visible stroke width.
+    names.push("preview.svg".into());
     assert_eq!(files, names);
+    let preview = call(&hub, "GET", "/api/fab/preview.svg", b"");
+    assert_eq!(preview.status, 200);
+    assert!(
+        preview.body == crease::output::svg::preview_to_string(&cli.toolpath).into_bytes(),
+        "the preview draws fab's own toolpath"
+    );
     for (name, bytes) in &cli.files {
         let got = call(&hub, "GET", &format!("/api/fab/{name}"), b"");
         assert_eq!(got.status, 200, "{name}");
@@ -416,6 +424,31 @@ fn fabricate_writes_every_file_fab_writes_and_serves_them() {
         }
     }
     assert!(r["report"]["sheet"]["strokes"].as_u64().unwrap() > 100);
+    // The page's controls: too large for the media, the message names them, not flags;
+    // "fit" (scale to the media) makes it fabricate.
+    let (status, r) = json_call(
+        &hub,
+        "POST",
+        "/api/fabricate",
+        json!({"machine": "generic-hpgl", "media": "100x100mm"}),
+    );
+    assert_eq!(status, 422, "{r}");
+    let message = r["error"].as_str().unwrap();
+    assert!(
+        !message.contains("--") && message.contains("tile (tick it)"),
+        "{message}"
+    );
+    assert!(
+        !message.contains("cut anyway"),
+        "cutting anyway does not help: {message}"
+    );
+    let (status, r) = json_call(
+        &hub,
+        "POST",
+        "/api/fabricate",
+        json!({"machine": "generic-hpgl", "media": "100x100mm", "fit": true, "margin": 5}),
+    );
+    assert_eq!(status, 200, "{r}");
     hub.stop();
 }
 

@@ -177,6 +177,12 @@ async fn dragging_a_vertex_with_the_mouse_moves_it_and_every_condition_still_hol
         "return window.crease.state().then(s => s.dragging === null && s.settled);",
     )
     .await;
+    // The marker rides on the dragged vertex, not where the press began.
+    let marker = eval(&client, "return window.crease.markerScreen();", vec![]).await;
+    let (vx, vy) = screen_of(&client, v).await;
+    let off = (marker["x"].as_f64().unwrap() - vx).hypot(marker["y"].as_f64().unwrap() - vy);
+    assert!(off < 3.0, "the marker is {off:.1} px from vertex {v}");
+    assert!((vy - y).abs() > 10.0, "vertex {v} moved on screen");
     let after = page_state(&client).await;
     let moved = (0..3)
         .map(|k| (position(&after, v)[k] - position(&before, v)[k]).powi(2))
@@ -202,6 +208,7 @@ async fn dragging_a_vertex_with_the_mouse_moves_it_and_every_condition_still_hol
     )
     .await;
 
+    fabricate_and_see_the_preview(&client).await;
     let png = client.screenshot().await.expect("a screenshot");
     std::fs::write(out_dir().join("studio.png"), png).unwrap();
 
@@ -370,5 +377,47 @@ async fn fit_to_a_dome_by_pressing_fit(client: &Client, before: &Value) {
     assert!(
         shown.as_str().unwrap().contains("largest distance"),
         "{shown}"
+    );
+}
+
+/// Fabricate with "fit" ticked (real clicks): the preview is drawn where a maker sees it,
+/// strokes covering a visible share of the sheet's pixels.
+async fn fabricate_and_see_the_preview(client: &Client) {
+    for id in ["fab-fit", "fabricate"] {
+        client
+            .find(fantoccini::Locator::Id(id))
+            .await
+            .unwrap_or_else(|e| panic!("#{id}: {e}"))
+            .click()
+            .await
+            .unwrap_or_else(|e| panic!("a click on #{id}: {e}"));
+    }
+    wait_until(
+        client,
+        "the preview to load",
+        "const i = document.getElementById('fab-preview'); return !!(i && i.complete && i.naturalWidth > 0);",
+    )
+    .await;
+    // Drawn onto a canvas as the page shows it (same origin: the pixels can be read).
+    let counts = eval(
+        client,
+        "const i = document.getElementById('fab-preview'); \
+         const c = document.createElement('canvas'); c.width = i.clientWidth; c.height = i.clientHeight; \
+         const g = c.getContext('2d'); g.drawImage(i, 0, 0, c.width, c.height); \
+         const d = g.getImageData(0, 0, c.width, c.height).data; let sheet = 0, ink = 0; \
+         for (let k = 0; k < d.length; k += 4) { if (d[k + 3] < 128) continue; sheet++; \
+           if (d[k] < 200 || d[k + 1] < 200 || d[k + 2] < 200) ink++; } \
+         return {sheet, ink, width: c.width};",
+        vec![],
+    )
+    .await;
+    let (sheet, ink) = (
+        counts["sheet"].as_f64().unwrap(),
+        counts["ink"].as_f64().unwrap(),
+    );
+    assert!(counts["width"].as_f64().unwrap() > 200.0, "{counts}");
+    assert!(
+        ink > 0.02 * sheet,
+        "strokes cover {ink} of {sheet} pixels: {counts}"
     );
 }

@@ -89,6 +89,24 @@ pub struct FlatFolded {
     pub worst_vertex: Option<usize>,
 }
 
+/// The gap (mm) below which the faces of a flat-folded state close up around their
+/// vertices: a millionth of the crease pattern's diagonal (what double precision loses
+/// over a walk round a vertex), plus what the source file's rounding of its coordinates
+/// (`precision`, mm) can open (eight times it: a vertex's image is reached through up to
+/// eight rounded corners on the paper's typical crease counts). Verification and the
+/// studio's x-ray judge closure by this one figure, so the pane and the verdict agree.
+pub fn closure_tolerance(flat: &[Vec2], precision: f64) -> f64 {
+    let (lo, hi) = crate::mesh::bounds(flat);
+    1e-6 * (hi - lo).norm() + 8.0 * precision
+}
+
+impl FlatFolded {
+    /// Whether the faces close up within `tolerance` (see [`closure_tolerance`]).
+    pub fn closes(&self, tolerance: f64) -> bool {
+        self.mismatch <= tolerance
+    }
+}
+
 /// Why a pattern has no flat-folded state.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum NotFlatFoldable {

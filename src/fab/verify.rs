@@ -368,8 +368,10 @@ fn self_intersection(mesh: &Mesh) -> FamilyReport {
 fn layer_order_report(mesh: &Mesh, budget: &Budget) -> Option<FamilyReport> {
     use super::layers::{layer_order_within, LayerError, LayerOrder};
     let folded = super::flat_folded(mesh, None).ok()?;
-    let (lo, hi) = crate::mesh::bounds(mesh.flat()?);
-    let closes = folded.mismatch <= 1e-6 * (hi - lo).norm() + 8.0 * mesh.coordinate_precision;
+    let closes = folded.closes(super::closure_tolerance(
+        mesh.flat()?,
+        mesh.coordinate_precision,
+    ));
     let creases = mesh.edges().iter().any(|e| e.assignment.is_folded());
     if !closes || !creases {
         return None;

@@ -28,7 +28,7 @@ fn colour(kind: LineKind) -> &'static str {
 /// Writes the toolpath on its media.
 pub fn sheet_to_string(path: &Toolpath) -> String {
     let (w, h) = (path.media.width, path.media.height);
-    let mut doc = Document::new()
+    let doc = Document::new()
         .set(
             "xmlns:inkscape",
             "http://www.inkscape.org/namespaces/inkscape",
@@ -36,6 +36,39 @@ pub fn sheet_to_string(path: &Toolpath) -> String {
         .set("width", format!("{w}mm"))
         .set("height", format!("{h}mm"))
         .set("viewBox", format!("0 0 {w} {h}"));
+    with_layers(doc, path, HAIRLINE_MM).to_string() + "\n"
+}
+
+/// The toolpath as a picture for a screen: the media drawn as a white sheet with a grey
+/// edge, and every stroke in its kind's colour at a width that shows when the whole
+/// sheet fits a panel a few hundred pixels wide (1/300 of the media's longer side). Not a
+/// job: `sheet.svg` is what a cutter takes.
+pub fn preview_to_string(path: &Toolpath) -> String {
+    let (w, h) = (path.media.width, path.media.height);
+    let stroke = w.max(h) / 300.0;
+    let sheet = svg::node::element::Rectangle::new()
+        .set("x", 0)
+        .set("y", 0)
+        .set("width", w)
+        .set("height", h)
+        .set("fill", "#ffffff")
+        .set("stroke", "#9a9a9a")
+        .set("stroke-width", stroke);
+    let doc = Document::new()
+        .set(
+            "xmlns:inkscape",
+            "http://www.inkscape.org/namespaces/inkscape",
+        )
+        .set("width", format!("{w}mm"))
+        .set("height", format!("{h}mm"))
+        .set("viewBox", format!("0 0 {w} {h}"))
+        .add(sheet);
+    with_layers(doc, path, stroke).to_string() + "\n"
+}
+
+/// One layer per line kind, strokes `width` mm wide.
+fn with_layers(mut doc: Document, path: &Toolpath, width: f64) -> Document {
+    let h = path.media.height;
     for kind in LineKind::ALL {
         let strokes: Vec<&Stroke> = path.strokes.iter().filter(|s| s.kind == kind).collect();
         if strokes.is_empty() {
@@ -46,7 +79,7 @@ pub fn sheet_to_string(path: &Toolpath) -> String {
             .set("inkscape:label", kind.name())
             .set("id", kind.name())
             .set("stroke", colour(kind))
-            .set("stroke-width", HAIRLINE_MM)
+            .set("stroke-width", width)
             .set("stroke-linecap", "butt")
             .set("stroke-linejoin", "round")
             .set("fill", "none");
@@ -66,7 +99,7 @@ pub fn sheet_to_string(path: &Toolpath) -> String {
         }
         doc = doc.add(layer);
     }
-    doc.to_string() + "\n"
+    doc
 }
 
 /// SVG path data for strokes: joined strokes become one subpath (`M … L …`), a subpath

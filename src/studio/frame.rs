@@ -5,7 +5,7 @@
 //! does not have yet.
 
 use crate::constraints::{Element, Family};
-use crate::fab::{flat_folded, LineKind, Report};
+use crate::fab::{closure_tolerance, flat_folded, LineKind, Report};
 use crate::mesh::{Mesh, Vec2, Vec3};
 use crate::solver::Mode;
 use serde_json::{json, Value};
@@ -145,9 +145,10 @@ pub fn pattern_json(mesh: &Mesh, pattern: Option<&[Vec2]>) -> String {
     let xray = match pattern {
         None => json!({"reason": "the design cannot be unfolded into a crease pattern"}),
         Some(p) => match flat_folded(mesh, Some(p)) {
-            // Where the layers close up every vertex has one image, and the page needs
-            // only those (a sixth of the triangles' numbers); otherwise each face's own.
-            Ok(f) if f.mismatch < 1e-6 => {
+            // Where the layers close up (by verification's own tolerance, so the pane and
+            // the verdict agree) every vertex has one image, and the page needs only
+            // those (a sixth of the triangles' numbers); otherwise each face's own.
+            Ok(f) if f.closes(closure_tolerance(p, mesh.coordinate_precision)) => {
                 let mut points = vec![Vec2::zeros(); p.len()];
                 for (face, tri) in mesh.faces().iter().zip(&f.triangles) {
                     for (&v, &q) in face.iter().zip(tri) {
@@ -159,6 +160,7 @@ pub fn pattern_json(mesh: &Mesh, pattern: Option<&[Vec2]>) -> String {
                     "flipped": f.motions.iter().map(|m| m.flips()).collect::<Vec<_>>(),
                     "mismatch": f.mismatch,
                     "worstVertex": f.worst_vertex,
+                    "closes": true,
                 })
             }
             Ok(f) => json!({
@@ -166,6 +168,7 @@ pub fn pattern_json(mesh: &Mesh, pattern: Option<&[Vec2]>) -> String {
                 "flipped": f.motions.iter().map(|m| m.flips()).collect::<Vec<_>>(),
                 "mismatch": f.mismatch,
                 "worstVertex": f.worst_vertex,
+                "closes": false,
             }),
             Err(e) => json!({"reason": e.to_string()}),
         },

@@ -83,10 +83,12 @@ export class Panel {
   async fabricate() {
     const out = $('fab-result');
     out.textContent = 'fabricating…';
-    const width = $('width').value === '' ? null : Number($('width').value);
+    const num = (id) => ($(id).value === '' ? null : Number($(id).value));
     try {
       const r = await this.send('/fabricate', {
-        machine: $('machine').value, media: $('media').value || null, width, force: $('force').checked,
+        machine: $('machine').value, media: $('media').value || null, width: num('width'),
+        fit: $('fab-fit').checked, margin: num('margin'), tile: $('tile').checked,
+        force: $('force').checked,
       });
       const stamp = Date.now();
       const s = r.report.sheet || {};
@@ -95,17 +97,19 @@ export class Panel {
       summary.className = 'small';
       summary.textContent = `${s.strokes ?? '?'} strokes, pen-up travel ${Math.round(s.pen_up_travel_mm ?? 0)} mm`;
       out.appendChild(summary);
-      for (const name of r.files) {
+      for (const name of r.files.filter((n) => n !== 'preview.svg')) {
         const a = document.createElement('a');
         a.href = `/api/fab/${name}?t=${stamp}`;
         a.download = name;
         a.textContent = name;
         out.appendChild(a);
       }
-      if (r.files.includes('sheet.svg')) {
+      if (r.files.includes('preview.svg')) {
+        // The toolpath drawn to be seen: cut black, mountain red, valley blue, on the media.
         const img = document.createElement('img');
-        img.alt = 'the scored sheet';
-        img.src = `/api/fab/sheet.svg?t=${stamp}`;
+        img.id = 'fab-preview';
+        img.alt = 'the scored sheet on its media';
+        img.src = `/api/fab/preview.svg?t=${stamp}`;
         out.appendChild(img);
       }
     } catch (e) {
@@ -117,11 +121,23 @@ export class Panel {
     const live = model.live;
     if (!live) return;
     $('title').textContent = live.title;
-    // Until the user picks one, the pattern list shows what the design was made from.
+    // Until the user picks one, the pattern list shows what the design was made from,
+    // or, for an opened file, names the file.
     const made = this.meta.patterns.find((p) => live.title.startsWith(p.name));
-    if (!this.patternChosen && made && $('pattern').value !== made.name) {
-      $('pattern').value = made.name;
-      this.fillPattern();
+    const list = $('pattern');
+    let opened = list.querySelector('option[data-opened]');
+    if (!this.patternChosen && made) {
+      if (opened) opened.remove();
+      if (list.value !== made.name) { list.value = made.name; this.fillPattern(); }
+    } else if (!this.patternChosen && !made) {
+      if (!opened) {
+        opened = new Option('', '');
+        opened.dataset.opened = '1';
+        opened.disabled = true;
+        list.add(opened, 0);
+      }
+      opened.textContent = `(open: ${live.title})`;
+      list.value = '';
     }
     $('vertex-count').textContent = live.vertices;
     $('steps').textContent = Math.round(live.stepsPerSecond);

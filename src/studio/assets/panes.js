@@ -75,7 +75,7 @@ export class XrayPane {
       ctx.strokeStyle = 'rgba(40, 40, 40, 0.25)';
       ctx.stroke();
     }
-    this.reason.textContent = xray.mismatch > 1e-6
+    this.reason.textContent = xray.closes === false
       ? `The layers do not close: images of vertex ${xray.worstVertex} disagree by ${xray.mismatch.toFixed(3)} mm (the pattern is not flat-foldable there).`
       : '';
   }

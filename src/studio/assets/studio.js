@@ -128,6 +128,7 @@ window.crease = {
   ready: false,
   state: () => api('/state'),
   screenOf: (v) => view.screenOf(v),
+  markerScreen: () => view.markerScreen(),
 };
 
 window.addEventListener('resize', () => { cpPane.draw(model); xrayPane.draw(model); });

@@ -37,6 +37,7 @@ export class View3D {
 
     this.positions = new Float32Array(0);
     this.dragging = null;
+    this.hovered = null;
     this.framed = false;
     // Registered before OrbitControls so a press on a vertex can switch orbiting off
     // before the controls see it.
@@ -128,8 +129,20 @@ export class View3D {
       } else worst = (topo.edges[el.edge] || []).slice(0, 2);
     }
     this.setMarkers(this.worst, worst);
+    // The marker stays on its vertex as the vertex moves (the dragged one above all).
+    const marked = this.dragging ? this.dragging.vertex : this.hovered;
+    this.setMarkers(this.hover, marked === null || marked === undefined || 3 * marked >= this.positions.length ? [] : [marked]);
     if (topologyChanged || !this.framed) this.frame();
     this.render();
+  }
+
+  /** Client coordinates of the hover marker, or null when none is shown (for tests). */
+  markerScreen() {
+    const p = this.hover.geometry.getAttribute('position');
+    if (!p || p.count === 0) return null;
+    const rect = this.renderer.domElement.getBoundingClientRect();
+    const v = new THREE.Vector3(p.getX(0), p.getY(0), p.getZ(0)).project(this.camera);
+    return { x: rect.left + (v.x + 1) / 2 * rect.width, y: rect.top + (1 - v.y) / 2 * rect.height };
   }
 
   setMarkers(points, vertices) {
@@ -210,6 +223,7 @@ export class View3D {
     }
     if (e.buttons) return;
     const v = this.pick(e);
+    this.hovered = v;
     this.renderer.domElement.style.cursor = v === null ? 'default' : 'grab';
     this.setMarkers(this.hover, v === null ? [] : [v]);
     this.render();

@@ -217,21 +217,31 @@ impl Session {
         let options = FabOptions {
             media,
             width: r.width,
+            fit: r.fit.unwrap_or(false),
+            margin: r.margin,
+            tile: r.tile.unwrap_or(false),
             force: r.force.unwrap_or(false),
             ..FabOptions::default()
         };
         match pipeline::fabricate(&mesh, &machine, &options) {
             Ok(out) => {
-                let names: Vec<&str> = out.files.iter().map(|(n, _)| n.as_str()).collect();
+                let mut files = out.files;
+                // What the page shows: the toolpath drawn to be seen (sheet.svg is the job,
+                // in hairlines a cutter's software takes).
+                files.push((
+                    "preview.svg".into(),
+                    crate::output::svg::preview_to_string(&out.toolpath).into_bytes(),
+                ));
+                let names: Vec<&str> = files.iter().map(|(n, _)| n.as_str()).collect();
                 let reply = serde_json::json!({"ok": true, "files": names, "report": out.report});
-                self.fab_files = out.files;
+                self.fab_files = files;
                 self.message = format!("fabricated for {}", machine.name);
                 Ok(Reply::Json(reply))
             }
-            Err(FabError::Input(m)) => Err(Refusal::bad(m)),
-            Err(FabError::Rejected(r)) => Err(Refusal::failed(format!(
-                "{r} (tick \"cut anyway\" to fabricate regardless)"
-            ))),
+            Err(FabError::Input(m)) => Err(Refusal::bad(in_page_words(&m))),
+            // Only a failed verification is what "cut anyway" overrides, and its message
+            // says so (in the page's words); a sheet too large for the media is not.
+            Err(FabError::Rejected(r)) => Err(Refusal::failed(in_page_words(&r.to_string()))),
         }
     }
 }
@@ -255,5 +265,40 @@ pub(super) fn file_stem(name: &str) -> String {
         "design".into()
     } else {
         clean
+    }
+}
+
+/// A `fab` message with its option names turned into the page's controls: the maker in
+/// the studio has boxes and ticks, not flags.
+fn in_page_words(message: &str) -> String {
+    [
+        (
+            "use --force to cut it anyway",
+            "tick \"cut anyway\" to cut it regardless",
+        ),
+        ("--media", "media"),
+        ("--width", "width"),
+        ("--margin", "margin"),
+        ("--tile", "tile (tick it)"),
+        ("--fit", "fit (tick it)"),
+    ]
+    .iter()
+    .fold(message.to_string(), |m, (flag, words)| {
+        m.replace(flag, words)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn fab_messages_name_the_page_controls() {
+        let m = super::in_page_words(
+            "the pattern needs 300 × 400 mm with margins, but a4 is 210 × 297 mm; use a larger --media, a smaller --width, or --tile",
+        );
+        assert!(!m.contains("--"), "{m}");
+        assert!(
+            m.contains("a larger media, a smaller width, or tile (tick it)"),
+            "{m}"
+        );
     }
 }

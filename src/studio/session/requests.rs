@@ -140,6 +140,12 @@ pub struct FabRequest {
     pub media: Option<String>,
     /// Scale to this width (mm).
     pub width: Option<f64>,
+    /// Scale to the largest size the media takes within its margins (`fab --fit`).
+    pub fit: Option<bool>,
+    /// Margin on every side (mm); default the machine's (`fab --margin`).
+    pub margin: Option<f64>,
+    /// Split a sheet too large for the media over pages (`fab --tile`).
+    pub tile: Option<bool>,
     /// Fabricate even if verification fails.
     pub force: Option<bool>,
 }
