@@ -99,18 +99,12 @@ fn fold_flat(
             return Ok(1);
         }
     };
-    let cp = mesh
-        .flat()
-        .ok_or(format!("{name}: no crease pattern"))?
-        .to_vec();
-    // Every vertex takes its place in the folded image of one face that holds it.
-    let mut positions = vec![Vec3::zeros(); mesh.vertex_count()];
-    for (f, face) in mesh.faces().iter().enumerate() {
-        for &v in face {
-            let p = folded.motions[f].apply(cp[v]);
-            positions[v] = Vec3::new(p.x, p.y, 0.0);
-        }
-    }
+    mesh.flat().ok_or(format!("{name}: no crease pattern"))?;
+    let positions = folded
+        .vertex_images(mesh.faces(), mesh.vertex_count())
+        .into_iter()
+        .map(|p| Vec3::new(p.x, p.y, 0.0))
+        .collect();
     mesh.set_positions(positions);
     mesh.source = None;
     let text = io::fold::to_string_with_orders(&mesh, Some(&orders));

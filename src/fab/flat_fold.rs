@@ -101,6 +101,18 @@ pub fn closure_tolerance(flat: &[Vec2], precision: f64) -> f64 {
 }
 
 impl FlatFolded {
+    /// Where each vertex of `faces` lands: in the folded image of the last face listed
+    /// that holds it (where the layers close up, every face holding it agrees).
+    pub fn vertex_images(&self, faces: &[[usize; 3]], vertices: usize) -> Vec<Vec2> {
+        let mut images = vec![Vec2::zeros(); vertices];
+        for (face, tri) in faces.iter().zip(&self.triangles) {
+            for (&v, &q) in face.iter().zip(tri) {
+                images[v] = q;
+            }
+        }
+        images
+    }
+
     /// Whether the faces close up within `tolerance` (see [`closure_tolerance`]).
     pub fn closes(&self, tolerance: f64) -> bool {
         self.mismatch <= tolerance

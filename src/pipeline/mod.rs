@@ -325,6 +325,25 @@ fn check_options(
     Ok(())
 }
 
+/// Folds `mesh` in simulation mode toward `amount` of its targets (§5), holding the face
+/// nearest the middle, polished and with every crease's fold angle recorded: what
+/// `crease fold --amount` and the studio's Fold both do, so a fold in the studio behaves
+/// as the command on the saved design.
+pub fn fold_mesh(
+    mesh: Mesh,
+    amount: f64,
+    progress: Progress,
+) -> Result<(Mesh, FoldReport), PipelineError> {
+    crate::limits::FRACTION
+        .check("fold amount", amount)
+        .map_err(|e| PipelineError::Input(e.to_string()))?;
+    let anchor = Solver::default_fixed(&mesh, &[]);
+    let (mut mesh, report) =
+        fold_phase(mesh, amount, &anchor, &Options::default(), "fold", progress)?;
+    record_fold_angles(&mut mesh);
+    Ok((mesh, report))
+}
+
 /// Folds `mesh` in simulation mode toward `amount` of its targets, holding `anchor`, and
 /// polishes the result: a saved state is unfolded for cutting, isometric to ~1e-12.
 fn fold_phase(
@@ -352,8 +371,7 @@ fn drag_phase(
     progress: Progress,
 ) -> Result<Vec<DragReport>, PipelineError> {
     solver.correct()?;
-    let (lo, hi) = solver.mesh().bounding_box();
-    let radius = radius.unwrap_or(0.25 * (hi - lo).norm());
+    let radius = radius.unwrap_or_else(|| crate::solver::default_radius(solver.mesh().positions()));
     crate::limits::RADIUS
         .check("--radius", radius)
         .map_err(|e| PipelineError::Input(e.to_string()))?;

@@ -102,6 +102,71 @@ pub fn pull(x: &[Vec3], v: usize, share: Vec3, radius: f64, wish: &mut [Vec3]) {
     }
 }
 
+/// The falloff radius of a drag unless one is given: a quarter of the diagonal of the
+/// positions' bounding box (`deform`, scripts and the studio alike).
+pub fn default_radius(x: &[Vec3]) -> f64 {
+    let (lo, hi) = crate::mesh::bounds(x);
+    0.25 * (hi - lo).norm()
+}
+
+/// The mean edge length at `x`.
+pub fn mean_edge(mesh: &crate::mesh::Mesh, x: &[Vec3]) -> f64 {
+    let e = mesh.edges();
+    e.iter()
+        .map(|e| (x[e.vertices[1]] - x[e.vertices[0]]).norm())
+        .sum::<f64>()
+        / e.len().max(1) as f64
+}
+
+/// Longest pull of one step of a pointer drag, in mean edge lengths: past about half an
+/// edge an Euler step leaves Newton's basin, so an interactive drag is integrated in
+/// short steps toward wherever the pointer is.
+pub const POINTER_STEP_CAP: f64 = 0.1;
+
+/// What one step of a pointer drag did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PointerStep {
+    /// The vertex moved; it may go on.
+    Moved,
+    /// The vertex is where the pointer is (within a thousandth of the mean edge).
+    Arrived,
+    /// The step was taken but the vertex barely moved toward the pointer: the
+    /// conditions hold it there.
+    Held,
+}
+
+/// One Euler step of an interactive drag (§5): vertex `v` pulled a bounded share
+/// ([`POINTER_STEP_CAP`]) of its way to `target`, spread over the surface within
+/// [`default_radius`], projected into the null space (eq. 10) and corrected. The studio
+/// calls it while the pointer is held; a scripted stage is [`run_stage`].
+pub fn pointer_step(
+    solver: &mut Solver,
+    v: usize,
+    target: Vec3,
+) -> Result<PointerStep, SolverError> {
+    let x = solver.positions();
+    let gap = target - x[v];
+    let mean = mean_edge(solver.mesh(), x);
+    if gap.norm() < 1e-3 * mean {
+        return Ok(PointerStep::Arrived);
+    }
+    let share = if gap.norm() > POINTER_STEP_CAP * mean {
+        gap * (POINTER_STEP_CAP * mean / gap.norm())
+    } else {
+        gap
+    };
+    let mut wish = vec![Vec3::zeros(); x.len()];
+    pull(x, v, share, default_radius(x), &mut wish);
+    let before = x[v];
+    solver.step(&wish)?;
+    let progress = (solver.positions()[v] - before).dot(&share) / share.norm();
+    Ok(if progress < 1e-3 * share.norm() {
+        PointerStep::Held
+    } else {
+        PointerStep::Moved
+    })
+}
+
 /// Runs one stage. `progress` is called after every accepted step.
 pub fn run_stage(
     solver: &mut Solver,
@@ -166,4 +231,55 @@ pub fn run_stage(
         collapses,
         flips,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::constraints::{ConstraintSet, Reference};
+    use crate::generate::{generate, Params, PatternKind};
+    use crate::solver::{Mode, Options};
+
+    fn miura_solver(set: Option<ConstraintSet>) -> (Solver, usize) {
+        let mesh = generate(&Params::defaults(PatternKind::Miura)).unwrap();
+        let set = set.unwrap_or_else(|| ConstraintSet::default_for(&Reference::new(&mesh)));
+        let fixed = Solver::default_fixed(&mesh, &[40]);
+        (
+            Solver::new(mesh, set, &fixed, Options::default()).unwrap(),
+            40,
+        )
+    }
+
+    #[test]
+    fn a_pointer_drag_arrives_where_it_may_and_is_held_where_the_paper_cannot_go() {
+        // Design mode: lifting the middle 5 mm is allowed; steps of at most a tenth of an
+        // edge get there and then report arrival.
+        let (mut solver, v) = miura_solver(None);
+        let target = solver.positions()[v] + Vec3::new(0.0, 0.0, 5.0);
+        let mut steps = 0;
+        while pointer_step(&mut solver, v, target).unwrap() != PointerStep::Arrived {
+            steps += 1;
+            assert!(steps < 500, "the drag arrives");
+        }
+        let mean = mean_edge(solver.mesh(), solver.positions());
+        assert!((solver.positions()[v] - target).norm() < 1e-3 * mean);
+        assert!(
+            steps as f64 >= 5.0 / (POINTER_STEP_CAP * mean),
+            "{steps} steps"
+        );
+        // Simulation mode keeps every length: pulling a vertex 500 mm away is held.
+        let (mut solver, v) = miura_solver(Some(Mode::simulation_set()));
+        let far = solver.positions()[v] + Vec3::new(0.0, 0.0, 500.0);
+        let mut outcome = PointerStep::Moved;
+        for _ in 0..400 {
+            outcome = match pointer_step(&mut solver, v, far) {
+                Ok(s) => s,
+                Err(_) => PointerStep::Held,
+            };
+            if outcome != PointerStep::Moved {
+                break;
+            }
+        }
+        assert_eq!(outcome, PointerStep::Held);
+    }
 }

@@ -13,7 +13,10 @@ mod predict;
 mod remesh;
 mod resist;
 
-pub use drag::{pull, run_stage, DragReport, Move, Script, ScriptFit, Stage};
+pub use drag::{
+    default_radius, mean_edge, pointer_step, pull, run_stage, DragReport, Move, PointerStep,
+    Script, ScriptFit, Stage, POINTER_STEP_CAP,
+};
 pub use error::{Blocker, SolverError};
 pub use fold::{fold_toward, FoldReport};
 pub use linear::{LinearError, NormalSolver};

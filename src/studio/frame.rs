@@ -149,12 +149,7 @@ pub fn pattern_json(mesh: &Mesh, pattern: Option<&[Vec2]>) -> String {
             // the verdict agree) every vertex has one image, and the page needs only
             // those (a sixth of the triangles' numbers); otherwise each face's own.
             Ok(f) if f.closes(closure_tolerance(p, mesh.coordinate_precision)) => {
-                let mut points = vec![Vec2::zeros(); p.len()];
-                for (face, tri) in mesh.faces().iter().zip(&f.triangles) {
-                    for (&v, &q) in face.iter().zip(tri) {
-                        points[v] = q;
-                    }
-                }
+                let points = f.vertex_images(mesh.faces(), p.len());
                 json!({
                     "points": flat2(points.into_iter()),
                     "flipped": f.motions.iter().map(|m| m.flips()).collect::<Vec<_>>(),

@@ -3,13 +3,10 @@
 
 use super::requests::{Refusal, Reply};
 use super::{ok, Session};
-use crate::mesh::{Mesh, Vec3};
+use crate::mesh::Vec3;
 use crate::pipeline;
-use crate::solver::{pull, Mode, Options, Solver};
+use crate::solver::{pointer_step, Mode, Options, PointerStep, Solver};
 use std::collections::BTreeSet;
-
-/// Longest pull of one drag step, in mean edge lengths.
-const STEP_CAP: f64 = 0.1;
 
 pub(super) struct DragState {
     pub(super) vertex: usize,
@@ -127,41 +124,23 @@ impl Session {
         }
     }
 
-    /// One Euler step of the drag (§3, §5): pull the dragged vertex a bounded share of its
-    /// way to the pointer, project into the null space, correct with Newton.
+    /// One Euler step of the drag toward the pointer: the library's
+    /// [`crate::solver::pointer_step`]; the session keeps only what the page shows.
     pub(super) fn drag_step(&mut self) {
         let Some(drag) = &self.drag else { return };
         let (v, target) = (drag.vertex, drag.target);
         let Some(solver) = self.solver.as_mut() else {
             return;
         };
-        let x = solver.positions();
-        let gap = target - x[v];
-        let mean = mean_edge(solver.mesh(), x);
-        if gap.norm() < 1e-3 * mean {
-            self.drag.as_mut().expect("dragging").stuck = true;
-            return;
-        }
-        // A step longer than half an edge leaves Newton's basin; the drag is integrated.
-        let share = if gap.norm() > STEP_CAP * mean {
-            gap * (STEP_CAP * mean / gap.norm())
-        } else {
-            gap
-        };
-        let (lo, hi) = crate::mesh::bounds(x);
-        let radius = 0.25 * (hi - lo).norm();
-        let mut wish = vec![Vec3::zeros(); x.len()];
-        pull(x, v, share, radius, &mut wish);
-        let before = x[v];
-        match solver.step(&wish) {
-            Ok(_) => {
-                let progress = (solver.positions()[v] - before).dot(&share) / share.norm();
+        match pointer_step(solver, v, target) {
+            Ok(PointerStep::Arrived) => self.drag.as_mut().expect("dragging").stuck = true,
+            Ok(step) => {
                 self.meter.tick();
                 let drag = self.drag.as_mut().expect("dragging");
                 drag.moved = true;
                 self.design.relaid |= self.design.mode == Mode::Design;
                 self.versions.positions += 1;
-                if progress < 1e-3 * share.norm() {
+                if step == PointerStep::Held {
                     drag.stuck = true;
                     self.message = format!(
                         "vertex {v} cannot get closer: the conditions hold it (pin elsewhere or switch conditions off)"
@@ -199,12 +178,4 @@ impl Session {
             self.in_force = None;
         }
     }
-}
-
-fn mean_edge(mesh: &Mesh, x: &[Vec3]) -> f64 {
-    let e = mesh.edges();
-    e.iter()
-        .map(|e| (x[e.vertices[1]] - x[e.vertices[0]]).norm())
-        .sum::<f64>()
-        / e.len().max(1) as f64
 }

@@ -8,7 +8,7 @@ use crate::fab;
 use crate::generate::{self, Params, PatternKind};
 use crate::mesh::Mesh;
 use crate::pipeline::{self, FabError, FabOptions};
-use crate::solver::{fold_toward, FoldReport, Mode, Options, Solver};
+use crate::solver::{FoldReport, Mode};
 use std::path::Path;
 
 /// Largest grid a request may generate (cells per side): 200 × 200 cells is over 40k
@@ -105,19 +105,11 @@ impl Session {
     /// undoable change.
     pub(super) fn fold_design(&mut self, amount: f64) -> Result<FoldReport, Refusal> {
         self.settle();
-        let centre = Solver::default_fixed(&self.design.mesh, &[]);
-        let mut solver = Solver::new(
-            self.design.mesh.clone(),
-            Mode::folding_set(),
-            &centre,
-            Options::default(),
-        )
-        .map_err(|e| Refusal::failed(e.to_string()))?;
-        let report = fold_toward(&mut solver, amount, 4000, &mut |_| {})
-            .map_err(|e| Refusal::failed(format!("folding failed: {e}")))?;
+        let (mesh, report) =
+            pipeline::fold_mesh(self.design.mesh.clone(), amount, &mut |_, _, _| {})
+                .map_err(|e| Refusal::failed(format!("folding failed: {e}")))?;
         self.remember();
-        self.design.mesh = solver.into_mesh();
-        pipeline::record_fold_angles(&mut self.design.mesh);
+        self.design.mesh = mesh;
         self.design_changed(false);
         Ok(report)
     }
