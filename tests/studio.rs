@@ -720,3 +720,43 @@ fn pins_hold_still_while_fitting_and_stop_ends_the_fit() {
     );
     hub.stop();
 }
+
+#[test]
+fn a_page_that_knew_another_session_gets_everything_at_once() {
+    // A tab kept open across a restart on the same port still holds the old session's
+    // versions: the frame it asks for must come at once, with faces and pattern.
+    let hub = fresh_hub();
+    let first: Value =
+        serde_json::from_slice(&call(&hub, "GET", "/api/frame?after=0", b"").body).unwrap();
+    let instance = first["instance"].as_u64().unwrap();
+    let other = hub.instance() + 1;
+    assert_eq!(instance, hub.instance());
+    let started = Instant::now();
+    let r = call(
+        &hub,
+        "GET",
+        &format!("/api/frame?after=999999&topology=1&pattern=1&instance={other}"),
+        b"",
+    );
+    assert!(started.elapsed() < Duration::from_secs(2), "no long poll");
+    let frame: Value = serde_json::from_slice(&r.body).unwrap();
+    assert!(frame["topology"].is_object(), "the faces come along");
+    assert_eq!(frame["instance"].as_u64(), Some(instance));
+    // The page that knows this session is sent only what it lacks.
+    let version = frame["version"].as_u64().unwrap();
+    let r = call(
+        &hub,
+        "GET",
+        &format!(
+            "/api/frame?after={version}&topology={}&pattern={}&instance={instance}",
+            frame["topologyVersion"], frame["patternVersion"]
+        ),
+        b"",
+    );
+    let again: Value = serde_json::from_slice(&r.body).unwrap();
+    assert!(again["version"].as_u64().unwrap() >= version);
+    if again["topologyVersion"] == frame["topologyVersion"] {
+        assert!(again.get("topology").is_none(), "nothing it already has");
+    }
+    hub.stop();
+}

@@ -335,15 +335,24 @@ fn frame(hub: &Hub, query: &str) -> Response {
             query_number(query, "after")?.unwrap_or(0),
             query_number(query, "topology")?,
             query_number(query, "pattern")?,
+            query_number(query, "instance")?,
         ))
     })();
     match numbers {
-        Ok((after, topology, pattern)) => {
+        Ok((after, topology, pattern, instance)) => {
+            // A page that knew another session (the studio restarted on this port) has
+            // versions that mean nothing here: it gets everything, at once.
+            let (after, topology, pattern) = match instance {
+                Some(i) if i != hub.instance() => (0, None, None),
+                _ => (after, topology, pattern),
+            };
             let frame = hub.frame_after(after, LONG_POLL);
             Response {
                 status: 200,
                 content_type: "application/json",
-                body: frame.to_json_for(topology, pattern).into_bytes(),
+                body: frame
+                    .to_json_for(topology, pattern, hub.instance())
+                    .into_bytes(),
                 download: None,
             }
         }

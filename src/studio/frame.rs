@@ -54,10 +54,16 @@ pub struct Frame {
 }
 
 impl Frame {
-    /// The JSON a page gets, leaving out the parts whose versions it already has.
-    pub fn to_json_for(&self, topology: Option<u64>, pattern: Option<u64>) -> String {
+    /// The JSON a page gets, leaving out the parts whose versions it already has, with
+    /// the session's `instance` (the page sends it back; another means start again).
+    pub fn to_json_for(
+        &self,
+        topology: Option<u64>,
+        pattern: Option<u64>,
+        instance: u64,
+    ) -> String {
         let mut out = format!(
-            "{{\"version\":{},\"topologyVersion\":{},\"patternVersion\":{},\"live\":{}",
+            "{{\"instance\":{instance},\"version\":{},\"topologyVersion\":{},\"patternVersion\":{},\"live\":{}",
             self.version, self.topology_version, self.pattern_version, self.live
         );
         if topology != Some(self.topology_version) {

@@ -51,6 +51,10 @@ pub struct Hub {
     changed: Condvar,
     stop: AtomicBool,
     thread: Mutex<Option<JoinHandle<()>>>,
+    /// Names this session among every studio that ever served on the port: frame
+    /// versions start again at 1 with each session, so a tab kept open across a restart
+    /// must see that it talks to another one (see [`Hub::instance`]).
+    instance: u64,
 }
 
 /// How long a request may wait for the session (a fold or fabrication of a large design
@@ -69,6 +73,7 @@ impl Hub {
             changed: Condvar::new(),
             stop: AtomicBool::new(false),
             thread: Mutex::new(None),
+            instance: new_instance(),
         });
         let shared = Arc::clone(&hub);
         let handle = std::thread::Builder::new()
@@ -136,6 +141,11 @@ impl Hub {
         self.published.lock().expect("hub lock").clone()
     }
 
+    /// This session's instance number (see the field's doc).
+    pub fn instance(&self) -> u64 {
+        self.instance
+    }
+
     /// Waits up to `timeout` for a frame newer than `after`, then returns the newest.
     pub fn frame_after(&self, after: u64, timeout: Duration) -> Arc<Frame> {
         let guard = self.published.lock().expect("hub lock");
@@ -178,4 +188,21 @@ impl Hub {
             let _ = t.join();
         }
     }
+}
+
+/// A number no other studio session is likely to have had: the clock's nanoseconds mixed
+/// with the process id and a counter (two hubs in one process, as in the tests), kept
+/// within JavaScript's exact integers.
+fn new_instance() -> u64 {
+    use std::sync::atomic::AtomicU64;
+    static COUNT: AtomicU64 = AtomicU64::new(0);
+    let nanos = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos() as u64);
+    let mixed = nanos
+        ^ (u64::from(std::process::id()) << 20)
+        ^ COUNT
+            .fetch_add(1, Ordering::Relaxed)
+            .wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    (mixed & ((1 << 53) - 1)).max(1)
 }

@@ -155,6 +155,10 @@ export class Panel {
     $('remesh-on').checked = live.remesh !== null;
     if (live.remesh !== null && document.activeElement !== $('remesh')) $('remesh').value = live.remesh;
     $('fold-row').style.display = live.mode === 'simulation' ? '' : 'none';
+    // The table and its note are rebuilt only when what they show changed.
+    const shown = JSON.stringify([live.residuals, live.worst]);
+    if (shown === this.residualsShown) return;
+    this.residualsShown = shown;
     const body = $('residuals').tBodies[0];
     body.innerHTML = '';
     for (const f of live.residuals) {

@@ -26,7 +26,7 @@ export async function api(path, body, raw) {
 }
 
 const model = {
-  version: 0, topologyVersion: null, patternVersion: null,
+  instance: null, version: 0, topologyVersion: null, patternVersion: null,
   topology: null, pattern: null, live: null,
 };
 
@@ -88,6 +88,8 @@ function paintStatus() {
 }
 
 function apply(frame) {
+  // Another session (the studio restarted on this port) sends everything afresh.
+  model.instance = frame.instance;
   model.version = frame.version;
   if (frame.topology) {
     model.topology = frame.topology;
@@ -111,6 +113,7 @@ function apply(frame) {
 async function poll() {
   for (;;) {
     const q = `after=${model.version}` +
+      (model.instance !== null ? `&instance=${model.instance}` : '') +
       (model.topologyVersion !== null ? `&topology=${model.topologyVersion}` : '') +
       (model.patternVersion !== null ? `&pattern=${model.patternVersion}` : '');
     try {

@@ -38,6 +38,8 @@ export class View3D {
     this.positions = new Float32Array(0);
     this.dragging = null;
     this.hovered = null;
+    this.renderPending = false;
+    this.pickPending = false;
     this.framed = false;
     // Registered before OrbitControls so a press on a vertex can switch orbiting off
     // before the controls see it.
@@ -90,7 +92,26 @@ export class View3D {
     this.render();
   }
 
-  render() { this.renderer.render(this.scene, this.camera); }
+  /** Draws at the next animation frame, once however many changes ask for it. */
+  render() {
+    if (this.renderPending) return;
+    this.renderPending = true;
+    requestAnimationFrame(() => {
+      this.renderPending = false;
+      this.renderer.render(this.scene, this.camera);
+    });
+  }
+
+  /** `attr` refilled with `values` in place when it has their length, else replaced. */
+  static fill(geometry, name, values, itemSize) {
+    const attr = geometry.getAttribute(name);
+    if (attr && attr.array.length === values.length) {
+      attr.array.set(values);
+      attr.needsUpdate = true;
+    } else {
+      geometry.setAttribute(name, new THREE.BufferAttribute(values, itemSize));
+    }
+  }
 
   /** Rebuilds what changed from the model the server sent. */
   update(model, topologyChanged) {
@@ -107,16 +128,17 @@ export class View3D {
       });
       this.creases.geometry.setAttribute('color', new THREE.BufferAttribute(colours, 3));
     }
-    g.setAttribute('position', new THREE.BufferAttribute(this.positions, 3));
-    g.computeVertexNormals();
-    g.computeBoundingSphere();
-    const line = new Float32Array(topo.edges.length * 6);
+    // Buffers refilled in place; no vertex normals (flat shading takes each face's own).
+    View3D.fill(g, 'position', this.positions, 3);
+    if (topologyChanged || !g.boundingSphere) g.computeBoundingSphere();
+    if (!this.line || this.line.length !== topo.edges.length * 6) this.line = new Float32Array(topo.edges.length * 6);
+    const line = this.line, pos = this.positions;
     topo.edges.forEach(([a, b], i) => {
-      line.set(this.positions.subarray(3 * a, 3 * a + 3), i * 6);
-      line.set(this.positions.subarray(3 * b, 3 * b + 3), i * 6 + 3);
+      line[i * 6] = pos[3 * a]; line[i * 6 + 1] = pos[3 * a + 1]; line[i * 6 + 2] = pos[3 * a + 2];
+      line[i * 6 + 3] = pos[3 * b]; line[i * 6 + 4] = pos[3 * b + 1]; line[i * 6 + 5] = pos[3 * b + 2];
     });
-    this.creases.geometry.setAttribute('position', new THREE.BufferAttribute(line, 3));
-    this.creases.geometry.computeBoundingSphere();
+    View3D.fill(this.creases.geometry, 'position', line, 3);
+    if (topologyChanged || !this.creases.geometry.boundingSphere) this.creases.geometry.computeBoundingSphere();
     this.setMarkers(this.pins, live.pinned);
     this.setMarkers(this.anchor, live.anchor.filter((v) => !live.pinned.includes(v)));
     let worst = [];
@@ -222,11 +244,18 @@ export class View3D {
       return;
     }
     if (e.buttons) return;
-    const v = this.pick(e);
-    this.hovered = v;
-    this.renderer.domElement.style.cursor = v === null ? 'default' : 'grab';
-    this.setMarkers(this.hover, v === null ? [] : [v]);
-    this.render();
+    // Hovering projects every vertex: once per animation frame, for the latest position.
+    this.lastMove = e;
+    if (this.pickPending) return;
+    this.pickPending = true;
+    requestAnimationFrame(() => {
+      this.pickPending = false;
+      const v = this.pick(this.lastMove);
+      this.hovered = v;
+      this.renderer.domElement.style.cursor = v === null ? 'default' : 'grab';
+      this.setMarkers(this.hover, v === null ? [] : [v]);
+      this.render();
+    });
   }
 
   up(e) {
