@@ -376,3 +376,51 @@ fn a_fold_amount_means_the_same_in_generate_and_in_fold() {
         assert!((a - b).abs() < 1e-3, "crease fractions {a} and {b} differ");
     }
 }
+
+#[test]
+fn a_fold_that_closes_the_sheet_through_itself_is_refused_unless_forced() {
+    let bin = env!("CARGO_BIN_EXE_crease");
+    let waterbomb = patterns_dir().join("waterbomb.fold");
+    let out = std::env::temp_dir().join(format!("crease-fold-through-{}.fold", std::process::id()));
+    let _ = std::fs::remove_file(&out);
+    let fold = |amount: &str, force: bool| {
+        let mut cmd = std::process::Command::new(bin);
+        cmd.args([
+            "fold",
+            waterbomb.to_str().unwrap(),
+            "--amount",
+            amount,
+            "-o",
+        ])
+        .arg(&out);
+        if force {
+            cmd.arg("--force");
+        }
+        cmd.output().unwrap()
+    };
+    // At 30% the waterbomb's rows roll into each other.
+    let r = fold("0.3", false);
+    assert_eq!(r.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        err.contains("passes through itself") && err.contains("--force"),
+        "{err}"
+    );
+    assert!(!out.exists(), "nothing written");
+    let r = fold("0.3", true);
+    assert_eq!(r.status.code(), Some(0));
+    let forced = crease::io::read(&out).unwrap();
+    assert!(!crease::fab::self_intersections(&forced).is_empty());
+    // At 15% it folds clear, and the state verifies.
+    let r = fold("0.15", false);
+    assert_eq!(
+        r.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&r.stderr)
+    );
+    let clear = crease::io::read(&out).unwrap();
+    assert!(crease::fab::self_intersections(&clear).is_empty());
+    assert!(verify(&clear, None, Tolerances::default()).pass());
+    let _ = std::fs::remove_file(&out);
+}

@@ -22,6 +22,9 @@ pub struct FoldArgs {
     /// `faceOrders` (exit 1, naming the faces, when there is none).
     #[arg(long)]
     flat: bool,
+    /// Write the folded state even when faces pass through each other in it.
+    #[arg(long)]
+    force: bool,
     /// Vertices held still, separated by spaces or commas (default: the face nearest the
     /// middle).
     #[arg(long, num_args = 1.., value_delimiter = ',')]
@@ -36,6 +39,7 @@ pub fn fold(args: FoldArgs) -> Result<u8, String> {
         file,
         amount,
         flat,
+        force,
         fix,
         output,
     } = args;
@@ -63,6 +67,18 @@ pub fn fold(args: FoldArgs) -> Result<u8, String> {
             "error: the fold got nowhere: {:.1}% of the target angles where {:.0}% was asked (no crease with a target to fold, or --fix holds it flat); nothing was written",
             100.0 * f.mean_fraction,
             100.0 * amount
+        );
+        return Ok(1);
+    }
+    // Rigid panels keep neighbours from swinging through each other (§2.4), not a sheet
+    // rolled far enough to close through itself elsewhere: that state cannot be folded.
+    let crossings = crease::fab::self_intersections(&outcome.mesh);
+    if let (Some(first), false) = (crossings.first(), force) {
+        eprintln!(
+            "error: at this amount the sheet passes through itself: {} pairs of faces cross (faces {} and {} first); fold less, or --force to write it anyway; nothing was written",
+            crossings.len(),
+            first.faces.0,
+            first.faces.1
         );
         return Ok(1);
     }
