@@ -324,6 +324,15 @@ pub const TURN: Range = Range {
     max: 360.0,
 };
 
+/// The recorded rounding of a converted file's coordinates (`crease:coordinatePrecision`):
+/// half a millimetre is a file rounded to whole millimetres; more would excuse anything.
+pub const COORDINATE_PRECISION: Range = Range {
+    what: "a coordinate precision",
+    unit: "mm",
+    min: 0.0,
+    max: 0.5,
+};
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -470,3 +470,43 @@ fn arcs_of_a_kilometre_radius_import_as_few_points_or_are_refused_by_name() {
         "{err}"
     );
 }
+
+#[test]
+fn a_converted_file_gets_the_verdict_of_its_original() {
+    // An SVG's coordinates are rounded; verification allows for it. Written as FOLD the
+    // numbers are exact, so the FOLD records the rounding (crease:coordinatePrecision)
+    // and keeps the allowance: simpleVertex.svg passed while its FOLD failed.
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/origamisimulator");
+    for name in [
+        "simpleVertex",
+        "singlesquaretwist",
+        "waterbombBase",
+        "miura-ori",
+        "hypar",
+    ] {
+        let svg = data.join(format!("{name}.svg"));
+        let fold =
+            std::env::temp_dir().join(format!("crease-verdict-{}-{name}.fold", std::process::id()));
+        let (code, _, err) =
+            run_crease(&["convert", svg.to_str().unwrap(), fold.to_str().unwrap()]);
+        assert_eq!(code, 0, "{err}");
+        let original = run_crease(&["verify", svg.to_str().unwrap()]).0;
+        let converted = run_crease(&["verify", fold.to_str().unwrap()]).0;
+        assert_eq!(original, converted, "{name}: the SVG and its FOLD disagree");
+        let text = std::fs::read_to_string(&fold).unwrap();
+        let rounded = crease::io::read(&svg).unwrap().coordinate_precision > 0.0;
+        assert_eq!(text.contains("crease:coordinatePrecision"), rounded, "{name}");
+        let _ = std::fs::remove_file(&fold);
+    }
+    // A recorded rounding past half a millimetre would excuse anything: refused.
+    let bad = std::env::temp_dir().join(format!("crease-precision-{}.fold", std::process::id()));
+    std::fs::write(
+        &bad,
+        r#"{"vertices_coords": [[0,0],[10,0],[0,10]], "faces_vertices": [[0,1,2]], "crease:coordinatePrecision": 1e308}"#,
+    )
+    .unwrap();
+    let (code, _, err) = run_crease(&["verify", bad.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("crease:coordinatePrecision"), "{err}");
+    let _ = std::fs::remove_file(&bad);
+}

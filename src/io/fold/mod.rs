@@ -47,6 +47,8 @@ struct Frame {
     alpha: Option<Vec<f64>>,
     #[serde(rename = "crease:lockTopology")]
     lock_topology: Option<bool>,
+    #[serde(rename = "crease:coordinatePrecision")]
+    coordinate_precision: Option<f64>,
     #[serde(rename = "crease:coincidentVertices")]
     coincident: Option<Vec<Vec<usize>>>,
     #[serde(rename = "faceOrders")]
@@ -185,8 +187,17 @@ pub fn parse(text: &str) -> Result<Mesh, String> {
     let mut parts = mesh_parts(&face_lists, edges, flat, folded, n)?;
     split_along_cuts(&mut parts);
     let mut mesh = Mesh::new(parts).map_err(|e| e.to_string())?;
+    // The file's own rounding, or the rounding of the file it was converted from as
+    // recorded (`crease:coordinatePrecision`, in the frame's unit), whichever is coarser.
+    let scale = unit_scale(top.frame_unit.as_deref())?;
+    let recorded = match top.coordinate_precision {
+        Some(p) => crate::limits::COORDINATE_PRECISION
+            .check("crease:coordinatePrecision", p * scale)
+            .map_err(|e| e.to_string())?,
+        None => 0.0,
+    };
     mesh.coordinate_precision =
-        super::decimal_quantum(&coordinate_arrays(text)) * unit_scale(top.frame_unit.as_deref())?;
+        (super::decimal_quantum(&coordinate_arrays(text)) * scale).max(recorded);
     mesh.title = title;
     mesh.lock_topology = top.lock_topology.unwrap_or(false);
     let groups = top.coincident.clone().unwrap_or_default();

@@ -74,7 +74,7 @@ pub(super) fn keep_file_numbering(mut parts: MeshParts, file: &[Vec2]) -> MeshPa
 }
 
 /// Top-level fields crease reads itself; everything else is carried through.
-const MODELLED: [&str; 17] = [
+const MODELLED: [&str; 18] = [
     "file_spec",
     "file_creator",
     "file_classes",
@@ -92,6 +92,7 @@ const MODELLED: [&str; 17] = [
     "crease:alpha",
     "crease:lockTopology",
     "crease:coincidentVertices",
+    "crease:coordinatePrecision",
 ];
 
 /// The top-level fields a source record keeps (those crease does not model, and frame

@@ -54,6 +54,15 @@ pub fn to_string_with_orders(mesh: &Mesh, orders: Option<&[[i64; 3]]>) -> String
     if mesh.lock_topology {
         w.field("crease:lockTopology", "true".into());
     }
+    if mesh.coordinate_precision > 0.0 {
+        // The rounding of the file the mesh came from (half its last decimal place), in
+        // this file's unit: the numbers written here are exact, and without it a
+        // converted file would lose the allowance verification gives the original.
+        w.field(
+            "crease:coordinatePrecision",
+            format!("{:?}", mesh.coordinate_precision / scale),
+        );
+    }
     if !mesh.coincident.is_empty() {
         let groups = mesh.coincident.iter().map(|g| id_list(g)).collect();
         w.field("crease:coincidentVertices", list(groups));
