@@ -495,7 +495,11 @@ fn a_converted_file_gets_the_verdict_of_its_original() {
         assert_eq!(original, converted, "{name}: the SVG and its FOLD disagree");
         let text = std::fs::read_to_string(&fold).unwrap();
         let rounded = crease::io::read(&svg).unwrap().coordinate_precision > 0.0;
-        assert_eq!(text.contains("crease:coordinatePrecision"), rounded, "{name}");
+        assert_eq!(
+            text.contains("crease:coordinatePrecision"),
+            rounded,
+            "{name}"
+        );
         let _ = std::fs::remove_file(&fold);
     }
     // A recorded rounding past half a millimetre would excuse anything: refused.

@@ -392,3 +392,85 @@ fn a_budget_bounds_the_layer_problem_and_says_what_ran_out() {
     let roomy = Budget::live(Duration::from_secs(600), Arc::default(), "");
     assert_eq!(layer_order_within(&pyramid, &roomy).unwrap(), unlimited);
 }
+
+/// The strip of panels 30 | 10 | 30 mm (10 mm tall) with creases at x = 30 and 40 of the
+/// given assignments, as a `.cp`, a 2D FOLD and a FOLD whose 3D frame is its flat-folded
+/// state (the middle panel reflected under, the last one out again).
+fn strip_files(first: &str, second: &str) -> Vec<std::path::PathBuf> {
+    let dir = std::env::temp_dir().join(format!(
+        "crease-strip-{}-{first}{second}",
+        std::process::id()
+    ));
+    std::fs::create_dir_all(&dir).unwrap();
+    let angle = |a: &str| if a == "M" { -180 } else { 180 };
+    let edges = "[[0,1],[1,2],[2,3],[3,7],[7,6],[6,5],[5,4],[4,0],[1,5],[2,6]]";
+    let common = format!(
+        r#""faces_vertices": [[0,1,5,4],[1,2,6,5],[2,3,7,6]], "edges_vertices": {edges},
+        "edges_assignment": ["B","B","B","B","B","B","B","B","{first}","{second}"],
+        "edges_foldAngle": [0,0,0,0,0,0,0,0,{},{}]"#,
+        angle(first),
+        angle(second)
+    );
+    let flat = "[[0,0],[30,0],[40,0],[70,0],[0,10],[30,10],[40,10],[70,10]]";
+    let folded = "[[0,0,0],[30,0,0],[20,0,0],[50,0,0],[0,10,0],[30,10,0],[20,10,0],[50,10,0]]";
+    let two_d = format!(
+        r#"{{"file_spec": 1.1, "frame_classes": ["creasePattern"], "vertices_coords": {flat}, {common}}}"#
+    );
+    let three_d = format!(
+        r#"{{"file_spec": 1.1, "frame_classes": ["foldedForm"], "vertices_coords": {folded}, {common},
+        "file_frames": [{{"frame_classes": ["creasePattern"], "frame_inherit": true, "frame_parent": 0, "vertices_coords": {flat}}}]}}"#
+    );
+    let kind = |a: &str| if a == "M" { 2 } else { 3 };
+    let cp = format!(
+        "1 0 0 70 0\n1 0 10 70 10\n1 0 0 0 10\n1 70 0 70 10\n{} 30 0 30 10\n{} 40 0 40 10\n",
+        kind(first),
+        kind(second)
+    );
+    let files = [
+        ("strip.cp", cp),
+        ("strip-2d.fold", two_d),
+        ("strip-3d.fold", three_d),
+    ];
+    files
+        .into_iter()
+        .map(|(name, text)| {
+            let p = dir.join(name);
+            std::fs::write(&p, text).unwrap();
+            p
+        })
+        .collect()
+}
+
+#[test]
+fn a_strip_whose_flaps_cross_each_others_hinges_fails_in_every_form_flat_3d_frames_included() {
+    let bin = env!("CARGO_BIN_EXE_crease");
+    let verify = |p: &std::path::Path| {
+        let out = std::process::Command::new(bin)
+            .args(["verify", p.to_str().unwrap(), "--json"])
+            .output()
+            .unwrap();
+        let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        (out.status.code(), report)
+    };
+    for file in strip_files("M", "M") {
+        let (code, report) = verify(&file);
+        assert_eq!(code, Some(1), "{}: {report}", file.display());
+        let layer = &report["families"]["layer-order"];
+        assert_eq!(layer["violations"], 1, "{}: {report}", file.display());
+        // Faces of both flaps are named (the middle panel's and the last one's; each
+        // panel is two triangles, in the order of the file's faces).
+        let worst = layer["worst"].as_str().unwrap().to_string();
+        let faces: Vec<usize> = worst
+            .trim_start_matches("faces ")
+            .split(", ")
+            .map(|f| f.parse().unwrap())
+            .collect();
+        assert!(faces.iter().any(|&f| f == 2 || f == 3), "{worst}");
+        assert!(faces.iter().any(|&f| f == 4 || f == 5), "{worst}");
+    }
+    for file in strip_files("M", "V") {
+        let (code, report) = verify(&file);
+        assert_eq!(code, Some(0), "{}: {report}", file.display());
+        assert_eq!(report["families"]["layer-order"]["violations"], 0);
+    }
+}

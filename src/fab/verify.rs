@@ -320,11 +320,13 @@ pub fn verify_within(
     if mesh.has_3d() {
         families.push(self_intersection(mesh));
     }
-    // The layer order is the crease pattern's: whether it folds flat. A 3D design is
-    // judged on its 3D form (its flat-folded state's near-coincident lines, moved apart by
-    // the design's variations, would need a contact model the solver does not have).
+    // The layer order is the crease pattern's: whether it folds flat. A design whose 3D
+    // form lies in a plane (a flat-folded frame, or the unfolded sheet) is judged so too;
+    // a freeform 3D design is judged on its 3D form (its flat-folded state's
+    // near-coincident lines, moved apart by the design's variations, would need a contact
+    // model the solver does not have).
     let wants_flat = conditions.is_none() || set.families.contains(&Family::FlatFoldability);
-    if wants_flat && !mesh.has_3d() {
+    if wants_flat && (!mesh.has_3d() || lies_in_a_plane(mesh)) {
         families.extend(layer_order_report(mesh, budget));
     }
     let mut notes = Vec::new();
@@ -360,6 +362,25 @@ fn self_intersection(mesh: &Mesh) -> FamilyReport {
         super::intersect::CONTACT_FRACTION
     );
     report
+}
+
+/// Whether the 3D form lies in one plane, to a millionth of its diagonal plus what the
+/// file's rounding explains: then it is a flat state of the crease pattern (folded flat,
+/// or not folded), and the pattern's layer order is the design's.
+fn lies_in_a_plane(mesh: &Mesh) -> bool {
+    let x = mesh.positions();
+    let n = x.len().max(1) as f64;
+    let c = x.iter().sum::<crate::mesh::Vec3>() / n;
+    let mut cov = nalgebra::Matrix3::zeros();
+    for p in x {
+        cov += (p - c) * (p - c).transpose();
+    }
+    let eig = nalgebra::SymmetricEigen::new(cov);
+    let k = eig.eigenvalues.imin();
+    let normal = eig.eigenvectors.column(k).into_owned();
+    let (lo, hi) = mesh.bounding_box();
+    let tolerance = 1e-6 * (hi - lo).norm() + 8.0 * mesh.coordinate_precision;
+    x.iter().all(|p| (p - c).dot(&normal).abs() <= tolerance)
 }
 
 /// Layer order of the flat-folded state ([`super::layers`]), judged when every crease
