@@ -588,16 +588,24 @@ fn largest_facet_distance(s: &Value, cap: &crease::surface::TriSurface, mesh: &M
         .fold(0.0, f64::max)
 }
 
-#[test]
-fn a_fit_to_a_loaded_target_brings_the_design_onto_it_holds_every_condition_and_undoes() {
+/// A studio on the default Miura-ori with a dome (a cap of radius 250 mm, 300 mm across)
+/// loaded as its target and placed with its apex at the middle of the sheet's box, `lift`
+/// mm higher: the hub, the design, the dome as loaded and the shift.
+fn hub_with_a_dome(
+    lift: f64,
+) -> (
+    Arc<Hub>,
+    Mesh,
+    crease::surface::TriSurface,
+    crease::mesh::Vec3,
+) {
     let hub = fresh_hub();
     let mesh = miura();
-    // A dome under the sheet's middle: the cap's apex at the top of the corrugation.
     let cap = crease::surface::shapes::Shape::Cap { radius: 250.0 }
         .surface(300.0, 40)
         .unwrap();
     let (lo, hi) = mesh.bounding_box();
-    let middle = (lo + hi) / 2.0;
+    let middle = (lo + hi) / 2.0 + crease::mesh::Vec3::new(0.0, 0.0, lift);
     let r = call(
         &hub,
         "POST",
@@ -612,6 +620,12 @@ fn a_fit_to_a_loaded_target_brings_the_design_onto_it_holds_every_condition_and_
         json!({"shift": [middle.x, middle.y, middle.z]}),
     );
     assert_eq!(status, 200, "{r}");
+    (hub, mesh, cap, middle)
+}
+
+#[test]
+fn a_fit_to_a_loaded_target_brings_the_design_onto_it_holds_every_condition_and_undoes() {
+    let (hub, mesh, cap, middle) = hub_with_a_dome(0.0);
     let placed = cap.moved(0.0, &nalgebra::Matrix3::identity(), middle);
     let (status, t) = json_call(&hub, "GET", "/api/target", json!(null));
     assert_eq!(status, 200);
@@ -671,25 +685,7 @@ fn a_fit_to_a_loaded_target_brings_the_design_onto_it_holds_every_condition_and_
 
 #[test]
 fn pins_hold_still_while_fitting_and_stop_ends_the_fit() {
-    let hub = fresh_hub();
-    let mesh = miura();
-    let cap = crease::surface::shapes::Shape::Cap { radius: 250.0 }
-        .surface(300.0, 40)
-        .unwrap();
-    let (lo, hi) = mesh.bounding_box();
-    let middle = (lo + hi) / 2.0;
-    call(
-        &hub,
-        "POST",
-        "/api/target?name=dome.obj",
-        cap.to_obj("").as_bytes(),
-    );
-    json_call(
-        &hub,
-        "POST",
-        "/api/target/place",
-        json!({"shift": [middle.x, middle.y, middle.z + 20.0]}),
-    );
+    let (hub, _, _, _) = hub_with_a_dome(20.0);
     let pinned = 40;
     let (status, _) = json_call(
         &hub,

@@ -27,16 +27,20 @@ fn colour(kind: LineKind) -> &'static str {
 
 /// Writes the toolpath on its media.
 pub fn sheet_to_string(path: &Toolpath) -> String {
+    with_layers(page(path), path, HAIRLINE_MM).to_string() + "\n"
+}
+
+/// An empty page the size of the toolpath's media, in mm, declaring Inkscape's layers.
+fn page(path: &Toolpath) -> Document {
     let (w, h) = (path.media.width, path.media.height);
-    let doc = Document::new()
+    Document::new()
         .set(
             "xmlns:inkscape",
             "http://www.inkscape.org/namespaces/inkscape",
         )
         .set("width", format!("{w}mm"))
         .set("height", format!("{h}mm"))
-        .set("viewBox", format!("0 0 {w} {h}"));
-    with_layers(doc, path, HAIRLINE_MM).to_string() + "\n"
+        .set("viewBox", format!("0 0 {w} {h}"))
 }
 
 /// The toolpath as a picture for a screen: the media drawn as a white sheet with a grey
@@ -54,16 +58,7 @@ pub fn preview_to_string(path: &Toolpath) -> String {
         .set("fill", "#ffffff")
         .set("stroke", "#9a9a9a")
         .set("stroke-width", stroke);
-    let doc = Document::new()
-        .set(
-            "xmlns:inkscape",
-            "http://www.inkscape.org/namespaces/inkscape",
-        )
-        .set("width", format!("{w}mm"))
-        .set("height", format!("{h}mm"))
-        .set("viewBox", format!("0 0 {w} {h}"))
-        .add(sheet);
-    with_layers(doc, path, stroke).to_string() + "\n"
+    with_layers(page(path).add(sheet), path, stroke).to_string() + "\n"
 }
 
 /// One layer per line kind, strokes `width` mm wide.

@@ -360,6 +360,21 @@ fn frame(hub: &Hub, query: &str) -> Response {
     }
 }
 
+/// The `?name=` of an uploaded file (its extension picks the format), or the 400 that
+/// says `missing`, or a 413 for a file past [`MAX_UPLOAD`].
+fn upload_name(query: &str, body: &[u8], missing: &str) -> Result<String, Response> {
+    let Some(name) = query_value(query, "name").map(percent_decode) else {
+        return Err(Response::error(400, missing));
+    };
+    if body.len() > MAX_UPLOAD {
+        return Err(Response::error(
+            413,
+            &format!("{name}: larger than {} MiB", MAX_UPLOAD >> 20),
+        ));
+    }
+    Ok(name)
+}
+
 /// The session command an API request asks for, or the 4xx that says why it is none.
 fn command_for(
     method: &str,
@@ -398,33 +413,15 @@ fn command_for(
         ("POST", "/generate") => Command::Generate(parse::<GenerateRequest>(path, &body)?),
         ("POST", "/fabricate") => Command::Fabricate(parse::<FabRequest>(path, &body)?),
         ("POST", "/open") => {
-            let Some(name) = query_value(query, "name").map(percent_decode) else {
-                return Err(Response::error(
-                    400,
-                    "/api/open needs ?name=FILE (its extension picks the format)",
-                ));
-            };
-            if body.len() > MAX_UPLOAD {
-                return Err(Response::error(
-                    413,
-                    &format!("{name}: larger than {} MiB", MAX_UPLOAD >> 20),
-                ));
-            }
+            let name = upload_name(
+                query,
+                &body,
+                "/api/open needs ?name=FILE (its extension picks the format)",
+            )?;
             Command::Open { name, bytes: body }
         }
         ("POST", "/target") => {
-            let Some(name) = query_value(query, "name").map(percent_decode) else {
-                return Err(Response::error(
-                    400,
-                    "/api/target needs ?name=FILE (.obj or .stl)",
-                ));
-            };
-            if body.len() > MAX_UPLOAD {
-                return Err(Response::error(
-                    413,
-                    &format!("{name}: larger than {} MiB", MAX_UPLOAD >> 20),
-                ));
-            }
+            let name = upload_name(query, &body, "/api/target needs ?name=FILE (.obj or .stl)")?;
             Command::LoadTarget { name, bytes: body }
         }
         ("GET", "/target") => Command::TargetMesh,
