@@ -6,126 +6,22 @@
 //! It needs `chromium` and `chromium-driver`; `bash tests/run` (the README's test command)
 //! installs them. Without them this test fails and says so.
 
+#[path = "common/browser.rs"]
+mod browser_support;
 #[path = "common/studio.rs"]
 mod studio_process;
 
+use browser_support::{browser, eval, page_state, wait_until, Driver};
 use fantoccini::actions::{
     InputSource, KeyAction, KeyActions, MouseActions, PointerAction, MOUSE_BUTTON_LEFT,
 };
 use fantoccini::key::Key;
-use fantoccini::{Client, ClientBuilder};
+use fantoccini::Client;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
-use std::time::{Duration, Instant};
+use std::process::Command;
+use std::time::Duration;
 use studio_process::{http, position, StudioProcess};
-
-fn which(program: &str) -> Option<PathBuf> {
-    std::env::var_os("PATH")?
-        .to_str()?
-        .split(':')
-        .map(|d| Path::new(d).join(program))
-        .find(|p| p.is_file())
-}
-
-/// chromedriver on a free port, killed on drop.
-struct Driver {
-    child: Child,
-    url: String,
-}
-
-impl Driver {
-    fn start() -> Driver {
-        let exe = which("chromedriver").unwrap_or_else(|| {
-            panic!("chromedriver not found: run `bash tests/run` (it installs chromium and chromium-driver)")
-        });
-        let port = std::net::TcpListener::bind("127.0.0.1:0")
-            .unwrap()
-            .local_addr()
-            .unwrap()
-            .port();
-        let child = Command::new(exe)
-            .arg(format!("--port={port}"))
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("chromedriver starts");
-        let start = Instant::now();
-        while std::net::TcpStream::connect(("127.0.0.1", port)).is_err() {
-            assert!(
-                start.elapsed() < Duration::from_secs(20),
-                "chromedriver listens"
-            );
-            std::thread::sleep(Duration::from_millis(50));
-        }
-        Driver {
-            child,
-            url: format!("http://127.0.0.1:{port}"),
-        }
-    }
-}
-
-impl Drop for Driver {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-async fn browser(driver: &Driver, profile: &Path) -> Client {
-    let chromium = which("chromium").unwrap_or_else(|| {
-        panic!(
-            "chromium not found: run `bash tests/run` (it installs chromium and chromium-driver)"
-        )
-    });
-    let caps = json!({
-        "browserName": "chrome",
-        "goog:chromeOptions": {
-            "binary": chromium,
-            "args": [
-                "--headless=new", "--no-sandbox", "--disable-dev-shm-usage",
-                // WebGL without a GPU.
-                "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
-                // This machine has no network beyond loopback.
-                "--disable-background-networking", "--disable-component-update",
-                "--disable-sync", "--no-first-run",
-                "--window-size=1400,860",
-                format!("--user-data-dir={}", profile.display()),
-            ]
-        }
-    });
-    let Value::Object(caps) = caps else {
-        unreachable!()
-    };
-    ClientBuilder::new(hyper_util::client::legacy::connect::HttpConnector::new())
-        .capabilities(caps)
-        .connect(&driver.url)
-        .await
-        .expect("a browser session")
-}
-
-async fn eval(client: &Client, script: &str, args: Vec<Value>) -> Value {
-    client
-        .execute(script, args)
-        .await
-        .unwrap_or_else(|e| panic!("{script}: {e}"))
-}
-
-/// The server's state as the page sees it (`window.crease.state()`).
-async fn page_state(client: &Client) -> Value {
-    eval(client, "return window.crease.state();", vec![]).await
-}
-
-async fn wait_until(client: &Client, what: &str, script: &str) {
-    let start = Instant::now();
-    while eval(client, script, vec![]).await != Value::Bool(true) {
-        assert!(
-            start.elapsed() < Duration::from_secs(60),
-            "waiting for {what}"
-        );
-        tokio::time::sleep(Duration::from_millis(50)).await;
-    }
-}
 
 async fn screen_of(client: &Client, v: usize) -> (f64, f64) {
     let at = eval(

@@ -4,6 +4,7 @@
 //   window.crease.state()      -> Promise of GET /api/state
 //   window.crease.screenOf(v)  -> {x, y}: client coordinates of vertex v in the 3D view
 //   window.crease.ready        -> true once the first frame is drawn
+//   window.crease.framesShown() -> frames drawn with new positions so far (benchmarks)
 
 import { View3D } from '/view3d.js';
 import { PatternPane, XrayPane } from '/panes.js';
@@ -87,7 +88,9 @@ function paintStatus() {
   el.classList.toggle('blocked', !!live.blocked);
 }
 
+let framesApplied = 0;
 function apply(frame) {
+  framesApplied++;
   // Another session (the studio restarted on this port) sends everything afresh.
   model.instance = frame.instance;
   model.version = frame.version;
@@ -132,6 +135,8 @@ window.crease = {
   state: () => api('/state'),
   screenOf: (v) => view.screenOf(v),
   markerScreen: () => view.markerScreen(),
+  framesShown: () => view.framesShown,
+  framesApplied: () => framesApplied,
 };
 
 window.addEventListener('resize', () => { cpPane.draw(model); xrayPane.draw(model); });

@@ -40,6 +40,9 @@ export class View3D {
     this.hovered = null;
     this.renderPending = false;
     this.pickPending = false;
+    // Frames drawn with positions newer than the last drawn (the page benchmark's count).
+    this.framesShown = 0;
+    this.freshPositions = false;
     this.framed = false;
     // Registered before OrbitControls so a press on a vertex can switch orbiting off
     // before the controls see it.
@@ -99,6 +102,7 @@ export class View3D {
     requestAnimationFrame(() => {
       this.renderPending = false;
       this.renderer.render(this.scene, this.camera);
+      if (this.freshPositions) { this.framesShown++; this.freshPositions = false; }
     });
   }
 
@@ -130,6 +134,7 @@ export class View3D {
     }
     // Buffers refilled in place; no vertex normals (flat shading takes each face's own).
     View3D.fill(g, 'position', this.positions, 3);
+    this.freshPositions = true;
     if (topologyChanged || !g.boundingSphere) g.computeBoundingSphere();
     if (!this.line || this.line.length !== topo.edges.length * 6) this.line = new Float32Array(topo.edges.length * 6);
     const line = this.line, pos = this.positions;
