@@ -216,7 +216,7 @@ pub(super) fn pull(
         Stop::Converged => None,
         _ => fitter.resistance(solver)?,
     };
-    solver.polish(1e-12);
+    solver.polish(crate::solver::SAVED_TOLERANCE);
     Ok(FitPhase {
         stage_target: stage.target_name.clone(),
         surface: stage.options.surface,

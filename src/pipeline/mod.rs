@@ -356,7 +356,7 @@ fn fold_phase(
 ) -> Result<(Mesh, FoldReport), PipelineError> {
     let mut solver = Solver::new(mesh, Mode::folding_set(), anchor, options.clone())?;
     let report = fold_toward(&mut solver, amount, 4000, &mut |k| progress(phase, k, 4000))?;
-    solver.polish(1e-12);
+    solver.polish(crate::solver::SAVED_TOLERANCE);
     Ok((solver.into_mesh(), report))
 }
 
@@ -384,7 +384,7 @@ fn drag_phase(
             progress("drag", done, total)
         })?);
     }
-    solver.polish(1e-12);
+    solver.polish(crate::solver::SAVED_TOLERANCE);
     Ok(drags)
 }
 
