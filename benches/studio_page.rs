@@ -9,7 +9,7 @@ mod browser_support;
 #[path = "../tests/common/studio.rs"]
 mod studio_process;
 
-use browser_support::{browser, eval, wait_until, Driver};
+use browser_support::{eval, open_page, Driver};
 use serde_json::json;
 use std::time::{Duration, Instant};
 use studio_process::StudioProcess;
@@ -35,14 +35,7 @@ async fn main() {
         assert!(status.status.success());
         let studio = StudioProcess::start(&[pattern.to_str().unwrap()]);
         let profile = dir.join(format!("profile-{cells}"));
-        let client = browser(&driver, &profile).await;
-        client.goto(&studio.url).await.expect("the page loads");
-        wait_until(
-            &client,
-            "the first frame",
-            "return !!(window.crease && window.crease.ready);",
-        )
-        .await;
+        let client = open_page(&driver, &profile, &studio.url).await;
         let v = (cells / 2) * (cells + 1) + cells / 2;
         // The page's own drag requests, one at a time as its pointer handler sends them (at
         // most 60 a second), the target circling 20 mm round the vertex every two seconds

@@ -11,7 +11,7 @@ mod browser_support;
 #[path = "common/studio.rs"]
 mod studio_process;
 
-use browser_support::{browser, eval, page_state, wait_until, Driver};
+use browser_support::{eval, open_page, page_state, wait_until, Driver};
 use fantoccini::actions::{
     InputSource, KeyAction, KeyActions, MouseActions, PointerAction, MOUSE_BUTTON_LEFT,
 };
@@ -44,14 +44,7 @@ async fn dragging_a_vertex_with_the_mouse_moves_it_and_every_condition_still_hol
     let driver = Driver::start();
     let studio = StudioProcess::start(&["patterns/miura.fold"]);
     let profile = std::env::temp_dir().join(format!("crease-chromium-{}", std::process::id()));
-    let client = browser(&driver, &profile).await;
-    client.goto(&studio.url).await.expect("the page loads");
-    wait_until(
-        &client,
-        "the first frame",
-        "return !!(window.crease && window.crease.ready);",
-    )
-    .await;
+    let client = open_page(&driver, &profile, &studio.url).await;
     // The 3D view draws with WebGL (three.js asked the canvas for a WebGL 2 context).
     let webgl = eval(
         &client,

@@ -229,7 +229,7 @@ pub struct Fitter {
     pub failures: usize,
     /// Failures since the last accepted step.
     consecutive_failures: usize,
-    /// The best state so far: (largest distance, positions), when it is not the current.
+    /// The best state since the mesh last changed: (largest distance, positions).
     best: Option<(f64, Vec<Vec3>)>,
     stop: Option<Stop>,
 }
@@ -237,11 +237,10 @@ pub struct Fitter {
 impl Fitter {
     /// Prepares a fit of the solver's design onto `target`.
     pub fn new(solver: &Solver, target: Arc<TriSurface>, options: FitOptions) -> Fitter {
-        let groups = surface_groups(solver.mesh(), options.surface);
         let mut fitter = Fitter {
             target,
             options,
-            groups,
+            groups: Vec::new(),
             memberships: Vec::new(),
             last: None,
             softness: 1.0,
@@ -342,21 +341,20 @@ impl Fitter {
     /// cells and size wherever the target does not ask otherwise.
     fn wish(&self, m: &Measure, x: &[Vec3], edges: &[crate::mesh::Edge]) -> Vec<Vec3> {
         let mut dx0 = self.pull(m, x.len());
+        // Half of `weight` × the length change, asked of each end of a stretched pair.
+        let spring = |d: Vec3, rest: f64, weight: f64| {
+            let l = d.norm();
+            (l > 0.0).then(|| d * (self.softness * weight * 0.5 * (rest - l) / l))
+        };
         for (e, &rest) in edges.iter().zip(&self.rest) {
             let [a, b] = e.vertices;
-            let d = x[a] - x[b];
-            let l = d.norm();
-            if l > 0.0 {
-                let f = d * (self.softness * KEEP_LENGTHS * 0.5 * (rest - l) / l);
+            if let Some(f) = spring(x[a] - x[b], rest, KEEP_LENGTHS) {
                 dx0[a] += f;
                 dx0[b] -= f;
             }
         }
         for &(g, h, rest) in &self.neighbours {
-            let d = m.points[g] - m.points[h];
-            let l = d.norm();
-            if l > 0.0 {
-                let f = d * (self.softness * KEEP_SIZE * 0.5 * (rest - l) / l);
+            if let Some(f) = spring(m.points[g] - m.points[h], rest, KEEP_SIZE) {
                 for &v in &self.groups[g] {
                     dx0[v] += f / self.memberships[v];
                 }
@@ -429,14 +427,7 @@ impl Fitter {
 
     /// The cap never grows past [`STEP_CAP_EDGES`] of the mean edge.
     fn max_cap(&self, solver: &Solver) -> f64 {
-        let x = solver.positions();
-        let edges = solver.mesh().edges();
-        STEP_CAP_EDGES
-            * edges
-                .iter()
-                .map(|e| (x[e.vertices[0]] - x[e.vertices[1]]).norm())
-                .sum::<f64>()
-            / edges.len().max(1) as f64
+        STEP_CAP_EDGES * crate::solver::mean_edge(solver.mesh(), solver.positions())
     }
 
     /// Remembers the state with the smallest largest distance seen since the mesh last

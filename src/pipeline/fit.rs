@@ -176,8 +176,35 @@ pub(super) struct FitPhase {
     seconds: f64,
 }
 
+/// The fit of a job: `mesh` placed on the target (when asked) and pulled onto it under
+/// `set`, holding `pins` (placed on the target, the design holds no anchor unless pinned:
+/// rigid motions stay in the null space and the placement keeps refining while it bends;
+/// without the placement, the face nearest the middle). Returns the fitted mesh, what
+/// the report needs and the fit's own solver counters.
+pub(super) fn fit_phase(
+    mesh: Mesh,
+    stage: &FitStage,
+    pins: Option<&[usize]>,
+    set: &ConstraintSet,
+    options: &crate::solver::Options,
+    progress: super::Progress,
+) -> Result<(Mesh, FitPhase, crate::solver::Stats), PipelineError> {
+    let (placed, placement) = placed(mesh, stage);
+    let anchor = match (pins, stage.align) {
+        (Some(p), _) => p.to_vec(),
+        (None, true) => Vec::new(),
+        (None, false) => Solver::default_fixed(&placed, &[]),
+    };
+    let fit_options = crate::fit::solver_options(options);
+    let mut solver = Solver::new(placed, set.clone(), &anchor, fit_options)?;
+    solver.correct()?;
+    let phase = pull(&mut solver, stage, placement, progress)?;
+    let stats = solver.stats.clone();
+    Ok((solver.into_mesh(), phase, stats))
+}
+
 /// Places `mesh` on the target (when asked), and returns it with the placement.
-pub(super) fn placed(mesh: Mesh, stage: &FitStage) -> (Mesh, Placement) {
+fn placed(mesh: Mesh, stage: &FitStage) -> (Mesh, Placement) {
     if !stage.align {
         return (mesh, Placement::identity());
     }
@@ -199,7 +226,7 @@ pub(super) fn placed(mesh: Mesh, stage: &FitStage) -> (Mesh, Placement) {
 
 /// The pull (see [`crate::fit`]) on a solver already corrected onto its conditions;
 /// leaves the solver on the best state reached, polished.
-pub(super) fn pull(
+fn pull(
     solver: &mut Solver,
     stage: &FitStage,
     placement: Placement,

@@ -223,20 +223,10 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
     }
     let mut fit_phase = None;
     if let Some(stage) = &fit {
-        let (placed, placement) = fit::placed(mesh, stage);
-        // Placed on the target, the design holds no anchor unless pinned: rigid motions
-        // stay in the null space and the placement keeps refining while it bends.
-        let anchor = match (&pins, stage.align) {
-            (Some(p), _) => p.clone(),
-            (None, true) => Vec::new(),
-            (None, false) => Solver::default_fixed(&placed, &[]),
-        };
-        let fit_options = crate::fit::solver_options(&options);
-        let mut solver = Solver::new(placed, set.clone(), &anchor, fit_options)?;
-        solver.correct()?;
-        fit_phase = Some(fit::pull(&mut solver, stage, placement, progress)?);
-        add_stats(&mut stats, &solver.stats);
-        mesh = solver.into_mesh();
+        let (fitted, phase, fit_stats) =
+            fit::fit_phase(mesh, stage, pins.as_deref(), &set, &options, progress)?;
+        add_stats(&mut stats, &fit_stats);
+        (mesh, fit_phase) = (fitted, Some(phase));
     }
     finish_design(&mut mesh, mode == Mode::Design && moves)?;
     let fit_report = fit_phase

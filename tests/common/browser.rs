@@ -118,3 +118,17 @@ pub async fn wait_until(client: &Client, what: &str, script: &str) {
         tokio::time::sleep(Duration::from_millis(50)).await;
     }
 }
+
+/// A browser session (profile in `profile`) on the studio at `url`, once the page has
+/// drawn its first frame.
+pub async fn open_page(driver: &Driver, profile: &Path, url: &str) -> Client {
+    let client = browser(driver, profile).await;
+    client.goto(url).await.expect("the page loads");
+    wait_until(
+        &client,
+        "the first frame",
+        "return !!(window.crease && window.crease.ready);",
+    )
+    .await;
+    client
+}
