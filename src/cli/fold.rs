@@ -106,12 +106,8 @@ fn fold_flat(
     let folded = flat_folded(&mesh, None).map_err(|e| format!("{name}: {e}"))?;
     let orders = match layer_order(&mesh).map_err(|e| format!("{name}: {e}"))? {
         LayerOrder::Found(orders) => orders,
-        LayerOrder::Conflict(faces) => {
-            let list: Vec<String> = faces.iter().map(|f| f.to_string()).collect();
-            eprintln!(
-                "error: {name} has no layer order: faces {} cannot be stacked; nothing was written",
-                list.join(", ")
-            );
+        LayerOrder::Conflict(c) => {
+            eprintln!("error: {name} has no layer order: {c}; nothing was written");
             return Ok(1);
         }
     };
@@ -122,6 +118,12 @@ fn fold_flat(
         .map(|p| Vec3::new(p.x, p.y, 0.0))
         .collect();
     mesh.set_positions(positions);
+    // Folded flat, each crease that reaches ±π is at it and every other line is flat:
+    // the file's angles describe the state it draws, not the design it came from.
+    for edge in mesh.edges_mut() {
+        let folded = crease::fab::layers::folds_completely(edge);
+        edge.fold_angle = if folded { edge.target } else { 0.0 };
+    }
     mesh.source = None;
     let text = io::fold::to_string_with_orders(&mesh, Some(&orders));
     io::write_atomic(output, text.as_bytes()).map_err(|e| e.to_string())?;

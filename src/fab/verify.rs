@@ -321,15 +321,24 @@ pub fn verify_within(
         families.push(self_intersection(mesh));
     }
     // The layer order is the crease pattern's: whether it folds flat. A design whose 3D
-    // form lies in a plane (a flat-folded frame, or the unfolded sheet) is judged so too;
-    // a freeform 3D design is judged on its 3D form (its flat-folded state's
-    // near-coincident lines, moved apart by the design's variations, would need a contact
-    // model the solver does not have).
+    // form lies in a plane (a flat-folded frame, or the unfolded sheet) is judged so and
+    // fails without one. A freeform 3D design is judged on its crease pattern folded flat
+    // too, but reported, not gating: it folds to its own form (the self-intersection row
+    // judges that), and its flat state is a property the maker should know of, not a bar
+    // to cutting it.
     let wants_flat = conditions.is_none() || set.families.contains(&Family::FlatFoldability);
-    if wants_flat && (!mesh.has_3d() || lies_in_a_plane(mesh)) {
-        families.extend(layer_order_report(mesh, budget));
-    }
     let mut notes = Vec::new();
+    if wants_flat {
+        let freeform = mesh.has_3d() && !lies_in_a_plane(mesh);
+        let report = layer_order_report(mesh, budget, freeform);
+        if let Some(r) = report.as_ref().filter(|r| freeform && r.violations > 0) {
+            notes.push(format!(
+                "this design folds to its 3D form but its crease pattern cannot fold flat: {}",
+                r.violators.join("; ")
+            ));
+        }
+        families.extend(report);
+    }
     if conditions.is_none() && !set.families.contains(&Family::FlatFoldability) {
         notes.push(match reference.odd_vertex {
             Some(v) => format!(
@@ -383,10 +392,17 @@ fn lies_in_a_plane(mesh: &Mesh) -> bool {
     x.iter().all(|p| (p - c).dot(&normal).abs() <= tolerance)
 }
 
+/// The layer-order problem's cap (pairs and constraints) when only reported, for a
+/// freeform 3D design.
+const FREEFORM_LAYER_CAP: usize = 2_000_000;
+
+/// The time the freeform report may take within a deadline (the studio's live analysis).
+const FREEFORM_LIVE: std::time::Duration = std::time::Duration::from_millis(150);
+
 /// Layer order of the flat-folded state ([`super::layers`]), judged when every crease
 /// folds to ±π and the faces close up around every vertex (else the local conditions
 /// already say why it cannot fold flat): one row, failing with the faces in conflict.
-fn layer_order_report(mesh: &Mesh, budget: &Budget) -> Option<FamilyReport> {
+fn layer_order_report(mesh: &Mesh, budget: &Budget, freeform: bool) -> Option<FamilyReport> {
     use super::layers::{layer_order_within, LayerError, LayerOrder};
     let folded = super::flat_folded(mesh, None).ok()?;
     let closes = folded.closes(super::closure_tolerance(
@@ -398,8 +414,10 @@ fn layer_order_report(mesh: &Mesh, budget: &Budget) -> Option<FamilyReport> {
         return None;
     }
     // A pattern drawn at partial folds (Origami Simulator's 90°) does not claim to fold
-    // flat: reported, not judged, as Maekawa there.
-    if let Some(e) = super::layers::partial_crease(mesh) {
+    // flat: reported, not judged, as Maekawa there. A freeform design's creases stand
+    // at partial folds by design; its targets (all ±π, or there is no flat state) are
+    // its claim.
+    if let Some(e) = super::layers::partial_crease(mesh).filter(|_| !freeform) {
         let edge = &mesh.edges()[e];
         return Some(FamilyReport {
             gating: false,
@@ -410,17 +428,31 @@ fn layer_order_report(mesh: &Mesh, budget: &Budget) -> Option<FamilyReport> {
             ..summarise("layer-order", &[], 0.0)
         });
     }
+    // Reported, not gating, for a freeform design: a third of the cap, and under a
+    // deadline (the studio's) at most FREEFORM_LIVE of it, so verifying a large 3D design
+    // costs little more than it did before its flat state was judged and the studio's
+    // verdict is not held up by it.
+    let now = std::time::Instant::now();
+    let reported = Budget {
+        max_constraints: budget.max_constraints.min(FREEFORM_LAYER_CAP),
+        deadline: budget
+            .deadline
+            .map(|(at, given)| (at.min(now + FREEFORM_LIVE), given.min(FREEFORM_LIVE))),
+        ..budget.clone()
+    };
+    let budget = if freeform { &reported } else { budget };
     let mut report = match layer_order_within(mesh, budget) {
         Ok(LayerOrder::Found(orders)) => FamilyReport {
             rows: orders.len(),
             ..summarise("layer-order", &[], 0.0)
         },
-        Ok(LayerOrder::Conflict(faces)) => {
+        Ok(LayerOrder::Conflict(c)) => {
+            let faces = &c.faces;
             let element = Element::Faces(faces[0], *faces.get(1).unwrap_or(&faces[0]));
             let mut r = summarise("layer-order", &[(1.0, element)], 0.0);
             let names: Vec<String> = faces.iter().map(|f| f.to_string()).collect();
             r.worst = Some(format!("faces {}", names.join(", ")));
-            r.violators = vec![format!("no order among faces {}", names.join(", "))];
+            r.violators = vec![c.to_string()];
             r
         }
         Err(LayerError::OverBudget(e)) => FamilyReport {
@@ -436,6 +468,13 @@ fn layer_order_report(mesh: &Mesh, budget: &Budget) -> Option<FamilyReport> {
     };
     if report.basis.is_empty() {
         report.basis = "one order of every overlapping pair of faces once folded flat, or the faces that admit none".into();
+    }
+    if freeform {
+        report.gating = false;
+        report.basis = format!(
+            "{}; the crease pattern folded flat, reported: a freeform design folds to its own form",
+            report.basis
+        );
     }
     Some(report)
 }

@@ -4,9 +4,11 @@
 
 use crate::mesh::Vec2;
 
-/// Two triangles overlap with positive area: no separating axis among their sides, by
-/// more than `eps`.
-pub(super) fn overlap(s: &[Vec2; 3], t: &[Vec2; 3], eps: f64) -> bool {
+/// How deeply two triangles overlap: the least distance, over the axes normal to their
+/// sides, their shadows share (how far one would have to move to clear the other), or
+/// `None` when some axis separates them to within `eps` (contact, not overlap).
+pub(super) fn overlap_depth(s: &[Vec2; 3], t: &[Vec2; 3], eps: f64) -> Option<f64> {
+    let mut depth = f64::INFINITY;
     for poly in [s, t] {
         for k in 0..3 {
             let d = poly[(k + 1) % 3] - poly[k];
@@ -20,11 +22,12 @@ pub(super) fn overlap(s: &[Vec2; 3], t: &[Vec2; 3], eps: f64) -> bool {
             };
             let (a, b) = (span(s), span(t));
             if a.1 <= b.0 + eps || b.1 <= a.0 + eps {
-                return false;
+                return None;
             }
+            depth = depth.min((a.1 - b.0).min(b.1 - a.0));
         }
     }
-    true
+    Some(depth)
 }
 
 /// Segment p–q passes through the interior of triangle t for a length above `eps`.

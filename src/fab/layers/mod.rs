@@ -16,6 +16,7 @@
 //! independent group of variables at a time. An unsatisfiable group is shrunk to a
 //! smallest set of faces that still has no order, which the report names.
 
+mod crimp;
 mod geometry;
 mod search;
 
@@ -23,12 +24,17 @@ use super::budget::{Budget, OverBudget};
 use super::flat_fold::{folds_flat, FlatFolded};
 use crate::mesh::bounds;
 use crate::mesh::{Assignment, Mesh, UnionFind, Vec2};
-use geometry::{collinear_overlap, common_overlap, crosses, overlap};
+use geometry::{collinear_overlap, common_overlap, crosses, overlap_depth};
 use search::Search;
 use std::collections::HashMap;
 
 /// Overlaps thinner than this fraction of the pattern's size are contact, not overlap.
 const OVERLAP_FRACTION: f64 = 1e-7;
+
+/// The most the contact allowance may be (mm): a sheet of 80 g/m² paper is about 0.1 mm
+/// thick, so an overlap deeper than that is a collision however coarse the file's
+/// rounding, never a sliver.
+pub const MAX_CONTACT: f64 = 0.1;
 
 /// The answer: an order, or the faces that admit none.
 #[derive(Clone, Debug, PartialEq)]
@@ -37,7 +43,45 @@ pub enum LayerOrder {
     /// (on the side g's normal points to), −1 below; one per overlapping pair.
     Found(Vec<[i64; 3]>),
     /// No order exists; these faces alone already have none.
-    Conflict(Vec<usize>),
+    Conflict(LayerConflict),
+}
+
+/// Faces that admit no layer order, and how much they overlap: a designer tells a real
+/// collision (millimetres) from a sliver (a few microns, what rounding leaves) by it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LayerConflict {
+    /// The faces (triangles of the mesh), a smallest set found with no order.
+    pub faces: Vec<usize>,
+    /// Of the overlaps among them, the thinnest: how far (mm) its two faces would have
+    /// to move apart, in the folded plane, to stop overlapping.
+    pub thinnest: f64,
+    /// The thickest such overlap (mm).
+    pub thickest: f64,
+    /// Overlaps thinner than this (mm) were taken as contact.
+    pub contact: f64,
+    /// The vertex whose creases alone cannot be stacked flat, when the conflict was found
+    /// there (by crimps, before any pair search).
+    pub vertex: Option<usize>,
+}
+
+impl std::fmt::Display for LayerConflict {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let names: Vec<String> = self.faces.iter().map(|f| f.to_string()).collect();
+        if let Some(v) = self.vertex {
+            write!(f, "the creases at vertex {v} cannot be stacked flat (no sequence of crimps folds them); its {} faces overlap by ", self.faces.len())?;
+        } else {
+            write!(
+                f,
+                "no order among faces {}; they overlap by ",
+                names.join(", ")
+            )?;
+        }
+        write!(
+            f,
+            "{:.3}-{:.3} mm (thinner than {:.1e} mm counts as contact)",
+            self.thinnest, self.thickest, self.contact
+        )
+    }
 }
 
 /// Why no layer order was computed.
@@ -46,6 +90,21 @@ pub enum LayerError {
     /// The flat-folded state itself is unavailable (partial targets, no crease pattern).
     #[error("{0}")]
     NotFlat(#[from] super::NotFlatFoldable),
+    /// The faces do not close up around a vertex once folded flat (Kawasaki's condition
+    /// fails there): there is no flat-folded state to order.
+    #[error("the faces around vertex {vertex} leave a gap of {gap:.2e} mm once folded flat (more than {tolerance:.1e} mm): it does not fold flat")]
+    Open {
+        /// The vertex with the widest gap.
+        vertex: usize,
+        /// The gap, mm.
+        gap: f64,
+        /// The closure tolerance it exceeds, mm.
+        tolerance: f64,
+    },
+    /// A folded crease has the same piece of paper on both sides: the lines around its
+    /// ends stay flat, so it cannot fold.
+    #[error("crease {0} cannot fold: the paper on its two sides is joined round its end by lines that stay flat")]
+    SelfHinged(usize),
     /// Too many overlaps to solve within the given budget.
     #[error("the search gave up after {0} decisions")]
     GaveUp(usize),
@@ -76,24 +135,105 @@ pub fn layer_order(mesh: &Mesh) -> Result<LayerOrder, LayerError> {
 /// with [`LayerError::OverBudget`] instead of exhausting memory.
 pub fn layer_order_within(mesh: &Mesh, budget: &Budget) -> Result<LayerOrder, LayerError> {
     let folded = super::flat_folded(mesh, None)?;
+    let cp = mesh.flat().ok_or(super::NotFlatFoldable::NoCreasePattern)?;
+    let tolerance = super::closure_tolerance(cp, mesh.coordinate_precision);
+    if !folded.closes(tolerance) {
+        return Err(LayerError::Open {
+            vertex: folded.worst_vertex.unwrap_or(0),
+            gap: folded.mismatch,
+            tolerance,
+        });
+    }
+    let crease_at = |e: usize| folds_completely(&mesh.edges()[e]);
+    if let Some((vertex, faces)) = crimp::first_unstackable_vertex(mesh, crease_at) {
+        return Ok(LayerOrder::Conflict(vertex_conflict(
+            mesh, &folded, vertex, faces, budget,
+        )?));
+    }
     let problem = Problem::build(mesh, &folded, budget)?;
+    if let Some(crease) = problem.self_hinged {
+        return Err(LayerError::SelfHinged(crease));
+    }
     match problem.solve(None, budget)? {
-        Ok(values) => Ok(LayerOrder::Found(problem.face_orders(&values, &folded))),
-        Err(group) => Ok(LayerOrder::Conflict(
-            problem.smallest_conflict(group, budget)?,
-        )),
+        Ok(values) => Ok(LayerOrder::Found(problem.face_orders(&values))),
+        Err(group) => {
+            let pieces = problem.smallest_conflict(group, budget)?;
+            Ok(LayerOrder::Conflict(problem.conflict(&pieces)))
+        }
     }
 }
 
-/// `above[(i, j)]` with i < j: true when face i lies higher (toward +z of the folded
-/// state) than face j.
+/// A vertex whose creases cannot be stacked, with the overlaps among its faces.
+fn vertex_conflict(
+    mesh: &Mesh,
+    folded: &FlatFolded,
+    vertex: usize,
+    faces: Vec<usize>,
+    budget: &Budget,
+) -> Result<LayerConflict, OverBudget> {
+    let tri = &folded.triangles;
+    let contact = contact_allowance(mesh, folded);
+    let (mut thinnest, mut thickest) = (f64::INFINITY, 0.0f64);
+    for (i, &a) in faces.iter().enumerate() {
+        budget.check()?;
+        for &b in &faces[i + 1..] {
+            if let Some(d) = overlap_depth(&tri[a], &tri[b], contact) {
+                thinnest = thinnest.min(d);
+                thickest = thickest.max(d);
+            }
+        }
+    }
+    let mut faces = faces;
+    faces.sort_unstable();
+    Ok(LayerConflict {
+        faces,
+        thinnest: thinnest.min(thickest),
+        thickest,
+        contact,
+        vertex: Some(vertex),
+    })
+}
+
+/// Overlaps thinner than this (mm) are contact: rounded coordinates fold to images that
+/// miss each other by about the file's rounding, compounded along the reflections (the
+/// closure gap measures it), and a millionth-tenth of the size is what double precision
+/// loses; never more than [`MAX_CONTACT`], a paper's thickness.
+fn contact_allowance(mesh: &Mesh, folded: &FlatFolded) -> f64 {
+    let (lo, hi) = bounds(folded.triangles.as_flattened());
+    (OVERLAP_FRACTION * (hi - lo).norm())
+        .max(2.0 * folded.mismatch + 8.0 * mesh.coordinate_precision)
+        .clamp(1e-300, MAX_CONTACT)
+}
+
+/// The layer problem. Faces joined across a line that stays flat (F, or U with a zero
+/// target) lie side by side in one plane once folded: they are one rigid *piece*, as
+/// Flat-Folder and Rabbit Ear treat them, so a face lying over one of them lies over the
+/// other the same way. The variables are pairs of overlapping pieces:
+/// `above[(i, j)]` with i < j is true when piece i lies higher (toward +z of the folded
+/// state) than piece j.
 pub(super) struct Problem {
-    faces: usize,
-    pairs: Vec<(usize, usize)>,
+    /// The piece each face (triangle) belongs to.
+    piece_of: Vec<usize>,
+    /// The faces of each piece.
+    members: Vec<Vec<usize>>,
+    /// Overlapping pairs of faces in different pieces, with their overlap depth (mm).
+    face_pairs: Vec<(usize, usize, f64)>,
+    pub(super) pairs: Vec<(usize, usize)>,
     index: HashMap<(usize, usize), usize>,
     /// Values the creases force: (variable, value).
     fixed: Vec<(usize, bool)>,
     pub(super) constraints: Vec<Constraint>,
+    /// Transitivity, stored compactly: for each pair variable (a, b), the pieces c with
+    /// which a and b share a region. The two "no cycle" constraints of each triple are
+    /// checked when one of its variables is set, never built (a deep stack of n pieces has
+    /// n³/6 triples: twelve bytes each here, not two boxed constraints).
+    pub(super) thirds: Vec<Vec<u32>>,
+    /// Whether each face's front (its normal) faces +z once folded.
+    front_up: Vec<bool>,
+    /// A folded crease with one piece on both sides (it would have to fold onto itself).
+    self_hinged: Option<usize>,
+    /// Overlaps thinner than this (mm) are contact.
+    eps: f64,
 }
 
 /// A literal: variable `var` equals `value`.
@@ -109,8 +249,6 @@ pub(super) enum Constraint {
     Same(Lit, Lit),
     /// x ⊕ y ⊕ z ⊕ w == false.
     Parity([Lit; 4]),
-    /// Not all three literals true.
-    NotAll([Lit; 3]),
 }
 
 impl Constraint {
@@ -118,46 +256,70 @@ impl Constraint {
         match self {
             Constraint::Same(a, b) => vec![a.var, b.var],
             Constraint::Parity(l) => l.iter().map(|x| x.var).collect(),
-            Constraint::NotAll(l) => l.iter().map(|x| x.var).collect(),
         }
     }
 }
 
+/// A folded crease: the pieces on either side and its folded line.
+struct Hinge {
+    pieces: (usize, usize),
+    line: (Vec2, Vec2),
+}
+
 impl Problem {
-    /// The literal "face a lies above face b" (a ≠ b, the pair overlapping).
-    fn above(&self, a: usize, b: usize) -> Option<Lit> {
+    /// The literal "piece a lies above piece b" (a ≠ b, the pair overlapping).
+    pub(super) fn above(&self, a: usize, b: usize) -> Option<Lit> {
         let key = (a.min(b), a.max(b));
         self.index.get(&key).map(|&var| Lit { var, value: a < b })
     }
 
     fn build(mesh: &Mesh, folded: &FlatFolded, budget: &Budget) -> Result<Problem, OverBudget> {
         let tri = &folded.triangles;
-        let n = tri.len();
-        let (lo, hi) = bounds(tri.as_flattened());
-        // Rounded coordinates fold to images that miss each other by about the file's
-        // rounding, compounded along the reflections (the closure gap measures it): a
-        // sliver that thin is contact, not overlap.
-        let eps = (OVERLAP_FRACTION * (hi - lo).norm())
-            .max(2.0 * folded.mismatch + 8.0 * mesh.coordinate_precision)
-            .max(1e-300);
-        let pairs = overlapping_pairs(tri, eps, budget)?;
+        let eps = contact_allowance(mesh, folded);
+        let (piece_of, members) = pieces(mesh);
+        let face_pairs: Vec<(usize, usize, f64)> = overlapping_pairs(tri, eps, budget)?
+            .into_iter()
+            .filter(|&(a, b, _)| piece_of[a] != piece_of[b])
+            .collect();
+        let mut pairs: Vec<(usize, usize)> = face_pairs
+            .iter()
+            .map(|&(a, b, _)| {
+                let (p, q) = (piece_of[a], piece_of[b]);
+                (p.min(q), p.max(q))
+            })
+            .collect();
+        pairs.sort_unstable();
+        pairs.dedup();
         let index: HashMap<(usize, usize), usize> =
             pairs.iter().enumerate().map(|(i, &p)| (p, i)).collect();
+        let cp = mesh
+            .flat()
+            .expect("a flat-folded state has a crease pattern");
+        let front_up = mesh
+            .faces()
+            .iter()
+            .zip(&folded.motions)
+            .map(|(f, m)| {
+                let counter_clockwise = (cp[f[1]] - cp[f[0]]).perp(&(cp[f[2]] - cp[f[0]])) > 0.0;
+                counter_clockwise != m.flips()
+            })
+            .collect();
         let mut problem = Problem {
-            faces: n,
+            piece_of,
+            members,
+            face_pairs,
             pairs,
             index,
             fixed: Vec::new(),
             constraints: Vec::new(),
+            thirds: Vec::new(),
+            front_up,
+            self_hinged: None,
+            eps,
         };
-        let mut overlapping: Vec<Vec<usize>> = vec![Vec::new(); n];
-        for &(a, b) in &problem.pairs {
-            overlapping[a].push(b);
-            overlapping[b].push(a);
-        }
-        let creases = problem.add_hinges(mesh, folded, &overlapping, eps, budget)?;
-        problem.add_taco_taco(&creases, eps, budget)?;
-        problem.add_transitivity(tri, &overlapping, eps, budget)?;
+        let hinges = problem.add_hinges(mesh, folded, budget)?;
+        problem.add_taco_taco(&hinges, budget)?;
+        problem.add_transitivity(tri, budget)?;
         Ok(problem)
     }
 
@@ -173,59 +335,86 @@ impl Problem {
         Ok(())
     }
 
-    /// Every interior edge is a hinge between its two faces: a folded crease fixes which
-    /// lies above (valley brings the second face to the first's front, mountain behind),
-    /// and a face crossing the hinge's folded line lies above both or below both
-    /// (taco–tortilla). Returns the folded creases with their faces and folded lines.
+    /// Every folded crease is a hinge between two pieces: its mountain/valley fixes which
+    /// lies above (valley brings the second face onto the first's front, mountain behind
+    /// it), and a piece crossing the hinge's folded line lies above both or below both
+    /// (taco–tortilla). Returns the hinges.
     fn add_hinges(
         &mut self,
         mesh: &Mesh,
         folded: &FlatFolded,
-        overlapping: &[Vec<usize>],
-        eps: f64,
         budget: &Budget,
-    ) -> Result<Vec<(usize, usize, Vec2, Vec2)>, OverBudget> {
+    ) -> Result<Vec<Hinge>, OverBudget> {
         let topo = mesh.topology();
-        let mut creases = Vec::new();
+        // Each piece's inner lines (its flat joins), where a hinge's line can run through
+        // the piece without crossing any one of its faces.
+        let mut inner: Vec<Vec<(Vec2, Vec2)>> = vec![Vec::new(); self.members.len()];
+        let mut hinges = Vec::new();
         for (e, edge) in mesh.edges().iter().enumerate() {
             let [Some(a), Some(b)] = topo.edge_faces[e] else {
                 continue;
             };
-            let (p, q) = edge_image(mesh, folded, a, e);
-            let folded_crease =
-                matches!(edge.assignment, Assignment::Mountain | Assignment::Valley)
-                    && folds_flat(edge.target) == Some(true);
-            if folded_crease {
-                let b_above = (edge.assignment == Assignment::Valley) != folded.motions[a].flips();
-                if let Some(l) = self.above(b, a) {
-                    self.fixed.push((l.var, l.value == b_above));
-                }
-                creases.push((a, b, p, q));
-            }
-            for &c in overlapping[a].iter().filter(|&&c| c != b) {
-                if !crosses(p, q, &folded.triangles[c], eps) {
+            let line = edge_image(mesh, folded, a, e);
+            if folds_completely(edge) {
+                let (pa, pb) = (self.piece_of[a], self.piece_of[b]);
+                if pa == pb {
+                    self.self_hinged = Some(e);
                     continue;
                 }
-                if let (Some(x), Some(y)) = (self.above(a, c), self.above(b, c)) {
+                let b_above = (edge.assignment == Assignment::Valley) == self.front_up[a];
+                if let Some(l) = self.above(pb, pa) {
+                    self.fixed.push((l.var, l.value == b_above));
+                }
+                hinges.push(Hinge {
+                    pieces: (pa, pb),
+                    line,
+                });
+            } else {
+                inner[self.piece_of[a]].push(line);
+            }
+        }
+        let mut overlapping: Vec<Vec<usize>> = vec![Vec::new(); self.members.len()];
+        for &(x, y) in &self.pairs {
+            overlapping[x].push(y);
+            overlapping[y].push(x);
+        }
+        let mut seen = std::collections::HashSet::new();
+        for h in &hinges {
+            budget.check()?;
+            let (pa, pb) = h.pieces;
+            let (p, q) = h.line;
+            for &c in overlapping[pa].iter().filter(|&&c| c != pb) {
+                let crosses_piece = self.members[c]
+                    .iter()
+                    .any(|&t| crosses(p, q, &folded.triangles[t], self.eps))
+                    || inner[c]
+                        .iter()
+                        .any(|&(r, s)| collinear_overlap(p, q, r, s, self.eps));
+                if !crosses_piece || !seen.insert((pa.min(pb), pa.max(pb), c)) {
+                    continue;
+                }
+                if let (Some(x), Some(y)) = (self.above(pa, c), self.above(pb, c)) {
                     self.push(Constraint::Same(x, y), budget)?;
                 }
             }
         }
-        Ok(creases)
+        Ok(hinges)
     }
 
     /// Taco–taco: creases folded onto the same line with their flaps on the same side
     /// nest or stay apart, never interleave.
-    fn add_taco_taco(
-        &mut self,
-        creases: &[(usize, usize, Vec2, Vec2)],
-        eps: f64,
-        budget: &Budget,
-    ) -> Result<(), OverBudget> {
-        for (i, &(a, b, p, q)) in creases.iter().enumerate() {
+    fn add_taco_taco(&mut self, hinges: &[Hinge], budget: &Budget) -> Result<(), OverBudget> {
+        for (i, h) in hinges.iter().enumerate() {
             budget.check()?;
-            for &(c, d, r, s) in &creases[i + 1..] {
-                if !collinear_overlap(p, q, r, s, eps) {
+            let ((a, b), (p, q)) = (h.pieces, h.line);
+            for k in &hinges[i + 1..] {
+                let ((c, d), (r, s)) = (k.pieces, k.line);
+                // Two hinges sharing a piece are one crease split by a vertex (or a
+                // piece's two edges, which cannot lie on one line).
+                if a == c || a == d || b == c || b == d {
+                    continue;
+                }
+                if !collinear_overlap(p, q, r, s, self.eps) {
                     continue;
                 }
                 let lits = [
@@ -242,44 +431,82 @@ impl Problem {
         Ok(())
     }
 
-    /// Transitivity: three faces with a common overlap are not stacked in a cycle.
-    fn add_transitivity(
-        &mut self,
-        tri: &[[Vec2; 3]],
-        overlapping: &[Vec<usize>],
-        eps: f64,
-        budget: &Budget,
-    ) -> Result<(), OverBudget> {
-        let neg = |l: Lit| Lit {
-            var: l.var,
-            value: !l.value,
-        };
-        for a in 0..tri.len() {
-            budget.check()?;
-            for (k, &b) in overlapping[a].iter().enumerate() {
-                if b < a {
+    /// Transitivity: three pieces with a common overlap are not stacked in a cycle.
+    /// Each triple a < b < c is found once, from the pair (a, b) and a piece c that
+    /// overlaps both, and kept in [`Problem::thirds`].
+    fn add_transitivity(&mut self, tri: &[[Vec2; 3]], budget: &Budget) -> Result<(), OverBudget> {
+        let pieces = self.members.len();
+        let mut overlapping: Vec<Vec<usize>> = vec![Vec::new(); pieces];
+        for &(x, y) in &self.pairs {
+            overlapping[x].push(y);
+            overlapping[y].push(x);
+        }
+        for list in &mut overlapping {
+            list.sort_unstable();
+        }
+        // Faces of piece x that overlap piece y, per pair variable.
+        let mut touching: HashMap<(usize, usize), Vec<(usize, usize)>> = HashMap::new();
+        for &(f, g, _) in &self.face_pairs {
+            let (p, q) = (self.piece_of[f], self.piece_of[g]);
+            let key = (p.min(q), p.max(q));
+            touching
+                .entry(key)
+                .or_default()
+                .push(if p < q { (f, g) } else { (g, f) });
+        }
+        let mut thirds: Vec<Vec<u32>> = vec![Vec::new(); self.pairs.len()];
+        let mut triples = 0usize;
+        for (var, &(a, b)) in self.pairs.iter().enumerate() {
+            if var.is_multiple_of(256) {
+                budget.check()?;
+            }
+            let (la, lb) = (&overlapping[a], &overlapping[b]);
+            let (mut i, mut j) = (0, 0);
+            while i < la.len() && j < lb.len() {
+                let c = match la[i].cmp(&lb[j]) {
+                    std::cmp::Ordering::Less => {
+                        i += 1;
+                        continue;
+                    }
+                    std::cmp::Ordering::Greater => {
+                        j += 1;
+                        continue;
+                    }
+                    std::cmp::Ordering::Equal => la[i],
+                };
+                i += 1;
+                j += 1;
+                if c <= b {
                     continue;
                 }
-                for &c in &overlapping[a][k + 1..] {
-                    if c < a || self.above(b, c).is_none() {
-                        continue;
-                    }
-                    if !common_overlap(&tri[a], &tri[b], &tri[c], eps) {
-                        continue;
-                    }
-                    let ab = self.above(a, b).unwrap();
-                    let bc = self.above(b, c).unwrap();
-                    let ca = self.above(c, a).unwrap();
-                    self.push(Constraint::NotAll([ab, bc, ca]), budget)?;
-                    self.push(Constraint::NotAll([neg(ab), neg(bc), neg(ca)]), budget)?;
+                let ab = &touching[&(a, b)];
+                let ac = &touching[&(a, c)];
+                let shares = ab.iter().any(|&(fa, fb)| {
+                    ac.iter().any(|&(fa2, fc)| {
+                        fa2 == fa && common_overlap(&tri[fa], &tri[fb], &tri[fc], self.eps)
+                    })
+                });
+                if !shares {
+                    continue;
+                }
+                let var = |x: usize, y: usize| self.index[&(x, y)];
+                thirds[var(a, b)].push(c as u32);
+                thirds[var(a, c)].push(b as u32);
+                thirds[var(b, c)].push(a as u32);
+                triples += 1;
+                // Each triple counts as one constraint against the cap: it is twelve bytes
+                // here, but it costs a clipping to find and a check at every decision.
+                if triples.is_multiple_of(4096) {
+                    budget.check_size(self.constraints.len() + triples)?;
                 }
             }
         }
+        self.thirds = thirds;
         Ok(())
     }
 
-    /// Values for every variable, or the faces of a group of variables with none. With
-    /// `only`, faces outside that set are ignored (their variables left free).
+    /// Values for every variable, or the pieces of a group of variables with none. With
+    /// `only`, pieces outside that set are ignored (their variables left free).
     fn solve(
         &self,
         only: Option<&[bool]>,
@@ -302,15 +529,25 @@ impl Problem {
                 }
             }
         }
+        for (v, thirds) in self.thirds.iter().enumerate() {
+            let (a, b) = self.pairs[v];
+            for &c in thirds {
+                let c = c as usize;
+                if only.is_none_or(|keep| keep[a] && keep[b] && keep[c]) {
+                    group.union(v, self.index[&(a.min(c), a.max(c))]);
+                }
+            }
+        }
         let mut search = Search {
             problem: self,
+            only,
             watching,
             value: vec![None; self.pairs.len()],
             trail: Vec::new(),
             decisions: 0,
             budget,
         };
-        let faces_of = |vars: &[usize]| {
+        let pieces_of = |vars: &[usize]| {
             let mut f: Vec<usize> = vars
                 .iter()
                 .flat_map(|&v| [self.pairs[v].0, self.pairs[v].1])
@@ -329,57 +566,117 @@ impl Problem {
             if active(var) && !search.assign(var, v) {
                 let r = group.find(var);
                 let g = groups.iter().find(|g| group.find(g[0]) == r).unwrap();
-                return Ok(Err(faces_of(g)));
+                return Ok(Err(pieces_of(g)));
             }
         }
         // Groups share no constraint: each is decided on its own, and a group without
         // an order makes the whole pattern fail without searching the others again.
         for g in &groups {
             if !search.run(g)? {
-                return Ok(Err(faces_of(g)));
+                return Ok(Err(pieces_of(g)));
             }
         }
         Ok(Ok(search.value.iter().map(|v| v.unwrap_or(true)).collect()))
     }
 
-    /// Shrinks a group of faces without an order: drop faces one at a time while the
+    /// Shrinks a group of pieces without an order: drop pieces one at a time while the
     /// rest still has none.
     fn smallest_conflict(
         &self,
-        faces: Vec<usize>,
+        pieces: Vec<usize>,
         budget: &Budget,
     ) -> Result<Vec<usize>, LayerError> {
-        let mut keep = vec![false; self.faces];
-        for &f in &faces {
-            keep[f] = true;
+        let mut keep = vec![false; self.members.len()];
+        for &p in &pieces {
+            keep[p] = true;
         }
-        for &f in &faces {
+        for &p in &pieces {
             budget.check()?;
-            keep[f] = false;
+            keep[p] = false;
             if self.solve(Some(&keep), budget)?.is_ok() {
-                keep[f] = true;
+                keep[p] = true;
             }
         }
-        Ok((0..self.faces).filter(|&f| keep[f]).collect())
+        Ok((0..self.members.len()).filter(|&p| keep[p]).collect())
     }
 
-    /// FOLD `faceOrders` from the values. The FOLD specification measures "above"
-    /// along g's normal (as Rabbit Ear and Flat-Folder read it), so s = +1 when f lies
-    /// on the side g's front faces.
-    fn face_orders(&self, values: &[bool], folded: &FlatFolded) -> Vec<[i64; 3]> {
-        self.pairs
+    /// The conflict among `pieces`, as their faces with the overlaps among them.
+    fn conflict(&self, pieces: &[usize]) -> LayerConflict {
+        let mut faces: Vec<usize> = pieces
             .iter()
-            .zip(values)
-            .map(|(&(f, g), &f_higher)| {
-                let s = if f_higher != folded.motions[g].flips() {
-                    1
-                } else {
-                    -1
-                };
+            .flat_map(|&p| self.members[p].iter().copied())
+            .collect();
+        faces.sort_unstable();
+        let chosen = |f: usize| pieces.contains(&self.piece_of[f]);
+        let depths: Vec<f64> = self
+            .face_pairs
+            .iter()
+            .filter(|&&(a, b, _)| chosen(a) && chosen(b))
+            .map(|&(_, _, d)| d)
+            .collect();
+        LayerConflict {
+            faces,
+            thinnest: depths
+                .iter()
+                .copied()
+                .fold(f64::INFINITY, f64::min)
+                .min(f64::MAX),
+            thickest: depths.iter().copied().fold(0.0, f64::max),
+            contact: self.eps,
+            vertex: None,
+        }
+    }
+
+    /// FOLD `faceOrders` from the values, one per overlapping pair of faces in different
+    /// pieces. The FOLD specification measures "above" along g's normal (as Rabbit Ear
+    /// and Flat-Folder read it), so s = +1 when f lies on the side g's front faces.
+    fn face_orders(&self, values: &[bool]) -> Vec<[i64; 3]> {
+        self.face_pairs
+            .iter()
+            .map(|&(f, g, _)| {
+                let lit = self
+                    .above(self.piece_of[f], self.piece_of[g])
+                    .expect("overlapping faces make overlapping pieces");
+                let f_higher = values[lit.var] == lit.value;
+                let s = if f_higher == self.front_up[g] { 1 } else { -1 };
                 [f as i64, g as i64, s]
             })
             .collect()
     }
+}
+
+/// A crease that folds to ±π once folded flat: a hinge between two pieces.
+pub fn folds_completely(edge: &crate::mesh::Edge) -> bool {
+    matches!(edge.assignment, Assignment::Mountain | Assignment::Valley)
+        && folds_flat(edge.target) == Some(true)
+}
+
+/// Faces joined across interior edges that are not folded creases, as pieces: the piece
+/// of each face, and the faces of each piece.
+fn pieces(mesh: &Mesh) -> (Vec<usize>, Vec<Vec<usize>>) {
+    let topo = mesh.topology();
+    let mut joined = UnionFind::new(mesh.faces().len());
+    for (e, edge) in mesh.edges().iter().enumerate() {
+        if let [Some(a), Some(b)] = topo.edge_faces[e] {
+            if !folds_completely(edge) {
+                joined.union(a, b);
+            }
+        }
+    }
+    let mut id = HashMap::new();
+    let mut members: Vec<Vec<usize>> = Vec::new();
+    let piece_of = (0..mesh.faces().len())
+        .map(|f| {
+            let root = joined.find(f);
+            let p = *id.entry(root).or_insert_with(|| {
+                members.push(Vec::new());
+                members.len() - 1
+            });
+            members[p].push(f);
+            p
+        })
+        .collect();
+    (piece_of, members)
 }
 
 /// Pairs of folded faces that overlap with positive area: sweep by x, then a
@@ -388,7 +685,7 @@ fn overlapping_pairs(
     tri: &[[Vec2; 3]],
     eps: f64,
     budget: &Budget,
-) -> Result<Vec<(usize, usize)>, OverBudget> {
+) -> Result<Vec<(usize, usize, f64)>, OverBudget> {
     let n = tri.len();
     let boxes: Vec<(Vec2, Vec2)> = tri.iter().map(|t| bounds(t)).collect();
     let mut order: Vec<usize> = (0..n).collect();
@@ -396,8 +693,9 @@ fn overlapping_pairs(
     let mut pairs = Vec::new();
     for (k, &a) in order.iter().enumerate() {
         budget.check()?;
-        // Each pair is a variable, and each becomes at least one constraint.
-        budget.check_size(pairs.len())?;
+        // Each pair is a variable, and each becomes at least one constraint; its
+        // index, watch list and overlap record cost about twice a constraint's memory.
+        budget.check_size(2 * pairs.len())?;
         for &b in &order[k + 1..] {
             if boxes[b].0.x >= boxes[a].1.x - eps {
                 break;
@@ -405,12 +703,12 @@ fn overlapping_pairs(
             if boxes[b].0.y >= boxes[a].1.y - eps || boxes[a].0.y >= boxes[b].1.y - eps {
                 continue;
             }
-            if overlap(&tri[a], &tri[b], eps) {
-                pairs.push((a.min(b), a.max(b)));
+            if let Some(depth) = overlap_depth(&tri[a], &tri[b], eps) {
+                pairs.push((a.min(b), a.max(b), depth));
             }
         }
     }
-    pairs.sort_unstable();
+    pairs.sort_unstable_by_key(|&(a, b, _)| (a, b));
     Ok(pairs)
 }
 

@@ -7,6 +7,8 @@ use crate::fab::budget::Budget;
 /// Depth-first search with propagation and an undo trail.
 pub(super) struct Search<'a> {
     pub(super) problem: &'a Problem,
+    /// The pieces taken into account (all when `None`).
+    pub(super) only: Option<&'a [bool]>,
     pub(super) watching: Vec<Vec<usize>>,
     pub(super) value: Vec<Option<bool>>,
     pub(super) trail: Vec<usize>,
@@ -49,6 +51,9 @@ impl Search<'_> {
                     self.trail.push(x);
                 }
             }
+            if !self.transitive(x, &mut queue) {
+                return false;
+            }
             for &k in &self.watching[x] {
                 match self.problem.constraints[k] {
                     Constraint::Same(a, b) => {
@@ -70,15 +75,41 @@ impl Search<'_> {
                             _ => {}
                         }
                     }
-                    Constraint::NotAll(l) => {
-                        let (trues, unknown, last) = self.tally(&l);
-                        if trues == 3 {
-                            return false;
-                        }
-                        if let (2, 1, Some(u)) = (trues, unknown, last) {
-                            queue.push((u.var, !u.value));
-                        }
-                    }
+                }
+            }
+        }
+        true
+    }
+
+    /// The "no cycle" constraints of the triples through variable `x` (both of each:
+    /// not a above b above c above a, nor the reverse), pushing what they force.
+    fn transitive(&self, x: usize, queue: &mut Vec<(usize, bool)>) -> bool {
+        let p = self.problem;
+        let (a, b) = p.pairs[x];
+        for &c in &p.thirds[x] {
+            let c = c as usize;
+            if self.only.is_some_and(|keep| !keep[c]) {
+                continue;
+            }
+            let mut t = [a, b, c];
+            t.sort_unstable();
+            let [u, v, w] = t;
+            let lits = [
+                p.above(u, v).expect("a triple's pairs overlap"),
+                p.above(v, w).expect("a triple's pairs overlap"),
+                p.above(w, u).expect("a triple's pairs overlap"),
+            ];
+            for negate in [false, true] {
+                let l = lits.map(|l| Lit {
+                    var: l.var,
+                    value: l.value != negate,
+                });
+                let (trues, unknown, last) = self.tally(&l);
+                if trues == 3 {
+                    return false;
+                }
+                if let (2, 1, Some(u)) = (trues, unknown, last) {
+                    queue.push((u.var, !u.value));
                 }
             }
         }
