@@ -56,6 +56,11 @@ enum Command {
         /// edge-length, coincidence. Default: what the design's assignment calls for.
         #[arg(long)]
         conditions: Option<String>,
+        /// Also fold the crease pattern from flat to the design's own angles in
+        /// simulation mode and report the first step where faces pass through each other
+        /// (exit 1), or that the path is clear.
+        #[arg(long)]
+        path: bool,
     },
     /// Fold a pattern in simulation mode (rigid panels), driving every crease toward a
     /// fraction of its target angle; or, with --flat, write its flat-folded state.
@@ -151,6 +156,7 @@ fn run(cli: Cli) -> Result<u8, String> {
             json,
             tol,
             conditions,
+            path,
         } => {
             let set = conditions
                 .as_deref()
@@ -165,12 +171,24 @@ fn run(cli: Cli) -> Result<u8, String> {
             }
             let mesh = io::read(&file).map_err(|e| e.to_string())?;
             let report = fab::verify(&mesh, set.as_ref(), tolerances);
+            let path = path
+                .then(|| crease::pipeline::folding_path(&mesh, &mut cli::progress_bar()))
+                .transpose()
+                .map_err(|e| format!("{}: the path from flat: {e}", file.display()))?;
+            let collides = path.as_ref().is_some_and(|p| p.collision.is_some());
             if json {
-                out(&format!("{}\n", report.to_json()));
+                let mut value = report.to_json();
+                if let Some(p) = &path {
+                    value["path"] = serde_json::to_value(p).expect("a path report is JSON");
+                }
+                out(&format!("{value}\n"));
             } else {
                 out(&report.to_string());
+                if let Some(p) = &path {
+                    out(&format!("{p}\n"));
+                }
             }
-            Ok(if report.pass() { 0 } else { 1 })
+            Ok(if report.pass() && !collides { 0 } else { 1 })
         }
         Command::Fold(args) => cli::fold::fold(args),
         Command::Deform(args) => cli::deform::deform(args),

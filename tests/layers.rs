@@ -827,3 +827,59 @@ fn every_bundled_design_gets_its_layer_order_verdict() {
         }
     }
 }
+
+#[test]
+fn the_path_from_flat_is_clear_for_the_folded_waterbomb_and_names_where_two_flaps_collide() {
+    // The strip 30 | 10 | 30 mm with both creases mountain at 170°: folded together
+    // from flat, the two flaps swing behind the middle panel and, once past 90°, each
+    // reaches over the other's hinge — they must pass through each other (at 60% of the
+    // way, 102°, with this simulation's steps of 5%). Mountain then valley: the flaps go
+    // to opposite sides, a clear path.
+    let strip = |second: i32| {
+        format!(
+            r#"{{"file_spec": 1.1, "frame_classes": ["creasePattern"],
+ "vertices_coords": [[0,0],[30,0],[40,0],[70,0],[0,10],[30,10],[40,10],[70,10]],
+ "faces_vertices": [[0,1,5,4],[1,2,6,5],[2,3,7,6]],
+ "edges_vertices": [[0,1],[1,2],[2,3],[3,7],[7,6],[6,5],[5,4],[4,0],[1,5],[2,6]],
+ "edges_assignment": ["B","B","B","B","B","B","B","B","M","{}"],
+ "edges_foldAngle": [0,0,0,0,0,0,0,0,-170,{second}]}}"#,
+            if second < 0 { "M" } else { "V" }
+        )
+    };
+    let path_of = |file: &Path| {
+        let (code, out, err) =
+            common::run_crease(&["verify", file.to_str().unwrap(), "--path", "--json"]);
+        let report: serde_json::Value =
+            serde_json::from_str(&out).unwrap_or_else(|_| panic!("{err}"));
+        (code, report["path"].clone())
+    };
+    let (code, path) = path_of(&common::scratch_file(
+        "layers-path",
+        "mm.fold",
+        &strip(-170),
+    ));
+    assert_eq!(code, 1, "{path}");
+    let hit = &path["collision"];
+    let faces = [
+        hit["faces"][0].as_u64().unwrap(),
+        hit["faces"][1].as_u64().unwrap(),
+    ];
+    // One face of each flap (panels are two triangles each: 0–1, 2–3, 4–5).
+    assert!(faces[0] <= 1 && faces[1] >= 4, "{path}");
+    let fraction = hit["fraction"].as_f64().unwrap();
+    assert!(fraction > 90.0 / 170.0 && fraction < 0.8, "{path}");
+    let (code, path) = path_of(&common::scratch_file("layers-path", "mv.fold", &strip(170)));
+    assert_eq!(
+        (code, &path["collision"]),
+        (0, &serde_json::Value::Null),
+        "{path}"
+    );
+    let waterbomb = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/waterbomb-folded.fold");
+    let (code, path) = path_of(&waterbomb);
+    assert_eq!(
+        (code, &path["collision"]),
+        (0, &serde_json::Value::Null),
+        "{path}"
+    );
+    assert_eq!(path["steps"], 20, "{path}");
+}

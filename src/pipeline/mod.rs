@@ -5,12 +5,14 @@
 mod fab_report;
 mod fabricate;
 mod fit;
+mod path;
 
 pub use fabricate::{
     fabricate, remove_stale_outputs, FabError, FabOptions, FabOutput, Rejected, MIN_WIDTH_MM,
     OUTPUT_FILES, TILE_OVERLAP_MM,
 };
 pub use fit::{BlockedBy, ConditionResidual, Distances, FitReport, FitStage, PlacementRecord};
+pub use path::{folding_path, PathCollision, PathReport, PATH_STEPS};
 
 use crate::constraints::{tracked_fold_angle, ConstraintSet, Reference};
 use crate::fab::{unfold, UnfoldError};
