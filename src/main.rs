@@ -53,7 +53,8 @@ enum Command {
         tol: Option<f64>,
         /// Comma-separated conditions: developability, boundary-angle, boundary-length,
         /// convexity, flat-foldability, angular-inequality, fold-angle-range, twist-range,
-        /// edge-length, coincidence. Default: what the design's assignment calls for.
+        /// edge-length, coincidence, layer-order (the flat-folded state's, failing for a
+        /// freeform design too). Default: what the design's assignment calls for.
         #[arg(long)]
         conditions: Option<String>,
         /// Also fold the crease pattern from flat to the design's own angles in

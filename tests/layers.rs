@@ -883,3 +883,59 @@ fn the_path_from_flat_is_clear_for_the_folded_waterbomb_and_names_where_two_flap
     );
     assert_eq!(path["steps"], 20, "{path}");
 }
+
+#[test]
+fn a_drag_with_layer_order_among_its_conditions_ends_with_a_design_that_has_one() {
+    // waterbomb-curved.toml's drag of the regular waterbomb, with `layer-order` among the
+    // conditions. Without it the drag ends in a design with no order (faces 246, 247,
+    // 261–266 overlap by 7–16 mm: the bundled waterbomb-curved); with it every step that
+    // would lose the order is halved, then refused, and the stage stops saying why.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let base = root.join("patterns/waterbomb.fold");
+    let script = format!(
+        r#"base = {base:?}
+fold = 0.15
+mode = "design"
+fix = [0, 8, 160]
+conditions = ["developability", "flat-foldability", "angular-inequality", "fold-angle-range", "twist-range", "layer-order"]
+
+[[stage]]
+steps = 40
+moves = [{{ vertex = 80, to = [80.0, 80.0, -30.0] }}]
+"#
+    );
+    let toml = common::scratch_file("layers-keep", "keep.toml", &script);
+    let out = toml.with_extension("fold");
+    let (code, _, err) = common::run_crease(&[
+        "deform",
+        "--script",
+        toml.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("stopped at step") && err.contains("layer order"),
+        "{err}"
+    );
+    let (code, report, err) = common::run_crease(&[
+        "verify",
+        out.to_str().unwrap(),
+        "--conditions",
+        "developability,flat-foldability,layer-order",
+        "--json",
+    ]);
+    let report: serde_json::Value =
+        serde_json::from_str(&report).unwrap_or_else(|_| panic!("{err}"));
+    assert_eq!(code, 0, "{}", report["families"]["layer-order"]);
+    assert!(report["families"]["layer-order"]["rows"].as_u64().unwrap() > 0);
+    // The same design judged with layer-order named: the curved one fails.
+    let curved = root.join("patterns/waterbomb-curved.fold");
+    let (code, _, _) = common::run_crease(&[
+        "verify",
+        curved.to_str().unwrap(),
+        "--conditions",
+        "developability,flat-foldability,layer-order",
+    ]);
+    assert_eq!(code, 1);
+}

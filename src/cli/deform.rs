@@ -31,8 +31,9 @@ pub struct DeformArgs {
     mode: Option<String>,
     /// Comma-separated conditions held in design mode: developability, boundary-angle,
     /// boundary-length, convexity, flat-foldability, angular-inequality, fold-angle-range,
-    /// twist-range, edge-length, coincidence. Default: the script's, or what the design's
-    /// assignment calls for (as verify).
+    /// twist-range, edge-length, coincidence, layer-order (a step that would lose the
+    /// flat-folded state's layer order is halved, then refused). Default: the script's, or
+    /// what the design's assignment calls for (as verify).
     #[arg(long)]
     conditions: Option<String>,
     /// Twist allowance α in [0, 1) of flat creases (paper §2.4); default: the script's,
@@ -151,6 +152,11 @@ fn print_summary(outcome: &DesignOutcome, output: &Path, asked_fold: bool, job_r
     }
     if let Some(fit) = &outcome.fit {
         eprintln!("{}", fit.summary());
+    }
+    for (i, d) in outcome.drags.iter().enumerate() {
+        if let Some(why) = &d.refused {
+            eprintln!("stage {} stopped at {why}", i + 1);
+        }
     }
     for d in outcome.drags.iter().flat_map(|d| &d.distances) {
         eprintln!(

@@ -48,11 +48,16 @@ pub enum Family {
     /// §6.4: vertices that meet in the folded form stay together (Resch's tucks closed
     /// behind the tiles); relative to the mean crease length.
     Coincidence,
+    /// §2.3: the crease pattern folded flat keeps a layer order (flat-foldability is
+    /// coordinates *and* an order of the layers). Not a row of the Jacobian: a drag step
+    /// that would lose it is halved, then refused ([`crate::solver::run_stage`]), and
+    /// verification judges it on the design's flat state.
+    LayerOrder,
 }
 
 impl Family {
     /// Every family, in report order.
-    pub const ALL: [Family; 10] = [
+    pub const ALL: [Family; 11] = [
         Family::Developability,
         Family::BoundaryAngle,
         Family::BoundaryLength,
@@ -63,6 +68,7 @@ impl Family {
         Family::TwistRange,
         Family::EdgeLength,
         Family::Coincidence,
+        Family::LayerOrder,
     ];
 
     /// The name used on the command line and in reports.
@@ -78,6 +84,7 @@ impl Family {
             Family::TwistRange => "twist-range",
             Family::EdgeLength => "edge-length",
             Family::Coincidence => "coincidence",
+            Family::LayerOrder => "layer-order",
         }
     }
 
@@ -395,6 +402,8 @@ impl ConstraintSet {
                 Family::BoundaryLength => lengths::boundary_length(mesh, reference, x, out),
                 Family::EdgeLength => lengths::edge_length(mesh, reference, x, out),
                 Family::Coincidence => lengths::coincidence(mesh, reference, x, out),
+                // Judged on the flat-folded state as a whole, never as rows.
+                Family::LayerOrder => {}
             }
         };
         if parallel {

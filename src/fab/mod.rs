@@ -18,7 +18,9 @@ pub mod verify;
 pub use budget::{Budget, OverBudget};
 pub use flat_fold::{closure_tolerance, flat_folded, FlatFolded, NotFlatFoldable, PlaneMotion};
 pub use intersect::{self_intersections, Crossing};
-pub use layers::{layer_order, layer_order_within, LayerConflict, LayerError, LayerOrder};
+pub use layers::{
+    layer_conflict, layer_order, layer_order_within, LayerConflict, LayerError, LayerOrder,
+};
 pub use layout::{layout, LayoutError, Media, Sheet, Sizing};
 pub use lines::{crease_lines, CreaseLine, LineKind};
 pub use route::route;

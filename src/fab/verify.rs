@@ -280,7 +280,7 @@ pub fn verify_within(
     let bounds = tol.rounding.then(|| RoundingBounds::new(mesh)).flatten();
     let precision = bounds.as_ref().map_or(0.0, |b| b.precision);
     let mut families = Vec::new();
-    for &family in &set.families {
+    for &family in set.families.iter().filter(|&&f| f != Family::LayerOrder) {
         let values: Vec<(f64, Element)> = rows
             .residuals
             .iter()
@@ -326,12 +326,19 @@ pub fn verify_within(
     // too, but reported, not gating: it folds to its own form (the self-intersection row
     // judges that), and its flat state is a property the maker should know of, not a bar
     // to cutting it.
-    let wants_flat = conditions.is_none() || set.families.contains(&Family::FlatFoldability);
+    let asked = set.families.contains(&Family::LayerOrder);
+    let wants_flat =
+        conditions.is_none() || asked || set.families.contains(&Family::FlatFoldability);
     let mut notes = Vec::new();
     if wants_flat {
+        // Named among the conditions, the order gates a freeform design too.
         let freeform = mesh.has_3d() && !lies_in_a_plane(mesh);
-        let report = layer_order_report(mesh, budget, freeform);
-        if let Some(r) = report.as_ref().filter(|r| freeform && r.violations > 0) {
+        let only_reported = freeform && !asked;
+        let report = layer_order_report(mesh, budget, freeform, only_reported);
+        if let Some(r) = report
+            .as_ref()
+            .filter(|r| only_reported && r.violations > 0)
+        {
             notes.push(format!(
                 "this design folds to its 3D form but its crease pattern cannot fold flat: {}",
                 r.violators.join("; ")
@@ -402,7 +409,12 @@ const FREEFORM_LIVE: std::time::Duration = std::time::Duration::from_millis(150)
 /// Layer order of the flat-folded state ([`super::layers`]), judged when every crease
 /// folds to ±π and the faces close up around every vertex (else the local conditions
 /// already say why it cannot fold flat): one row, failing with the faces in conflict.
-fn layer_order_report(mesh: &Mesh, budget: &Budget, freeform: bool) -> Option<FamilyReport> {
+fn layer_order_report(
+    mesh: &Mesh,
+    budget: &Budget,
+    freeform: bool,
+    only_reported: bool,
+) -> Option<FamilyReport> {
     use super::layers::{layer_order_within, LayerError, LayerOrder};
     let folded = super::flat_folded(mesh, None).ok()?;
     let closes = folded.closes(super::closure_tolerance(
@@ -440,7 +452,7 @@ fn layer_order_report(mesh: &Mesh, budget: &Budget, freeform: bool) -> Option<Fa
             .map(|(at, given)| (at.min(now + FREEFORM_LIVE), given.min(FREEFORM_LIVE))),
         ..budget.clone()
     };
-    let budget = if freeform { &reported } else { budget };
+    let budget = if only_reported { &reported } else { budget };
     let mut report = match layer_order_within(mesh, budget) {
         Ok(LayerOrder::Found(orders)) => FamilyReport {
             rows: orders.len(),
@@ -469,7 +481,7 @@ fn layer_order_report(mesh: &Mesh, budget: &Budget, freeform: bool) -> Option<Fa
     if report.basis.is_empty() {
         report.basis = "one order of every overlapping pair of faces once folded flat, or the faces that admit none".into();
     }
-    if freeform {
+    if only_reported {
         report.gating = false;
         report.basis = format!(
             "{}; the crease pattern folded flat, reported: a freeform design folds to its own form",

@@ -14,7 +14,7 @@ pub use fabricate::{
 pub use fit::{BlockedBy, ConditionResidual, Distances, FitReport, FitStage, PlacementRecord};
 pub use path::{folding_path, PathCollision, PathReport, PATH_STEPS};
 
-use crate::constraints::{tracked_fold_angle, ConstraintSet, Reference};
+use crate::constraints::{tracked_fold_angle, ConstraintSet, Family, Reference};
 use crate::fab::{unfold, UnfoldError};
 use crate::mesh::{Assignment, Mesh, Vec3};
 use crate::solver::{
@@ -370,14 +370,53 @@ fn drag_phase(
     let total: usize = stages.iter().map(|s| s.steps).sum();
     let mut done = 0;
     let mut drags = Vec::new();
+    let keep_order = solver.conditions().families.contains(&Family::LayerOrder);
+    let mut check = |s: &Solver| keep_order.then(|| lost_layer_order(s)).flatten();
     for stage in stages {
-        drags.push(run_stage(solver, stage, radius, remesh, &mut || {
-            done += 1;
-            progress("drag", done, total)
-        })?);
+        drags.push(run_stage(
+            solver,
+            stage,
+            radius,
+            remesh,
+            &mut check,
+            &mut || {
+                done += 1;
+                progress("drag", done, total)
+            },
+        )?);
     }
     solver.polish(crate::solver::SAVED_TOLERANCE);
     Ok(drags)
+}
+
+/// Time one step's layer-order check may take before the step is let through undecided.
+const STEP_ORDER_TIME: std::time::Duration = std::time::Duration::from_secs(5);
+
+/// Why the solver's state has lost its layer order (`layer-order` among the conditions):
+/// its crease pattern, unfolded afresh (a design-mode step changes it), folded flat has
+/// none, or no longer closes, or it cannot be confirmed within [`STEP_ORDER_TIME`] and
+/// the default cap (a step is kept only when its order is known: proving that none
+/// exists can take the search far longer than finding one). `None` while it keeps one.
+fn lost_layer_order(solver: &Solver) -> Option<String> {
+    use crate::fab::{budget::Budget, layer_conflict, LayerError};
+    let mut now = solver.mesh().clone();
+    now.set_positions(solver.positions().to_vec());
+    if now.has_3d() {
+        let flat = unfold(&now).ok()?;
+        now.set_flat(flat);
+    }
+    let budget = Budget {
+        deadline: Some((std::time::Instant::now() + STEP_ORDER_TIME, STEP_ORDER_TIME)),
+        ..Budget::default()
+    };
+    match layer_conflict(&now, &budget) {
+        Ok(Some(c)) => Some(format!("the layer order would be lost: {c}")),
+        Ok(None) => None,
+        Err(e @ LayerError::Open { .. }) => {
+            Some(format!("the crease pattern would stop folding flat: {e}"))
+        }
+        Err(e) => Some(format!("its layer order could not be confirmed: {e}")),
+    }
 }
 
 /// The fold, as a fraction of each crease's target, a drag from the flat sheet starts

@@ -88,7 +88,17 @@ pub struct DragReport {
     pub collapses: usize,
     /// Flat creases flipped during the stage.
     pub flips: usize,
+    /// Why the stage stopped before its last step: a step that, even halved
+    /// [`KEEP_HALVINGS`] times, would lose what the caller keeps (the layer order).
+    pub refused: Option<String>,
 }
+
+/// Halvings of a drag step the caller's check refuses before the stage stops there.
+pub const KEEP_HALVINGS: usize = 4;
+
+/// A check on each drag step the conditions' rows cannot express (the layer order of the
+/// flat-folded state): `None` to keep the step, else why it is refused.
+pub type StepCheck<'a> = &'a mut dyn FnMut(&Solver) -> Option<String>;
 
 /// Adds to `wish` the motion of pulling vertex `v` by `share`, spread to the surface
 /// around it with the Gaussian weight exp(−|x_u − x_v|² / r²): a surface, not a single
@@ -167,12 +177,15 @@ pub fn pointer_step(
     })
 }
 
-/// Runs one stage. `progress` is called after every accepted step.
+/// Runs one stage. `progress` is called after every accepted step. A step `check`
+/// refuses is undone and tried at half the length, [`KEEP_HALVINGS`] times, before the
+/// stage stops with the reason ([`DragReport::refused`]).
 pub fn run_stage(
     solver: &mut Solver,
     stage: &Stage,
     radius: f64,
     remesh: Option<f64>,
+    check: StepCheck,
     progress: &mut dyn FnMut(),
 ) -> Result<DragReport, SolverError> {
     let mut stage = stage.clone();
@@ -192,7 +205,8 @@ pub fn run_stage(
         .iter()
         .map(|m| (target(m) - solver.positions()[m.vertex]).norm())
         .collect();
-    for k in 0..stage.steps {
+    let mut refused = None;
+    'steps: for k in 0..stage.steps {
         let n = solver.positions().len();
         let x = solver.positions().to_vec();
         let mut dx0 = vec![Vec3::zeros(); n];
@@ -200,7 +214,20 @@ pub fn run_stage(
             let share = (target(m) - x[m.vertex]) / (stage.steps - k) as f64;
             pull(&x, m.vertex, share, radius, &mut dx0);
         }
-        solver.step(&dx0)?;
+        let mut halvings = 0;
+        loop {
+            solver.step(&dx0)?;
+            let Some(why) = check(solver) else { break };
+            solver.restore(x.clone());
+            if halvings == KEEP_HALVINGS {
+                refused = Some(format!("step {} of {}: {why}", k + 1, stage.steps));
+                break 'steps;
+            }
+            halvings += 1;
+            for d in &mut dx0 {
+                *d *= 0.5;
+            }
+        }
         if let Some(threshold) = remesh {
             let dragged: Vec<usize> = stage.moves.iter().map(|m| m.vertex).collect();
             let outcome = solver.remesh(&dragged, threshold);
@@ -230,6 +257,7 @@ pub fn run_stage(
         distances,
         collapses,
         flips,
+        refused,
     })
 }
 

@@ -15,7 +15,7 @@ mod resist;
 
 pub use drag::{
     default_radius, mean_edge, pointer_step, pull, run_stage, DragReport, Move, PointerStep,
-    Script, ScriptFit, Stage, POINTER_STEP_CAP,
+    Script, ScriptFit, Stage, StepCheck, KEEP_HALVINGS, POINTER_STEP_CAP,
 };
 pub use error::{Blocker, SolverError};
 pub use fold::{fold_toward, FoldReport};

@@ -134,6 +134,21 @@ pub fn layer_order(mesh: &Mesh) -> Result<LayerOrder, LayerError> {
 /// deadline between steps, so a pattern with thousands of faces stacked on one point ends
 /// with [`LayerError::OverBudget`] instead of exhausting memory.
 pub fn layer_order_within(mesh: &Mesh, budget: &Budget) -> Result<LayerOrder, LayerError> {
+    decide(mesh, budget, true)
+}
+
+/// Whether `mesh`'s flat-folded state has a layer order, within `budget`: `None` when it
+/// has, else the faces of a group of overlapping pairs that has none (not shrunk to a
+/// smallest set, which costs a solve per face: this is the check a drag step is held to).
+pub fn layer_conflict(mesh: &Mesh, budget: &Budget) -> Result<Option<LayerConflict>, LayerError> {
+    Ok(match decide(mesh, budget, false)? {
+        LayerOrder::Found(_) => None,
+        LayerOrder::Conflict(c) => Some(c),
+    })
+}
+
+/// The order, or a conflict (shrunk to a smallest set of faces when `shrink`).
+fn decide(mesh: &Mesh, budget: &Budget, shrink: bool) -> Result<LayerOrder, LayerError> {
     let folded = super::flat_folded(mesh, None)?;
     let cp = mesh.flat().ok_or(super::NotFlatFoldable::NoCreasePattern)?;
     let tolerance = super::closure_tolerance(cp, mesh.coordinate_precision);
@@ -157,7 +172,11 @@ pub fn layer_order_within(mesh: &Mesh, budget: &Budget) -> Result<LayerOrder, La
     match problem.solve(None, budget)? {
         Ok(values) => Ok(LayerOrder::Found(problem.face_orders(&values))),
         Err(group) => {
-            let pieces = problem.smallest_conflict(group, budget)?;
+            let pieces = if shrink {
+                problem.smallest_conflict(group, budget)?
+            } else {
+                group
+            };
             Ok(LayerOrder::Conflict(problem.conflict(&pieces)))
         }
     }
