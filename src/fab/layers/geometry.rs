@@ -75,39 +75,78 @@ pub(super) fn collinear_overlap(p: Vec2, q: Vec2, r: Vec2, s: Vec2, eps: f64) ->
 
 /// Three triangles share a region of positive area.
 pub(super) fn common_overlap(a: &[Vec2; 3], b: &[Vec2; 3], c: &[Vec2; 3], eps: f64) -> bool {
-    let ab = clip(a.to_vec(), b);
-    let abc = clip(ab, c);
-    area(&abc) > eps * eps
+    let mut poly = Polygon::from(a);
+    poly.clip(b);
+    poly.clip(c);
+    poly.area() > eps * eps
 }
 
-/// Sutherland–Hodgman: the part of `poly` inside triangle `t`.
-fn clip(mut poly: Vec<Vec2>, t: &[Vec2; 3]) -> Vec<Vec2> {
-    let orient = (t[1] - t[0]).perp(&(t[2] - t[0])).signum();
-    for k in 0..3 {
-        let (a, b) = (t[k], t[(k + 1) % 3]);
-        let side = |x: Vec2| (b - a).perp(&(x - a)) * orient;
-        let input = std::mem::take(&mut poly);
-        for i in 0..input.len() {
-            let (p, q) = (input[i], input[(i + 1) % input.len()]);
-            let (sp, sq) = (side(p), side(q));
-            if sp >= 0.0 {
-                poly.push(p);
-            }
-            if (sp >= 0.0) != (sq >= 0.0) {
-                poly.push(p + (q - p) * (sp / (sp - sq)));
-            }
-        }
-        if poly.is_empty() {
-            break;
+/// A convex polygon of at most twelve corners, on the stack: a triangle clipped by two
+/// triangles has at most nine, and this runs once per candidate triple. Two buffers, read
+/// from one and written to the other, so a clip copies nothing.
+struct Polygon {
+    buffers: [[Vec2; 12]; 2],
+    current: usize,
+    len: usize,
+}
+
+impl Polygon {
+    fn from(t: &[Vec2; 3]) -> Polygon {
+        let mut buffers = [[Vec2::zeros(); 12]; 2];
+        buffers[0][..3].copy_from_slice(t);
+        Polygon {
+            buffers,
+            current: 0,
+            len: 3,
         }
     }
-    poly
-}
 
-fn area(poly: &[Vec2]) -> f64 {
-    (0..poly.len())
-        .map(|i| poly[i].perp(&poly[(i + 1) % poly.len()]))
-        .sum::<f64>()
-        .abs()
-        / 2.0
+    /// Sutherland–Hodgman: keeps the part inside triangle `t`.
+    fn clip(&mut self, t: &[Vec2; 3]) {
+        let orient = (t[1] - t[0]).perp(&(t[2] - t[0])).signum();
+        for k in 0..3 {
+            if self.len == 0 {
+                return;
+            }
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            let side = |x: Vec2| (b - a).perp(&(x - a)) * orient;
+            let (n, from) = (self.len, self.current);
+            let [first, second] = &mut self.buffers;
+            let (input, output) = if from == 0 {
+                (&*first, second)
+            } else {
+                (&*second, first)
+            };
+            let mut len = 0;
+            let mut push = |p: Vec2| {
+                // Convex clipping adds at most one corner per cut; a degenerate input must
+                // still not write past the end.
+                if len < output.len() {
+                    output[len] = p;
+                    len += 1;
+                }
+            };
+            for i in 0..n {
+                let (p, q) = (input[i], input[(i + 1) % n]);
+                let (sp, sq) = (side(p), side(q));
+                if sp >= 0.0 {
+                    push(p);
+                }
+                if (sp >= 0.0) != (sq >= 0.0) {
+                    push(p + (q - p) * (sp / (sp - sq)));
+                }
+            }
+            self.len = len;
+            self.current = 1 - from;
+        }
+    }
+
+    fn area(&self) -> f64 {
+        let c = &self.buffers[self.current][..self.len];
+        (0..c.len())
+            .map(|i| c[i].perp(&c[(i + 1) % c.len()]))
+            .sum::<f64>()
+            .abs()
+            / 2.0
+    }
 }

@@ -27,6 +27,33 @@ use crate::mesh::{Assignment, Mesh, UnionFind, Vec2};
 use geometry::{collinear_overlap, common_overlap, crosses, overlap_depth};
 use search::Search;
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+
+/// Maps keyed by a pair of piece numbers, looked up for every triple the search visits:
+/// hashed by one multiply per word (FxHash's) instead of SipHash, which is built against
+/// hostile keys these are not and cost a third of the search.
+type PairMap<V> = HashMap<(usize, usize), V, BuildHasherDefault<PairHasher>>;
+
+/// FxHash (rustc's): rotate, xor, multiply by a large odd constant.
+#[derive(Default)]
+struct PairHasher(u64);
+
+impl Hasher for PairHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(u64::from(b));
+        }
+    }
+    fn write_u64(&mut self, word: u64) {
+        self.0 = (self.0.rotate_left(5) ^ word).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+    fn write_usize(&mut self, word: usize) {
+        self.write_u64(word as u64);
+    }
+}
 
 /// Overlaps thinner than this fraction of the pattern's size are contact, not overlap.
 const OVERLAP_FRACTION: f64 = 1e-7;
@@ -238,7 +265,7 @@ pub(super) struct Problem {
     /// Overlapping pairs of faces in different pieces, with their overlap depth (mm).
     face_pairs: Vec<(usize, usize, f64)>,
     pub(super) pairs: Vec<(usize, usize)>,
-    index: HashMap<(usize, usize), usize>,
+    index: PairMap<usize>,
     /// Values the creases force: (variable, value).
     fixed: Vec<(usize, bool)>,
     pub(super) constraints: Vec<Constraint>,
@@ -309,8 +336,7 @@ impl Problem {
             .collect();
         pairs.sort_unstable();
         pairs.dedup();
-        let index: HashMap<(usize, usize), usize> =
-            pairs.iter().enumerate().map(|(i, &p)| (p, i)).collect();
+        let index: PairMap<usize> = pairs.iter().enumerate().map(|(i, &p)| (p, i)).collect();
         let cp = mesh
             .flat()
             .expect("a flat-folded state has a crease pattern");
@@ -454,35 +480,38 @@ impl Problem {
     /// Each triple a < b < c is found once, from the pair (a, b) and a piece c that
     /// overlaps both, and kept in [`Problem::thirds`].
     fn add_transitivity(&mut self, tri: &[[Vec2; 3]], budget: &Budget) -> Result<(), OverBudget> {
-        let pieces = self.members.len();
-        let mut overlapping: Vec<Vec<usize>> = vec![Vec::new(); pieces];
-        for &(x, y) in &self.pairs {
-            overlapping[x].push(y);
-            overlapping[y].push(x);
+        // Per piece, the pieces it overlaps with the pair's variable, sorted by piece;
+        // per variable, its pairs of overlapping faces (lower piece's face first). Indexed,
+        // not hashed: the loop below runs once per candidate triple.
+        let mut overlapping: Vec<Vec<(usize, usize)>> = vec![Vec::new(); self.members.len()];
+        for (var, &(x, y)) in self.pairs.iter().enumerate() {
+            overlapping[x].push((y, var));
+            overlapping[y].push((x, var));
         }
         for list in &mut overlapping {
             list.sort_unstable();
         }
-        // Faces of piece x that overlap piece y, per pair variable.
-        let mut touching: HashMap<(usize, usize), Vec<(usize, usize)>> = HashMap::new();
+        let mut touching: Vec<Vec<(usize, usize)>> = vec![Vec::new(); self.pairs.len()];
         for &(f, g, _) in &self.face_pairs {
             let (p, q) = (self.piece_of[f], self.piece_of[g]);
-            let key = (p.min(q), p.max(q));
-            touching
-                .entry(key)
-                .or_default()
-                .push(if p < q { (f, g) } else { (g, f) });
+            let var = self.index[&(p.min(q), p.max(q))];
+            touching[var].push(if p < q { (f, g) } else { (g, f) });
         }
         let mut thirds: Vec<Vec<u32>> = vec![Vec::new(); self.pairs.len()];
         let mut triples = 0usize;
-        for (var, &(a, b)) in self.pairs.iter().enumerate() {
-            if var.is_multiple_of(256) {
+        for (ab, &(a, b)) in self.pairs.iter().enumerate() {
+            if ab.is_multiple_of(256) {
                 budget.check()?;
             }
             let (la, lb) = (&overlapping[a], &overlapping[b]);
-            let (mut i, mut j) = (0, 0);
+            // Only pieces c > b: each triple once, from its two lowest pieces.
+            let (mut i, mut j) = (
+                la.partition_point(|x| x.0 <= b),
+                lb.partition_point(|x| x.0 <= b),
+            );
             while i < la.len() && j < lb.len() {
-                let c = match la[i].cmp(&lb[j]) {
+                let ((c, ac), (c2, bc)) = (la[i], lb[j]);
+                match c.cmp(&c2) {
                     std::cmp::Ordering::Less => {
                         i += 1;
                         continue;
@@ -491,27 +520,21 @@ impl Problem {
                         j += 1;
                         continue;
                     }
-                    std::cmp::Ordering::Equal => la[i],
-                };
+                    std::cmp::Ordering::Equal => {}
+                }
                 i += 1;
                 j += 1;
-                if c <= b {
-                    continue;
-                }
-                let ab = &touching[&(a, b)];
-                let ac = &touching[&(a, c)];
-                let shares = ab.iter().any(|&(fa, fb)| {
-                    ac.iter().any(|&(fa2, fc)| {
+                let shares = touching[ab].iter().any(|&(fa, fb)| {
+                    touching[ac].iter().any(|&(fa2, fc)| {
                         fa2 == fa && common_overlap(&tri[fa], &tri[fb], &tri[fc], self.eps)
                     })
                 });
                 if !shares {
                     continue;
                 }
-                let var = |x: usize, y: usize| self.index[&(x, y)];
-                thirds[var(a, b)].push(c as u32);
-                thirds[var(a, c)].push(b as u32);
-                thirds[var(b, c)].push(a as u32);
+                thirds[ab].push(c as u32);
+                thirds[ac].push(b as u32);
+                thirds[bc].push(a as u32);
                 triples += 1;
                 // Each triple counts as one constraint against the cap: it is twelve bytes
                 // here, but it costs a clipping to find and a check at every decision.
