@@ -1,7 +1,11 @@
 //! Why a solve failed, and which condition stopped it.
 
-use super::LinearError;
 use crate::constraints::Family;
+
+/// Why a linear solve failed (the factorisation in `linear`, or the ordering before it).
+#[derive(Debug, thiserror::Error)]
+#[error("the normal equations J Jᵀ could not be factorised: {0}")]
+pub struct LinearError(pub(super) String);
 
 /// Why a solve failed.
 #[derive(Debug, thiserror::Error)]

@@ -5,6 +5,7 @@
 //! inequalities rarely changes between steps). Conjugate gradient on J Jᵀ squares J's
 //! condition number and stalls near the flat state, which is where every design starts.
 
+use super::error::LinearError;
 use super::ordering::{nested_dissection, NESTED_DISSECTION_ROWS};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::perm::PermRef;
@@ -108,11 +109,6 @@ pub struct NormalSolver {
     /// ([`NESTED_DISSECTION_ROWS`]; lowered by tests to reach that path on small systems).
     nested_dissection_rows: usize,
 }
-
-/// Why a linear solve failed.
-#[derive(Debug, thiserror::Error)]
-#[error("the normal equations J Jᵀ could not be factorised: {0}")]
-pub struct LinearError(pub(super) String);
 
 impl Default for NormalSolver {
     fn default() -> Self {

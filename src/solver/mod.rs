@@ -17,9 +17,9 @@ pub use drag::{
     default_radius, mean_edge, pointer_step, pull, run_stage, DragReport, Move, PointerStep,
     Script, ScriptFit, Stage, StepCheck, KEEP_HALVINGS, POINTER_STEP_CAP,
 };
-pub use error::{Blocker, SolverError};
+pub use error::{Blocker, LinearError, SolverError};
 pub use fold::{fold_toward, FoldReport};
-pub use linear::{LinearError, NormalSolver};
+pub use linear::NormalSolver;
 pub use mode::Mode;
 pub use remesh::{collapse_edge, flip_edge, Change, Refusal, RemeshOutcome};
 pub use resist::Resistance;

@@ -3,7 +3,7 @@
 //! separators suit a mesh-shaped graph once it is big enough for the separators to be
 //! thin compared with the parts they split.
 
-use super::linear::LinearError;
+use super::error::LinearError;
 
 /// J Jᵀ with at least this many rows is ordered by METIS instead of AMD. Measured on the
 /// Miura benchmark (one core): at 29,009 active rows METIS's factor holds 6.7 million
