@@ -185,7 +185,7 @@ fn mountain_and_valley_read_apart_on_every_crease_however_short() {
         for s in strokes {
             match s.kind {
                 LineKind::Mountain => {
-                    let long = s.length() >= valley + crease::fab::score::DISTINCT_MM - 1e-6;
+                    let long = s.length() >= valley + crease::fab::toolpath::DISTINCT_MM - 1e-6;
                     pairs += usize::from(!long);
                     assert!(
                         long || in_pair(s),

@@ -2,7 +2,7 @@
 //! another crease's dash, where the slit between them would be a sliver that tears.
 
 use super::layout::Sheet;
-use super::score::{short_marks, ScoreSettings, Stroke};
+use super::toolpath::{short_marks, ScoreSettings, Stroke};
 use crate::mesh::Vec2;
 
 /// The stretch `(lo, hi)` of the segment `p + t·u`, `t` in `[0, len]`, that lies closer

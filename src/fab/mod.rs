@@ -12,6 +12,7 @@ pub mod registration;
 pub mod rounding;
 pub mod route;
 pub mod score;
+pub mod toolpath;
 pub mod unfold;
 pub mod verify;
 
@@ -25,6 +26,7 @@ pub use layout::{layout, LayoutError, Media, Sheet, Sizing};
 pub use lines::{crease_lines, CreaseLine, LineKind};
 pub use route::route;
 
-pub use score::{score, score_lines, DashCode, ScoreSettings, ShortFolds, Stroke, Toolpath};
+pub use score::{score, score_lines};
+pub use toolpath::{dashes, DashCode, ScoreSettings, ShortFolds, Stroke, Toolpath};
 pub use unfold::{check_overlap, unfold, UnfoldError};
 pub use verify::{verify, verify_within, FamilyReport, Report, Tolerances};

@@ -6,7 +6,7 @@
 //! moves that join an end to one of its nearest ends.
 
 use super::lines::LineKind;
-use super::score::Stroke;
+use super::toolpath::Stroke;
 use crate::mesh::Vec2;
 use crate::output::ToolSetting;
 use std::collections::{BTreeMap, HashMap};

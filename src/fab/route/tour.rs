@@ -5,7 +5,7 @@
 //! stroke costs what the caller says: the way home, the way on to the next tool's
 //! strokes, or nothing.
 
-use super::super::score::Stroke;
+use super::super::toolpath::Stroke;
 use crate::mesh::Vec2;
 use std::collections::HashMap;
 
