@@ -1,7 +1,7 @@
 //! What a fabrication run tells the maker: the figures of its jobs, `report.json`'s sheet
 //! section, the summary printed by `fab` and on the PDF, and the PDF itself.
 
-use super::fabricate::{FabOptions, TILE_OVERLAP_MM};
+use super::fab_options::{FabOptions, TILE_OVERLAP_MM};
 use crate::fab::{Media, Sheet, ShortFolds, Toolpath};
 use crate::plotter::Machine;
 use std::collections::BTreeMap;

@@ -1,37 +1,10 @@
 //! Fabrication: verify → unfold → lay out → score → route → SVG, PDF, HP-GL, report.
 
+use super::fab_options::{FabOptions, TILE_OVERLAP_MM};
 use super::fab_report::Run;
 use crate::fab::unfold;
 use crate::mesh::Mesh;
 use std::collections::BTreeMap;
-
-/// Options of a fabrication run.
-#[derive(Clone, Debug, Default)]
-pub struct FabOptions {
-    /// Media; default the machine's.
-    pub media: Option<crate::fab::Media>,
-    /// Scale the pattern so the laid-out sheet is this wide (mm).
-    pub width: Option<f64>,
-    /// Scale the pattern to the largest size the media takes within its margins.
-    pub fit: bool,
-    /// Margin kept free on every side (mm); default the machine's.
-    pub margin: Option<f64>,
-    /// Fabricate even if verification fails.
-    pub force: bool,
-    /// Score mountains from the back: a second, mirrored job.
-    pub mountains_from_back: bool,
-    /// When the pattern does not fit the media, split the PDF over pages instead of
-    /// refusing (no cutter job is written then).
-    pub tile: bool,
-}
-
-/// Narrowest sheet `--width` may ask for, mm: a cutter's step is 0.025–0.05 mm, and a
-/// pattern much smaller than this leaves strokes that round to nothing (the lower end of
-/// [`crate::limits::SHEET_WIDTH`]).
-pub const MIN_WIDTH_MM: f64 = crate::limits::SHEET_WIDTH.min;
-
-/// Overlap between tiled PDF pages (mm).
-pub const TILE_OVERLAP_MM: f64 = 10.0;
 
 /// Everything a fabrication run produced, ready to write.
 pub struct FabOutput {

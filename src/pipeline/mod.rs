@@ -2,15 +2,14 @@
 //! both run exactly the same thing: folding a pattern, running a design script
 //! (this file), and fabricating a design ([`fabricate`]).
 
+mod fab_options;
 mod fab_report;
 mod fabricate;
 mod fit;
 mod path;
 
-pub use fabricate::{
-    fabricate, remove_stale_outputs, FabError, FabOptions, FabOutput, Rejected, MIN_WIDTH_MM,
-    OUTPUT_FILES, TILE_OVERLAP_MM,
-};
+pub use fab_options::{FabOptions, MIN_WIDTH_MM, TILE_OVERLAP_MM};
+pub use fabricate::{fabricate, remove_stale_outputs, FabError, FabOutput, Rejected, OUTPUT_FILES};
 pub use fit::{BlockedBy, ConditionResidual, Distances, FitReport, FitStage, PlacementRecord};
 pub use path::{folding_path, PathCollision, PathReport, PATH_STEPS};
 

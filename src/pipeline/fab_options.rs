@@ -1,0 +1,31 @@
+//! What a fabrication run is asked (media, size, sides, tiling) and the sheet constants it
+//! keeps: read by the run (`fabricate`) and by its report (`fab_report`), which therefore
+//! import this and not each other.
+
+/// Options of a fabrication run.
+#[derive(Clone, Debug, Default)]
+pub struct FabOptions {
+    /// Media; default the machine's.
+    pub media: Option<crate::fab::Media>,
+    /// Scale the pattern so the laid-out sheet is this wide (mm).
+    pub width: Option<f64>,
+    /// Scale the pattern to the largest size the media takes within its margins.
+    pub fit: bool,
+    /// Margin kept free on every side (mm); default the machine's.
+    pub margin: Option<f64>,
+    /// Fabricate even if verification fails.
+    pub force: bool,
+    /// Score mountains from the back: a second, mirrored job.
+    pub mountains_from_back: bool,
+    /// When the pattern does not fit the media, split the PDF over pages instead of
+    /// refusing (no cutter job is written then).
+    pub tile: bool,
+}
+
+/// Narrowest sheet `--width` may ask for, mm: a cutter's step is 0.025–0.05 mm, and a
+/// pattern much smaller than this leaves strokes that round to nothing (the lower end of
+/// [`crate::limits::SHEET_WIDTH`]).
+pub const MIN_WIDTH_MM: f64 = crate::limits::SHEET_WIDTH.min;
+
+/// Overlap between tiled PDF pages (mm).
+pub const TILE_OVERLAP_MM: f64 = 10.0;
