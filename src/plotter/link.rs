@@ -7,8 +7,8 @@
 //! is matched to the oldest mark still out and moves `drawn` on. That is how the journal
 //! learns what is on paper while the buffer stays full.
 
-use super::stream::{StreamError, BAUD_RATES};
-use super::{FlowMode, Language, StreamOptions};
+use super::line::{FlowMode, StreamError, StreamOptions, BAUD_RATES};
+use super::Language;
 use serialport::{FlowControl, SerialPort, TTYPort};
 use std::collections::VecDeque;
 use std::io::{ErrorKind, Read, Write};

@@ -3,6 +3,7 @@
 
 pub mod emulator;
 mod journal;
+mod line;
 mod link;
 pub mod machine;
 mod session;

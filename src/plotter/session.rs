@@ -2,8 +2,8 @@
 //! and where a resumed job continues (see [`super::stream`] for the protocol).
 
 use super::journal::{save_journal, tool_state, Command, Journal};
+use super::line::{FlowMode, Progress, StreamError, StreamOptions};
 use super::link::Link;
-use super::stream::{FlowMode, Progress, StreamError, StreamOptions};
 use super::Language;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
