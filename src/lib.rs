@@ -18,3 +18,115 @@ pub mod plotter;
 pub mod solver;
 pub mod studio;
 pub mod surface;
+
+#[cfg(test)]
+mod architecture {
+    //! The import graph drawn from the files' own `use crate::` and `use super::` lines
+    //! (tests left out): no two files of the library may import each other, directly or
+    //! round a loop (ARCHITECTURE.md).
+
+    use std::collections::{BTreeMap, BTreeSet};
+    use std::path::Path;
+
+    /// Module path of a source file: `src/fab/layers/mod.rs` → `fab::layers`.
+    fn module_of(rel: &Path) -> Vec<String> {
+        let mut parts: Vec<String> = rel
+            .with_extension("")
+            .iter()
+            .map(|p| p.to_string_lossy().into_owned())
+            .collect();
+        if matches!(
+            parts.last().map(String::as_str),
+            Some("mod" | "lib" | "main")
+        ) {
+            parts.pop();
+        }
+        parts
+    }
+
+    fn sources(dir: &Path, root: &Path, out: &mut BTreeMap<Vec<String>, String>) {
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                sources(&path, root, out);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                let text = std::fs::read_to_string(&path).unwrap();
+                let body = text.split("#[cfg(test)]").next().unwrap_or("").to_string();
+                out.insert(module_of(path.strip_prefix(root).unwrap()), body);
+            }
+        }
+    }
+
+    /// Each file's imports of other files, resolved to the longest module path named.
+    fn graph() -> BTreeMap<Vec<String>, BTreeSet<Vec<String>>> {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+        let mut files = BTreeMap::new();
+        sources(&root, &root, &mut files);
+        let mut edges = BTreeMap::new();
+        for (me, text) in &files {
+            let mut deps = BTreeSet::new();
+            for line in text.lines().map(str::trim_start) {
+                let line = line.strip_prefix("pub ").unwrap_or(line);
+                let Some(path) = line.strip_prefix("use ") else {
+                    continue;
+                };
+                let path = path.split(['{', ';', ' ']).next().unwrap_or("");
+                let mut segments: Vec<&str> = path.split("::").filter(|s| !s.is_empty()).collect();
+                let mut full: Vec<String> = match segments.first() {
+                    Some(&"crate") => Vec::new(),
+                    Some(&"super") => me[..me.len().saturating_sub(1)].to_vec(),
+                    _ => continue,
+                };
+                segments.remove(0);
+                for s in segments {
+                    if s == "super" {
+                        full.pop();
+                    } else {
+                        full.push(s.to_string());
+                    }
+                }
+                while !full.is_empty() {
+                    if files.contains_key(&full) {
+                        if &full != me {
+                            deps.insert(full.clone());
+                        }
+                        break;
+                    }
+                    full.pop();
+                }
+            }
+            edges.insert(me.clone(), deps);
+        }
+        edges
+    }
+
+    #[test]
+    fn no_file_of_the_library_imports_another_that_imports_it_back() {
+        let edges = graph();
+        assert!(edges.len() > 100, "read {} files", edges.len());
+        // Every file reachable from each file; a loop is a file reaching itself.
+        let mut loops = Vec::new();
+        for start in edges.keys() {
+            let mut seen = BTreeSet::new();
+            let mut stack: Vec<&Vec<String>> = edges[start].iter().collect();
+            while let Some(m) = stack.pop() {
+                if m == start {
+                    loops.push(start.join("::"));
+                    break;
+                }
+                if seen.insert(m) {
+                    stack.extend(edges.get(m).into_iter().flatten());
+                }
+            }
+        }
+        assert!(loops.is_empty(), "files in an import cycle: {loops:?}");
+    }
+
+    #[test]
+    fn the_graph_reader_sees_a_known_import() {
+        let edges = graph();
+        let score = vec!["fab".to_string(), "score".to_string()];
+        let toolpath = vec!["fab".to_string(), "toolpath".to_string()];
+        assert!(edges[&score].contains(&toolpath), "{:?}", edges[&score]);
+    }
+}
