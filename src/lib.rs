@@ -21,9 +21,9 @@ pub mod surface;
 
 #[cfg(test)]
 mod architecture {
-    //! The import graph drawn from the files' own `use crate::` and `use super::` lines
-    //! (tests left out): no two files of the library may import each other, directly or
-    //! round a loop (ARCHITECTURE.md).
+    //! The import graph drawn from the files' own `crate::` and `super::` paths, in `use`
+    //! lines and written inline (tests and comments left out): no two files of the library
+    //! may import each other, directly or round a loop (ARCHITECTURE.md).
 
     use std::collections::{BTreeMap, BTreeSet};
     use std::path::Path;
@@ -57,7 +57,27 @@ mod architecture {
         }
     }
 
-    /// Each file's imports of other files, resolved to the longest module path named.
+    /// Every `crate::…` or `super::…` path on a line of code (in a `use` or written out
+    /// inline, as `super::angles::FoldAngles::new`).
+    fn paths_in(line: &str) -> Vec<&str> {
+        let mut found = Vec::new();
+        for start in ["crate::", "super::"] {
+            for (i, _) in line.match_indices(start) {
+                let before = line[..i].chars().next_back();
+                if before.is_some_and(|c| c.is_alphanumeric() || c == '_' || c == ':') {
+                    continue;
+                }
+                let end = line[i..]
+                    .find(|c: char| !(c.is_alphanumeric() || c == '_' || c == ':'))
+                    .map_or(line.len(), |k| i + k);
+                found.push(&line[i..end]);
+            }
+        }
+        found
+    }
+
+    /// Each file's references to other files (`use` lines and paths written inline),
+    /// resolved to the longest module path named.
     fn graph() -> BTreeMap<Vec<String>, BTreeSet<Vec<String>>> {
         let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
         let mut files = BTreeMap::new();
@@ -65,34 +85,34 @@ mod architecture {
         let mut edges = BTreeMap::new();
         for (me, text) in &files {
             let mut deps = BTreeSet::new();
-            for line in text.lines().map(str::trim_start) {
-                let line = line.strip_prefix("pub ").unwrap_or(line);
-                let Some(path) = line.strip_prefix("use ") else {
-                    continue;
-                };
-                let path = path.split(['{', ';', ' ']).next().unwrap_or("");
-                let mut segments: Vec<&str> = path.split("::").filter(|s| !s.is_empty()).collect();
-                let mut full: Vec<String> = match segments.first() {
-                    Some(&"crate") => Vec::new(),
-                    Some(&"super") => me[..me.len().saturating_sub(1)].to_vec(),
-                    _ => continue,
-                };
-                segments.remove(0);
-                for s in segments {
-                    if s == "super" {
-                        full.pop();
-                    } else {
-                        full.push(s.to_string());
-                    }
-                }
-                while !full.is_empty() {
-                    if files.contains_key(&full) {
-                        if &full != me {
-                            deps.insert(full.clone());
+            let code = text
+                .lines()
+                .map(str::trim_start)
+                .filter(|l| !l.starts_with("//"));
+            for line in code {
+                for path in paths_in(line) {
+                    let mut segments = path.split("::").filter(|s| !s.is_empty());
+                    let mut full: Vec<String> = match segments.next() {
+                        Some("crate") => Vec::new(),
+                        Some("super") => me[..me.len().saturating_sub(1)].to_vec(),
+                        _ => continue,
+                    };
+                    for s in segments {
+                        if s == "super" {
+                            full.pop();
+                        } else {
+                            full.push(s.to_string());
                         }
-                        break;
                     }
-                    full.pop();
+                    while !full.is_empty() {
+                        if files.contains_key(&full) {
+                            if &full != me {
+                                deps.insert(full.clone());
+                            }
+                            break;
+                        }
+                        full.pop();
+                    }
                 }
             }
             edges.insert(me.clone(), deps);

@@ -363,3 +363,26 @@ pub fn twist_range(mesh: &Mesh, folds: &FoldAngles, x: &[Vec3], rows: &mut Rows)
         }
     }
 }
+
+/// Fold tracking lives beside the fold angles it reads, so `context` (which defines
+/// [`Reference`]) need not import this file.
+impl Reference {
+    /// Moves the branch reference to the fold angles at `x` (call after each accepted step,
+    /// §2: "the previous rotation angle value of each edge is stored for each frame").
+    pub fn track_folds(&mut self, mesh: &Mesh, x: &[Vec3]) {
+        let parallel = super::evaluate_in_parallel(mesh);
+        let normals = FaceNormals::new(mesh, x, parallel);
+        let folds = FoldAngles::new(mesh, self, &normals, x, parallel);
+        self.adopt_folds(&folds);
+    }
+
+    /// [`Reference::track_folds`] with the fold angles an evaluation at the accepted
+    /// positions already computed (the same numbers, not computed twice).
+    pub fn adopt_folds(&mut self, folds: &FoldAngles) {
+        for (e, previous) in self.previous_fold.iter_mut().enumerate() {
+            if let Some(rho) = folds.get(e) {
+                *previous = rho;
+            }
+        }
+    }
+}

@@ -76,25 +76,6 @@ impl Reference {
         }
     }
 
-    /// Moves the branch reference to the fold angles at `x` (call after each accepted step,
-    /// §2: "the previous rotation angle value of each edge is stored for each frame").
-    pub fn track_folds(&mut self, mesh: &Mesh, x: &[Vec3]) {
-        let parallel = super::evaluate_in_parallel(mesh);
-        let normals = super::angles::FaceNormals::new(mesh, x, parallel);
-        let folds = super::angles::FoldAngles::new(mesh, self, &normals, x, parallel);
-        self.adopt_folds(&folds);
-    }
-
-    /// [`Reference::track_folds`] with the fold angles an evaluation at the accepted
-    /// positions already computed (the same numbers, not computed twice).
-    pub fn adopt_folds(&mut self, folds: &super::angles::FoldAngles) {
-        for (e, previous) in self.previous_fold.iter_mut().enumerate() {
-            if let Some(rho) = folds.get(e) {
-                *previous = rho;
-            }
-        }
-    }
-
     /// Whether the assignment can fold flat at all: every interior vertex has an even
     /// number of folded creases.
     pub fn is_flat_foldable(&self) -> bool {

@@ -21,6 +21,14 @@ impl Mode {
         }
     }
 
+    /// "design" or "simulation": the name [`Mode::parse`] reads.
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::Design => "design",
+            Mode::Simulation => "simulation",
+        }
+    }
+
     /// The conditions of simulation mode: rigid panels (edge lengths) within their
     /// fold-angle and twist ranges.
     pub fn simulation_set() -> ConstraintSet {

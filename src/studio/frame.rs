@@ -288,7 +288,7 @@ pub fn live_json(l: &Live) -> String {
         positions,
         pinned: l.pinned,
         anchor: l.anchor,
-        mode: super::session::mode_name(l.mode),
+        mode: l.mode.name(),
         residuals,
         pass,
         worst,

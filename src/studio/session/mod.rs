@@ -526,7 +526,7 @@ impl Session {
             "vertices": positions.len(),
             "positions": positions,
             "pinned": self.design.pinned,
-            "mode": mode_name(self.design.mode),
+            "mode": self.design.mode.name(),
             "residuals": residuals,
             "pass": report.as_ref().map(Report::pass),
             "judged": report.is_some(),
@@ -551,12 +551,4 @@ impl Session {
 
 fn ok() -> Reply {
     Reply::Json(serde_json::json!({"ok": true}))
-}
-
-/// "design" or "simulation".
-pub fn mode_name(mode: Mode) -> &'static str {
-    match mode {
-        Mode::Design => "design",
-        Mode::Simulation => "simulation",
-    }
 }
