@@ -448,18 +448,9 @@ fn strip_files(first: &str, second: &str) -> Vec<std::path::PathBuf> {
 
 #[test]
 fn a_strip_whose_flaps_cross_each_others_hinges_fails_in_every_form_flat_3d_frames_included() {
-    let bin = env!("CARGO_BIN_EXE_crease");
-    let verify = |p: &std::path::Path| {
-        let out = std::process::Command::new(bin)
-            .args(["verify", p.to_str().unwrap(), "--json"])
-            .output()
-            .unwrap();
-        let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-        (out.status.code(), report)
-    };
     for file in strip_files("M", "M") {
-        let (code, report) = verify(&file);
-        assert_eq!(code, Some(1), "{}: {report}", file.display());
+        let (code, report) = verify_json(&file, &[]);
+        assert_eq!(code, 1, "{}: {report}", file.display());
         let layer = &report["families"]["layer-order"];
         assert_eq!(layer["violations"], 1, "{}: {report}", file.display());
         // Faces of both flaps are named (the middle panel's and the last one's; each
@@ -474,8 +465,8 @@ fn a_strip_whose_flaps_cross_each_others_hinges_fails_in_every_form_flat_3d_fram
         assert!(faces.iter().any(|&f| f == 4 || f == 5), "{worst}");
     }
     for file in strip_files("M", "V") {
-        let (code, report) = verify(&file);
-        assert_eq!(code, Some(0), "{}: {report}", file.display());
+        let (code, report) = verify_json(&file, &[]);
+        assert_eq!(code, 0, "{}: {report}", file.display());
         assert_eq!(report["families"]["layer-order"]["violations"], 0);
     }
 }
@@ -605,12 +596,19 @@ fn every_face_order_written_passes_an_independent_order_checker() {
     }
 }
 
+/// `crease verify FILE --json` with `extra` options: exit code and the whole report.
+fn verify_json(file: &Path, extra: &[&str]) -> (i32, serde_json::Value) {
+    let mut args = vec!["verify", file.to_str().unwrap(), "--json"];
+    args.extend_from_slice(extra);
+    let (code, out, err) = common::run_crease(&args);
+    let report =
+        serde_json::from_str(&out).unwrap_or_else(|_| panic!("{}: {out} {err}", file.display()));
+    (code, report)
+}
+
 /// `verify --json` of a `.cp` text: exit code and the layer-order row.
 fn verify_cp(name: &str, text: &str) -> (i32, serde_json::Value) {
-    let path = common::scratch_file("layers-cp", name, text);
-    let (code, out, err) = common::run_crease(&["verify", path.to_str().unwrap(), "--json"]);
-    let report: serde_json::Value =
-        serde_json::from_str(&out).unwrap_or_else(|_| panic!("{name}: {out} {err}"));
+    let (code, report) = verify_json(&common::scratch_file("layers-cp", name, text), &[]);
     (code, report["families"]["layer-order"].clone())
 }
 
@@ -732,9 +730,7 @@ fn radial_vertices_of_high_degree_get_a_verdict_from_crimps_not_a_hang() {
         cases.push((common::scratch_file("layers-radial", &name, &star(n)), code));
     }
     for (file, want) in cases {
-        let (code, out, err) = common::run_crease(&["verify", file.to_str().unwrap(), "--json"]);
-        let report: serde_json::Value =
-            serde_json::from_str(&out).unwrap_or_else(|_| panic!("{err}"));
+        let (code, report) = verify_json(&file, &[]);
         let layer = &report["families"]["layer-order"];
         assert_eq!(code, want, "{}: {layer}", file.display());
         if want == 1 {
@@ -795,9 +791,8 @@ fn every_bundled_design_gets_its_layer_order_verdict() {
     );
     for &(name, want) in expected {
         let path = root.join(format!("patterns/{name}.fold"));
-        let (code, out, err) = common::run_crease(&["verify", path.to_str().unwrap(), "--json"]);
-        assert_eq!(code, 0, "{name}: {err}");
-        let report: serde_json::Value = serde_json::from_str(&out).unwrap();
+        let (code, report) = verify_json(&path, &[]);
+        assert_eq!(code, 0, "{name}: {report}");
         let layer = report["families"].get("layer-order");
         match (want, layer) {
             (None, None) => {}
@@ -847,10 +842,7 @@ fn the_path_from_flat_is_clear_for_the_folded_waterbomb_and_names_where_two_flap
         )
     };
     let path_of = |file: &Path| {
-        let (code, out, err) =
-            common::run_crease(&["verify", file.to_str().unwrap(), "--path", "--json"]);
-        let report: serde_json::Value =
-            serde_json::from_str(&out).unwrap_or_else(|_| panic!("{err}"));
+        let (code, report) = verify_json(file, &["--path"]);
         (code, report["path"].clone())
     };
     let (code, path) = path_of(&common::scratch_file(
@@ -918,24 +910,15 @@ moves = [{{ vertex = 80, to = [80.0, 80.0, -30.0] }}]
         err.contains("stopped at step") && err.contains("layer order"),
         "{err}"
     );
-    let (code, report, err) = common::run_crease(&[
-        "verify",
-        out.to_str().unwrap(),
+    let with_order = [
         "--conditions",
         "developability,flat-foldability,layer-order",
-        "--json",
-    ]);
-    let report: serde_json::Value =
-        serde_json::from_str(&report).unwrap_or_else(|_| panic!("{err}"));
+    ];
+    let (code, report) = verify_json(&out, &with_order);
     assert_eq!(code, 0, "{}", report["families"]["layer-order"]);
     assert!(report["families"]["layer-order"]["rows"].as_u64().unwrap() > 0);
     // The same design judged with layer-order named: the curved one fails.
     let curved = root.join("patterns/waterbomb-curved.fold");
-    let (code, _, _) = common::run_crease(&[
-        "verify",
-        curved.to_str().unwrap(),
-        "--conditions",
-        "developability,flat-foldability,layer-order",
-    ]);
-    assert_eq!(code, 1);
+    let (code, report) = verify_json(&curved, &with_order);
+    assert_eq!(code, 1, "{}", report["families"]["layer-order"]);
 }

@@ -362,10 +362,25 @@ impl Problem {
             self_hinged: None,
             eps,
         };
-        let hinges = problem.add_hinges(mesh, folded, budget)?;
+        let neighbours = problem.neighbours();
+        let hinges = problem.add_hinges(mesh, folded, &neighbours, budget)?;
         problem.add_taco_taco(&hinges, budget)?;
-        problem.add_transitivity(tri, budget)?;
+        problem.add_transitivity(tri, &neighbours, budget)?;
         Ok(problem)
+    }
+
+    /// Per piece, the pieces it overlaps with the pair's variable, sorted by piece (what
+    /// the hinges and the transitivity both walk).
+    fn neighbours(&self) -> Vec<Vec<(usize, usize)>> {
+        let mut overlapping: Vec<Vec<(usize, usize)>> = vec![Vec::new(); self.members.len()];
+        for (var, &(x, y)) in self.pairs.iter().enumerate() {
+            overlapping[x].push((y, var));
+            overlapping[y].push((x, var));
+        }
+        for list in &mut overlapping {
+            list.sort_unstable();
+        }
+        overlapping
     }
 
     /// Adds a constraint, failing when the problem outgrows the budget (checked with the
@@ -388,6 +403,7 @@ impl Problem {
         &mut self,
         mesh: &Mesh,
         folded: &FlatFolded,
+        neighbours: &[Vec<(usize, usize)>],
         budget: &Budget,
     ) -> Result<Vec<Hinge>, OverBudget> {
         let topo = mesh.topology();
@@ -418,17 +434,12 @@ impl Problem {
                 inner[self.piece_of[a]].push(line);
             }
         }
-        let mut overlapping: Vec<Vec<usize>> = vec![Vec::new(); self.members.len()];
-        for &(x, y) in &self.pairs {
-            overlapping[x].push(y);
-            overlapping[y].push(x);
-        }
         let mut seen = std::collections::HashSet::new();
         for h in &hinges {
             budget.check()?;
             let (pa, pb) = h.pieces;
             let (p, q) = h.line;
-            for &c in overlapping[pa].iter().filter(|&&c| c != pb) {
+            for &(c, _) in neighbours[pa].iter().filter(|&&(c, _)| c != pb) {
                 let crosses_piece = self.members[c]
                     .iter()
                     .any(|&t| crosses(p, q, &folded.triangles[t], self.eps))
@@ -479,18 +490,14 @@ impl Problem {
     /// Transitivity: three pieces with a common overlap are not stacked in a cycle.
     /// Each triple a < b < c is found once, from the pair (a, b) and a piece c that
     /// overlaps both, and kept in [`Problem::thirds`].
-    fn add_transitivity(&mut self, tri: &[[Vec2; 3]], budget: &Budget) -> Result<(), OverBudget> {
-        // Per piece, the pieces it overlaps with the pair's variable, sorted by piece;
-        // per variable, its pairs of overlapping faces (lower piece's face first). Indexed,
+    fn add_transitivity(
+        &mut self,
+        tri: &[[Vec2; 3]],
+        overlapping: &[Vec<(usize, usize)>],
+        budget: &Budget,
+    ) -> Result<(), OverBudget> {
+        // Per variable, its pairs of overlapping faces (lower piece's face first). Indexed,
         // not hashed: the loop below runs once per candidate triple.
-        let mut overlapping: Vec<Vec<(usize, usize)>> = vec![Vec::new(); self.members.len()];
-        for (var, &(x, y)) in self.pairs.iter().enumerate() {
-            overlapping[x].push((y, var));
-            overlapping[y].push((x, var));
-        }
-        for list in &mut overlapping {
-            list.sort_unstable();
-        }
         let mut touching: Vec<Vec<(usize, usize)>> = vec![Vec::new(); self.pairs.len()];
         for &(f, g, _) in &self.face_pairs {
             let (p, q) = (self.piece_of[f], self.piece_of[g]);
