@@ -3,12 +3,12 @@
 
 mod common;
 
-use common::fabbing::{a3, distance_to_segment, patterns};
+use common::fabbing::{a3, designs_and_anchors, patterns, segment_distance};
 use crease::fab::{LineKind, Stroke};
 use crease::mesh::Vec2;
 use crease::pipeline::{fabricate, FabOptions};
 use crease::plotter::Machine;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 #[test]
 fn every_fold_is_scored_or_named_in_the_report() {
@@ -48,24 +48,6 @@ fn every_fold_is_scored_or_named_in_the_report() {
         named > 0,
         "no design has a fold too short to score: the test checks nothing"
     );
-}
-
-/// Closest distance between two segments in the plane (zero if they cross).
-fn segment_distance(a: &Stroke, b: &Stroke) -> f64 {
-    let cross = |o: Vec2, p: Vec2, q: Vec2| (p - o).perp(&(q - o));
-    let crosses = cross(a.from, a.to, b.from) * cross(a.from, a.to, b.to) < 0.0
-        && cross(b.from, b.to, a.from) * cross(b.from, b.to, a.to) < 0.0;
-    if crosses {
-        return 0.0;
-    }
-    [
-        distance_to_segment(a.from, b),
-        distance_to_segment(a.to, b),
-        distance_to_segment(b.from, a),
-        distance_to_segment(b.to, a),
-    ]
-    .into_iter()
-    .fold(f64::INFINITY, f64::min)
 }
 
 #[test]
@@ -132,21 +114,6 @@ fn no_dash_comes_within_the_clearance_of_the_cut_or_of_another_creases_dash() {
         pairs > 1000,
         "only {pairs} pairs near each other: the check checks nothing"
     );
-}
-
-/// Every bundled design and every anchor file.
-fn designs_and_anchors() -> Vec<PathBuf> {
-    let anchors = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
-    let mut designs = patterns();
-    for sub in ["fold", "origamisimulator"] {
-        for e in std::fs::read_dir(anchors.join(sub)).unwrap() {
-            let p = e.unwrap().path();
-            if matches!(p.extension().and_then(|e| e.to_str()), Some("fold" | "svg")) {
-                designs.push(p);
-            }
-        }
-    }
-    designs
 }
 
 #[test]

@@ -99,12 +99,54 @@ fn read_as_kind(d: &Stroke, mut pieces: Vec<(f64, f64)>, settings: &ScoreSetting
     out
 }
 
+/// A line's marks after trimming, each still reading as its kind: for the longer-dashed
+/// kind a mark shorter than its lone-dash floor reads right only beside its partner (the
+/// close pair [`short_marks`] lays), so one whose partner was trimmed away becomes a pair
+/// of its own thirds, or goes if they would be too short to cut.
+fn pair_lone_marks(marks: Vec<Stroke>, settings: &ScoreSettings) -> Vec<Stroke> {
+    let Some(floor) = marks.first().and_then(|m| settings.lone_dash_floor(m.kind)) else {
+        return marks;
+    };
+    let short = |m: &Stroke| m.length() < floor - 1e-9;
+    let partnered = |m: &Stroke| {
+        marks.iter().any(|o| {
+            o != m
+                && short(o)
+                && [o.from, o.to].iter().any(|p| {
+                    (p - m.from).norm().min((p - m.to).norm()) <= m.length().max(o.length()) + 1e-9
+                })
+        })
+    };
+    let mut out = Vec::with_capacity(marks.len());
+    for m in &marks {
+        if !short(m) || partnered(m) {
+            out.push(*m);
+            continue;
+        }
+        let len = m.length();
+        let u = (m.to - m.from) / len;
+        out.extend(
+            short_marks(len, floor, settings.min_dash)
+                .into_iter()
+                .map(|(s, e)| Stroke {
+                    from: m.from + u * s,
+                    to: m.from + u * e,
+                    ..*m
+                }),
+        );
+    }
+    out
+}
+
 /// Trims every dash so it keeps `clearance` from the cut, from solid creases and from the
 /// dashes of other creases, in the plane. Cuts and solid lines are never trimmed; among
 /// dashes the longer crease keeps its dashes and the shorter gives way, and what is left
 /// of a dash shorter than `min_dash` goes.
 pub fn keep_clear(strokes: Vec<Stroke>, sheet: &Sheet, settings: &ScoreSettings) -> Vec<Stroke> {
-    let c = settings.clearance;
+    if settings.clearance <= 0.0 || strokes.is_empty() {
+        return strokes;
+    }
+    let c = settings.clearance + settings.rounding_slack();
     if c <= 0.0 || strokes.is_empty() {
         return strokes;
     }
@@ -134,27 +176,37 @@ pub fn keep_clear(strokes: Vec<Stroke>, sheet: &Sheet, settings: &ScoreSettings)
     for s in fixed {
         add(s, &mut kept, &mut grid);
     }
-    for d in dashes {
-        let len = d.length();
-        if len <= 0.0 {
-            continue;
-        }
-        let u = (d.to - d.from) / len;
-        let (lo, hi) = (key(d.from.inf(&d.to)), key(d.from.sup(&d.to)));
-        let mut blocked: Vec<(f64, f64)> = Vec::new();
-        let mut seen = std::collections::HashSet::new();
-        for x in lo.0..=hi.0 {
-            for y in lo.1..=hi.1 {
-                for &k in grid.get(&(x, y)).into_iter().flatten() {
-                    let o = kept[k];
-                    if o.line == d.line || !seen.insert(k) {
-                        continue;
+    // A line's dashes are trimmed together (they are neighbours in `dashes`), so a mark
+    // left without its partner can be told from the rest of its line.
+    for line in dashes.chunk_by(|a, b| a.line == b.line) {
+        let mut marks = Vec::new();
+        for d in line {
+            let len = d.length();
+            if len <= 0.0 {
+                continue;
+            }
+            let u = (d.to - d.from) / len;
+            let (lo, hi) = (key(d.from.inf(&d.to)), key(d.from.sup(&d.to)));
+            let mut blocked: Vec<(f64, f64)> = Vec::new();
+            let mut seen = std::collections::HashSet::new();
+            for x in lo.0..=hi.0 {
+                for y in lo.1..=hi.1 {
+                    for &k in grid.get(&(x, y)).into_iter().flatten() {
+                        let o = kept[k];
+                        if o.line == d.line || !seen.insert(k) {
+                            continue;
+                        }
+                        blocked.extend(too_close(d.from, u, len, o.from, o.to, c));
                     }
-                    blocked.extend(too_close(d.from, u, len, o.from, o.to, c));
                 }
             }
+            marks.extend(read_as_kind(
+                d,
+                free_pieces(blocked, len, settings.min_dash),
+                settings,
+            ));
         }
-        for piece in read_as_kind(&d, free_pieces(blocked, len, settings.min_dash), settings) {
+        for piece in pair_lone_marks(marks, settings) {
             add(piece, &mut kept, &mut grid);
         }
     }

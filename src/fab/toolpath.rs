@@ -64,6 +64,10 @@ pub struct ScoreSettings {
     pub min_dash: f64,
     /// What folds too short for any dash get.
     pub short_folds: ShortFolds,
+    /// The grid the cutter's job rounds every point to (mm; 0 for a drawing kept exact).
+    /// Clearances are kept with [`ScoreSettings::rounding_slack`] to spare, so they still
+    /// hold in the job the machine receives.
+    pub step_mm: f64,
 }
 
 impl Default for ScoreSettings {
@@ -77,6 +81,7 @@ impl Default for ScoreSettings {
             clearance: 1.0,
             min_dash: 0.3,
             short_folds: ShortFolds::Nothing,
+            step_mm: 0.0,
         }
     }
 }
@@ -146,6 +151,14 @@ impl Toolpath {
 pub const DISTINCT_MM: f64 = 0.5;
 
 impl ScoreSettings {
+    /// How much closer two strokes can come once every end is rounded to its nearest grid
+    /// step: each end moves at most √2/2 step, so every point of a segment does too (a
+    /// segment's points are convex combinations of its ends), and the gap between two
+    /// segments shrinks by at most twice that.
+    pub fn rounding_slack(&self) -> f64 {
+        std::f64::consts::SQRT_2 * self.step_mm
+    }
+
     /// For the kind whose dashes are longest (mountains, by default): the shortest lone
     /// dash that still reads as that kind, the other kinds' longest dash plus
     /// [`DISTINCT_MM`]. `None` for other kinds, whose short dashes read as their own.

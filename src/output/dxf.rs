@@ -1,19 +1,21 @@
 //! DXF for laser cutters and CAD: AutoCAD R12 ASCII, the dialect every program reads.
 //! Millimetres, one LINE entity per stroke of the toolpath (a dash is its own segment:
-//! laser software draws a dashed line style solid), on layers CUT, MOUNTAIN and VALLEY
-//! with distinct colours, so each operation gets its own power and speed.
+//! laser software draws a dashed line style solid), on a layer per operation (CUT,
+//! MOUNTAIN, VALLEY, FLAT; only those the sheet has) in the colour every file gives it
+//! ([`super::colour`]), so each operation gets its own power and speed.
 
 use crate::fab::{LineKind, Toolpath};
 use std::fmt::Write as _;
 
-/// Layer name and AutoCAD colour index (1 red, 5 blue, 3 green) of a stroke kind.
+/// Layer name and AutoCAD colour index of a stroke kind.
 pub fn layer_of(kind: LineKind) -> (&'static str, u8) {
-    match kind {
-        LineKind::Cut => ("CUT", 1),
-        LineKind::Mountain => ("MOUNTAIN", 5),
-        LineKind::Valley => ("VALLEY", 3),
-        LineKind::Flat => ("FLAT", 8),
-    }
+    let name = match kind {
+        LineKind::Cut => "CUT",
+        LineKind::Mountain => "MOUNTAIN",
+        LineKind::Valley => "VALLEY",
+        LineKind::Flat => "FLAT",
+    };
+    (name, super::colour::aci(kind))
 }
 
 /// The toolpath as DXF R12 text. The toolpath's y grows upward from the media's lower
@@ -40,12 +42,16 @@ pub fn to_string(toolpath: &Toolpath) -> String {
     pair(2, "TABLES");
     pair(0, "TABLE");
     pair(2, "LAYER");
-    let kinds = [
+    // No empty layer: laser software lists each as an operation to set up.
+    let kinds: Vec<LineKind> = [
         LineKind::Cut,
         LineKind::Mountain,
         LineKind::Valley,
         LineKind::Flat,
-    ];
+    ]
+    .into_iter()
+    .filter(|&k| toolpath.strokes.iter().any(|s| s.kind == k))
+    .collect();
     pair(70, &kinds.len().to_string());
     for kind in kinds {
         let (name, colour) = layer_of(kind);

@@ -48,27 +48,14 @@ pub fn to_string(path: &Toolpath, settings: &GpglSettings) -> Result<String, Str
     // `at` in (x, y) steps, the order the sheet has; `order` turns it into the cutter's.
     let mut at = (0i64, 0i64);
     let mut tool: Option<LineKind> = None;
+    let mut current = ToolState::default();
     for (kind, points) in runs_in_cutting_order(path) {
         if tool != Some(kind) {
             let t = settings
                 .tools
                 .get(&kind)
                 .ok_or_else(|| format!("the machine has no tool for {} lines", kind.name()))?;
-            command(&mut out, &format!("J{}", t.pen));
-            if let Some(v) = t.speed {
-                command(
-                    &mut out,
-                    &format!("!{}", (v / 10.0).round().clamp(1.0, 30.0) as i64),
-                );
-            }
-            if let Some(f) = t.force {
-                command(
-                    &mut out,
-                    &format!("FX{}", f.round().clamp(1.0, 33.0) as i64),
-                );
-            }
-            let offset = (settings.blade_offset_mm * 20.0).round() as i64;
-            command(&mut out, &format!("FC{offset}"));
+            set_tool(&mut out, &mut current, t, settings.blade_offset_mm);
             tool = Some(kind);
         }
         let exact: Vec<(f64, f64)> = points
@@ -101,6 +88,47 @@ pub fn to_string(path: &Toolpath, settings: &GpglSettings) -> Result<String, Str
     Ok(out)
 }
 
+/// What the cutter has been told so far: each of the tool holder, speed, force and blade
+/// offset is sent when it changes, not at every change of line kind (mountains and
+/// valleys on one holder share their settings).
+#[derive(Default)]
+struct ToolState {
+    holder: Option<u32>,
+    speed: Option<i64>,
+    force: Option<i64>,
+    offset: Option<i64>,
+}
+
+fn set_tool(out: &mut String, current: &mut ToolState, t: &ToolSetting, blade_offset_mm: f64) {
+    let mut send = |text: String| {
+        out.push_str(&text);
+        out.push(ETX);
+    };
+    if current.holder != Some(t.pen) {
+        send(format!("J{}", t.pen));
+        current.holder = Some(t.pen);
+    }
+    if let Some(v) = t.speed {
+        let v = (v / 10.0).round().clamp(1.0, 30.0) as i64;
+        if current.speed != Some(v) {
+            send(format!("!{v}"));
+            current.speed = Some(v);
+        }
+    }
+    if let Some(f) = t.force {
+        let f = f.round().clamp(1.0, 33.0) as i64;
+        if current.force != Some(f) {
+            send(format!("FX{f}"));
+            current.force = Some(f);
+        }
+    }
+    let offset = (blade_offset_mm * 20.0).round() as i64;
+    if current.offset != Some(offset) {
+        send(format!("FC{offset}"));
+        current.offset = Some(offset);
+    }
+}
+
 /// The toolpath as runs of joined strokes of one kind, (kind, points), in the toolpath's
 /// cutting order: only strokes that follow each other join, so the job cuts as routed.
 fn runs_in_cutting_order(path: &Toolpath) -> Vec<(LineKind, Vec<crate::mesh::Vec2>)> {
@@ -118,58 +146,17 @@ fn runs_in_cutting_order(path: &Toolpath) -> Vec<(LineKind, Vec<crate::mesh::Vec
     runs
 }
 
-/// Snaps a run of points (in steps) to the step grid: each point to one of the four grid
-/// corners around it (so no point moves a step or more), chosen by dynamic programming so
-/// the largest error in any segment's length is smallest (then the points nearest). A
-/// dash is then as long as its code says to within a step, where rounding each end to its
-/// nearest step would allow √2 of one.
+/// Rounds a run of points (in steps) each to its nearest step, so every end lies within
+/// half a step of the toolpath's on each axis (snapping to minimise length errors instead
+/// moved ends up to a full step and opened closed outlines). A run that comes back to its
+/// start ends on the very step it started from, so the piece comes free.
 fn snap_chain(points: &[(f64, f64)]) -> Vec<(i64, i64)> {
-    let corners = |p: (f64, f64)| {
-        let (x0, x1) = (p.0.floor() as i64, p.0.ceil() as i64);
-        let (y0, y1) = (p.1.floor() as i64, p.1.ceil() as i64);
-        [(x0, y0), (x1, y0), (x0, y1), (x1, y1)]
-    };
-    let offset = |c: (i64, i64), p: (f64, f64)| (c.0 as f64 - p.0).hypot(c.1 as f64 - p.1);
-    // cost[k] = (largest length error so far, summed offsets) ending on corner k.
-    let first = corners(points[0]);
-    let mut cost: Vec<(f64, f64)> = first.iter().map(|&c| (0.0, offset(c, points[0]))).collect();
-    let mut back: Vec<[usize; 4]> = Vec::with_capacity(points.len());
-    let mut previous = first;
-    for w in points.windows(2) {
-        let (a, b) = (w[0], w[1]);
-        let want = (b.0 - a.0).hypot(b.1 - a.1);
-        let here = corners(b);
-        let mut next = [(f64::INFINITY, f64::INFINITY); 4];
-        let mut from = [0usize; 4];
-        for (k, &c) in here.iter().enumerate() {
-            for (j, &p) in previous.iter().enumerate() {
-                let got = ((c.0 - p.0) as f64).hypot((c.1 - p.1) as f64);
-                let candidate = (cost[j].0.max((got - want).abs()), cost[j].1 + offset(c, b));
-                if candidate.0 < next[k].0 - 1e-12
-                    || (candidate.0 <= next[k].0 + 1e-12 && candidate.1 < next[k].1)
-                {
-                    next[k] = candidate;
-                    from[k] = j;
-                }
-            }
-        }
-        back.push(from);
-        cost = next.to_vec();
-        previous = here;
-    }
-    let mut k = (0..4)
-        .min_by(|&i, &j| {
-            (cost[i].0, cost[i].1)
-                .partial_cmp(&(cost[j].0, cost[j].1))
-                .expect("finite costs")
-        })
-        .expect("four corners");
-    let mut snapped = vec![(0, 0); points.len()];
-    for i in (0..points.len()).rev() {
-        snapped[i] = corners(points[i])[k];
-        if i > 0 {
-            k = back[i - 1][k];
-        }
+    let nearest = |p: &(f64, f64)| (p.0.round() as i64, p.1.round() as i64);
+    let mut snapped: Vec<(i64, i64)> = points.iter().map(nearest).collect();
+    let (first, last) = (points[0], points[points.len() - 1]);
+    if points.len() > 2 && (first.0 - last.0).hypot(first.1 - last.1) < 1e-6 {
+        let n = snapped.len();
+        snapped[n - 1] = snapped[0];
     }
     snapped
 }

@@ -37,6 +37,9 @@ pub fn to_string(path: &Toolpath, settings: &HpglSettings) -> Result<String, Str
     let mut at = (0i64, 0i64);
     let mut tool: Option<LineKind> = None;
     let mut pen_down_open = false;
+    // Pen, speed and force as last sent: each is sent when it changes, not at every change
+    // of line kind (mountains and valleys on one pen share their settings).
+    let mut current: (Option<u32>, Option<i64>, Option<i64>) = (None, None, None);
     let pos = |p: crate::mesh::Vec2| {
         (
             round(p.x * settings.units_per_mm),
@@ -53,12 +56,21 @@ pub fn to_string(path: &Toolpath, settings: &HpglSettings) -> Result<String, Str
                 out.push(';');
                 pen_down_open = false;
             }
-            let _ = write!(out, "SP{};", t.pen);
-            if let Some(v) = t.speed {
-                let _ = write!(out, "VS{};", round(v / 10.0).max(1));
+            if current.0 != Some(t.pen) {
+                let _ = write!(out, "SP{};", t.pen);
+                current.0 = Some(t.pen);
             }
-            if let Some(f) = t.force {
-                let _ = write!(out, "FS{};", round(f).max(1));
+            if let Some(v) = t.speed.map(|v| round(v / 10.0).max(1)) {
+                if current.1 != Some(v) {
+                    let _ = write!(out, "VS{v};");
+                    current.1 = Some(v);
+                }
+            }
+            if let Some(f) = t.force.map(|f| round(f).max(1)) {
+                if current.2 != Some(f) {
+                    let _ = write!(out, "FS{f};");
+                    current.2 = Some(f);
+                }
             }
             tool = Some(s.kind);
         }

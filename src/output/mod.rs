@@ -2,6 +2,7 @@
 //! template), HPGL (for plotters and cutters), DXF (for laser cutters and CAD). They format
 //! bytes; geometry is decided upstream in [`crate::fab`].
 
+pub mod colour;
 pub mod dxf;
 pub mod gpgl;
 pub mod hpgl;

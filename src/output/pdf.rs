@@ -21,16 +21,17 @@ fn rgb(r: f32, g: f32, b: f32) -> Color {
     })
 }
 
+/// A kind's colour ([`super::colour`], the same in every file) and its line style on the
+/// template.
 fn style(kind: LineKind) -> (Color, LineDashPattern) {
-    match kind {
-        LineKind::Cut => (rgb(0.0, 0.0, 0.0), LineDashPattern::solid()),
-        LineKind::Mountain => (
-            rgb(0.85, 0.0, 0.0),
-            LineDashPattern::new(0.0, &[6.0, 2.0, 1.0, 2.0]),
-        ),
-        LineKind::Valley => (rgb(0.0, 0.0, 0.85), LineDashPattern::new(0.0, &[4.0, 3.0])),
-        LineKind::Flat => (rgb(0.7, 0.7, 0.7), LineDashPattern::new(0.0, &[1.0, 2.0])),
-    }
+    let [r, g, b] = super::colour::rgb(kind).map(|c| f32::from(c) / 255.0);
+    let dash = match kind {
+        LineKind::Cut => LineDashPattern::solid(),
+        LineKind::Mountain => LineDashPattern::new(0.0, &[6.0, 2.0, 1.0, 2.0]),
+        LineKind::Valley => LineDashPattern::new(0.0, &[4.0, 3.0]),
+        LineKind::Flat => LineDashPattern::new(0.0, &[1.0, 2.0]),
+    };
+    (rgb(r, g, b), dash)
 }
 
 fn line(a: (f64, f64), b: (f64, f64)) -> Op {

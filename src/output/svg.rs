@@ -15,16 +15,6 @@ use svg::Document;
 /// vector" and thin enough that no cutter software reads it as an area.
 const HAIRLINE_MM: f64 = 0.0254;
 
-/// Stroke colour per kind on the sheet.
-fn colour(kind: LineKind) -> &'static str {
-    match kind {
-        LineKind::Cut => "#000000",
-        LineKind::Mountain => "#ff0000",
-        LineKind::Valley => "#0000ff",
-        LineKind::Flat => "#c0c0c0",
-    }
-}
-
 /// Writes the toolpath on its media.
 pub fn sheet_to_string(path: &Toolpath) -> String {
     with_layers(page(path), path, HAIRLINE_MM).to_string() + "\n"
@@ -73,7 +63,7 @@ fn with_layers(mut doc: Document, path: &Toolpath, width: f64) -> Document {
             .set("inkscape:groupmode", "layer")
             .set("inkscape:label", kind.name())
             .set("id", kind.name())
-            .set("stroke", colour(kind))
+            .set("stroke", super::colour::hex(kind))
             .set("stroke-width", width)
             .set("stroke-linecap", "butt")
             .set("stroke-linejoin", "round")

@@ -44,9 +44,21 @@ pub fn fabricate(
     machine: &crate::plotter::Machine,
     options: &FabOptions,
 ) -> Result<FabOutput, FabError> {
-    use crate::fab::{crease_lines, score_lines, verify, Media, Tolerances};
-    let sizing = sizing_of(options)?;
+    use crate::fab::{verify, Tolerances};
     let verification = verify(mesh, None, Tolerances::default());
+    fabricate_verified(mesh, verification, machine, options)
+}
+
+/// [`fabricate`] with the design's verification already done (it depends on the design
+/// alone, so one report serves runs on several machines or media).
+pub fn fabricate_verified(
+    mesh: &Mesh,
+    verification: crate::fab::Report,
+    machine: &crate::plotter::Machine,
+    options: &FabOptions,
+) -> Result<FabOutput, FabError> {
+    use crate::fab::{crease_lines, score_lines, Media};
+    let sizing = sizing_of(options)?;
     if !verification.pass() && !options.force {
         return Err(FabError::Rejected(Rejected(format!(
             "the design fails verification (use --force to cut it anyway):\n{verification}"

@@ -9,7 +9,10 @@ mod fit;
 mod path;
 
 pub use fab_options::{FabOptions, MIN_WIDTH_MM, TILE_OVERLAP_MM};
-pub use fabricate::{fabricate, remove_stale_outputs, FabError, FabOutput, Rejected, OUTPUT_FILES};
+pub use fabricate::{
+    fabricate, fabricate_verified, remove_stale_outputs, FabError, FabOutput, Rejected,
+    OUTPUT_FILES,
+};
 pub use fit::{BlockedBy, ConditionResidual, Distances, FitReport, FitStage, PlacementRecord};
 pub use path::{folding_path, PathCollision, PathReport, PATH_STEPS};
 

@@ -361,7 +361,7 @@ impl Machine {
         crate::output::GpglSettings {
             units_per_mm: self.units_per_mm,
             feed_first: profile.axis_order.as_deref() != Some("carriage-first"),
-            blade_offset_mm: profile.blade_offset_mm.unwrap_or(0.0),
+            blade_offset_mm: self.blade_offset_mm(),
             tools: self.hpgl_settings().tools,
         }
     }
@@ -392,8 +392,25 @@ impl Machine {
             clearance: self.clearance_mm,
             // Checked on load; a profile built in code with a bad value scores nothing.
             short_folds: ShortFolds::parse(&self.short_folds).unwrap_or(ShortFolds::Nothing),
-            ..ScoreSettings::default()
+            // A cutter's job lands on its step grid; a laser's DXF keeps the drawing exact.
+            step_mm: match self.protocol.as_str() {
+                "hpgl" | "gpgl" => 1.0 / self.units_per_mm,
+                _ => 0.0,
+            },
+            // A drag knife trails its tip by the blade offset and swivels into line over
+            // about that length: a shorter dash is not cut as drawn, so it is not cut.
+            min_dash: ScoreSettings::default()
+                .min_dash
+                .max(self.blade_offset_mm()),
         }
+    }
+
+    /// The drag knife's offset (mm): a GP-GL profile's `blade_offset_mm`, else 0.
+    pub fn blade_offset_mm(&self) -> f64 {
+        self.gpgl
+            .as_ref()
+            .and_then(|g| g.blade_offset_mm)
+            .unwrap_or(0.0)
     }
 
     /// Units and tools for the HP-GL writer.

@@ -45,3 +45,36 @@ pub fn distance_to_segment(p: Vec2, s: &Stroke) -> f64 {
     let t = ((p - s.from).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
     (s.from + d * t - p).norm()
 }
+
+/// Closest distance between two segments in the plane (zero if they cross).
+pub fn segment_distance(a: &Stroke, b: &Stroke) -> f64 {
+    let cross = |o: Vec2, p: Vec2, q: Vec2| (p - o).perp(&(q - o));
+    let crosses = cross(a.from, a.to, b.from) * cross(a.from, a.to, b.to) < 0.0
+        && cross(b.from, b.to, a.from) * cross(b.from, b.to, a.to) < 0.0;
+    if crosses {
+        return 0.0;
+    }
+    [
+        distance_to_segment(a.from, b),
+        distance_to_segment(a.to, b),
+        distance_to_segment(b.from, a),
+        distance_to_segment(b.to, a),
+    ]
+    .into_iter()
+    .fold(f64::INFINITY, f64::min)
+}
+
+/// Every bundled design and every anchor file.
+pub fn designs_and_anchors() -> Vec<PathBuf> {
+    let anchors = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let mut designs = patterns();
+    for sub in ["fold", "origamisimulator"] {
+        for e in std::fs::read_dir(anchors.join(sub)).unwrap() {
+            let p = e.unwrap().path();
+            if matches!(p.extension().and_then(|e| e.to_str()), Some("fold" | "svg")) {
+                designs.push(p);
+            }
+        }
+    }
+    designs
+}
