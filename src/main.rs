@@ -81,10 +81,10 @@ enum Command {
     Fab(cli::fab::FabArgs),
     /// List the machine profiles `--machine` can name.
     Machines,
-    /// Send an HP-GL job to a plotter over a serial port, with flow control, progress
-    /// confirmed by the plotter, and a journal for --resume.
+    /// Send an HP-GL or GP-GL job to a plotter or cutter over a serial port, with flow
+    /// control, progress confirmed by the machine, and a journal for --resume.
     Plot(cli::plot::PlotArgs),
-    /// Run an emulated HP-GL plotter on a pseudo-terminal until Ctrl-C.
+    /// Run an emulated HP-GL plotter or GP-GL cutter on a pseudo-terminal until Ctrl-C.
     Emulate(cli::plot::EmulateArgs),
     /// Design by hand: a local web app where you drag the 3D form with the mouse and see
     /// the crease pattern and the flat-folded state beside it (paper §5). Serves on

@@ -406,6 +406,13 @@ fn a_graphtec_job_is_plotted_as_gpgl_from_its_folder() {
         err.contains(".gpgl job") && err.contains("--machine"),
         "{err}"
     );
+    // So is its folder: it holds sheet.gpgl, not the sheet.hpgl that machine would take.
+    let (code, err) = plot_cli(&dir, &link, &["--machine", "generic-hpgl"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("sheet.gpgl") && err.contains("--machine") && !err.contains("No such file"),
+        "{err}"
+    );
 }
 
 #[test]

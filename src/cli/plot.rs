@@ -186,6 +186,18 @@ fn open_job(
         job
     };
     let other = if extension == "hpgl" { "gpgl" } else { "hpgl" };
+    let made_for_other = job_path
+        .file_name()
+        .is_some_and(|f| f == format!("sheet.{extension}").as_str())
+        && !job_path.exists()
+        && folder.join(format!("sheet.{other}")).exists();
+    if made_for_other {
+        return Err(format!(
+            "{}: the folder holds sheet.{other}, a job for a machine that does not speak {name} as {} does; name that machine with --machine, or make a job for this one with `crease fab --machine`",
+            folder.display(),
+            settings.source
+        ));
+    }
     if job_path.extension().is_some_and(|e| e == other) {
         return Err(format!(
             "{}: a .{other} job, but {} speaks {name}; name a machine that speaks it with --machine",
