@@ -33,6 +33,31 @@ async fn screen_of(client: &Client, v: usize) -> (f64, f64) {
     (at["x"].as_f64().unwrap(), at["y"].as_f64().unwrap())
 }
 
+/// Where vertex `v` is once the view has stopped moving: the same point on two reads a
+/// frame apart and inside the window. Read too early (the layout still settling, the
+/// camera still framing the sheet), a press landed outside the window now and then and
+/// WebDriver refused it (MoveTargetOutOfBounds).
+async fn settled_screen_of(client: &Client, v: usize) -> (f64, f64) {
+    let mut last = (f64::NAN, f64::NAN);
+    for _ in 0..100 {
+        let at = screen_of(client, v).await;
+        let size = eval(
+            client,
+            "return [window.innerWidth, window.innerHeight];",
+            vec![],
+        )
+        .await;
+        let (w, h) = (size[0].as_f64().unwrap(), size[1].as_f64().unwrap());
+        let inside = at.0 > 0.0 && at.1 > 60.0 && at.0 < w && at.1 < h;
+        if inside && (at.0 - last.0).hypot(at.1 - last.1) < 0.5 {
+            return at;
+        }
+        last = at;
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    panic!("vertex {v} never settled inside the window: last at {last:?}");
+}
+
 fn out_dir() -> PathBuf {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("out");
     std::fs::create_dir_all(&dir).unwrap();
@@ -58,7 +83,7 @@ async fn dragging_a_vertex_with_the_mouse_moves_it_and_every_condition_still_hol
     assert_eq!(before["vertices"], 81);
     assert_eq!(before["pass"], true);
     let v = 40; // the middle of the sheet: an interior vertex
-    let (x, y) = screen_of(&client, v).await;
+    let (x, y) = settled_screen_of(&client, v).await;
     drag_with_mouse(&client, (x, y), (x, y - 40.0)).await;
     wait_until(
         &client,
@@ -88,7 +113,7 @@ async fn dragging_a_vertex_with_the_mouse_moves_it_and_every_condition_still_hol
     assert_saved_design_verifies(studio.port);
 
     // Shift-click pins a vertex (a modifier-click with real key and pointer events).
-    let (cx, cy) = screen_of(&client, 0).await;
+    let (cx, cy) = settled_screen_of(&client, 0).await;
     shift_click(&client, (cx, cy)).await;
     wait_until(
         &client,
