@@ -75,7 +75,8 @@ enum Command {
     /// Write a target surface for `fit`: a spherical cap, a saddle or a cylinder.
     Surface(cli::fit::SurfaceArgs),
     /// Fabricate a design: verify, unfold, lay out on the media, score folds with the
-    /// machine's dash codes, and write sheet.svg, sheet.pdf, sheet.hpgl, sheet.dxf,
+    /// machine's dash codes, and write sheet.svg, sheet.pdf, the cutter's job (sheet.hpgl
+    /// or sheet.gpgl), sheet.dxf, the previews sheet.png and design.png,
     /// crease-pattern.svg, crease-pattern.fold (with faceOrders when it folds flat) and
     /// report.json.
     Fab(cli::fab::FabArgs),

@@ -6,8 +6,7 @@ mod common;
 use common::fabbing::{a3, designs_and_anchors, output, output_text, patterns, segment_distance};
 use crease::fab::{verify, Report, Tolerances};
 use crease::fab::{LineKind, Stroke};
-use crease::mesh::Mesh;
-use crease::mesh::Vec2;
+use crease::mesh::{Mesh, Vec2, Vec3};
 use crease::output::hpgl;
 use crease::pipeline::{fabricate, fabricate_verified, FabOptions};
 use crease::plotter::Machine;
@@ -477,6 +476,98 @@ fn read_gpgl_job(job: &str) -> Job {
     }
 }
 
+/// A PNG read back by the `png` crate: (width, height, RGB pixels).
+fn read_png(bytes: &[u8]) -> (u32, u32, Vec<[u8; 3]>) {
+    let mut decoder = png::Decoder::new(bytes);
+    decoder.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
+    let mut reader = decoder.read_info().unwrap();
+    let mut buffer = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buffer).unwrap();
+    let channels = info.color_type.samples();
+    let pixels = buffer[..info.buffer_size()]
+        .chunks(channels)
+        .map(|p| [p[0], p[1], p[2]])
+        .collect();
+    (info.width, info.height, pixels)
+}
+
+/// sheet.png and design.png of one run: the sheet picture is the media at the report's
+/// scale, and each operation's colour (the README's: cut black, mountain red, valley
+/// blue) covers what its strokes do at the stated width; the design picture is its
+/// stated size and shows paper and, where the design has them, red and blue creases.
+fn check_previews(out: &crease::pipeline::FabOutput, mesh: &Mesh, what: &str) {
+    let previews = &out.report["previews"];
+    let scale = previews["sheet.png"]["px_per_mm"].as_f64().unwrap();
+    let width = previews["sheet.png"]["stroke_px"].as_f64().unwrap();
+    let (w, h, pixels) = read_png(output(out, "sheet.png"));
+    let media = &out.toolpath.media;
+    assert_eq!(
+        (w, h),
+        (
+            (media.width * scale).ceil() as u32,
+            (media.height * scale).ceil() as u32
+        ),
+        "{what}: sheet.png"
+    );
+    for (kind, colour) in [
+        (LineKind::Cut, [0, 0, 0]),
+        (LineKind::Mountain, [255, 0, 0]),
+        (LineKind::Valley, [0, 0, 255]),
+    ] {
+        // A slit's two sides are one line on the sheet: counted once.
+        let mut seen = std::collections::HashSet::new();
+        let length: f64 = out
+            .toolpath
+            .strokes
+            .iter()
+            .filter(|s| s.kind == kind)
+            .filter(|s| {
+                let key = |p: Vec2| [(p.x * 1e4).round() as i64, (p.y * 1e4).round() as i64];
+                let (a, b) = (key(s.from), key(s.to));
+                seen.insert(if a < b { (a, b) } else { (b, a) })
+            })
+            .map(|s| s.length())
+            .sum();
+        let expected = length * scale * width;
+        let counted = pixels.iter().filter(|&&p| p == colour).count() as f64;
+        // Rasterising a short dash can gain or lose a pixel row at either end: 20% on
+        // the few-pixel sheets, far less on the large ones.
+        assert!(
+            expected < 30.0 || (counted / expected - 1.0).abs() <= 0.2,
+            "{what}: sheet.png has {counted} px of {} where its strokes cover {expected:.0}",
+            kind.name()
+        );
+    }
+    let (w, h, pixels) = read_png(output(out, "design.png"));
+    let size = &previews["design.png"]["size_px"];
+    assert_eq!(
+        [w, h],
+        [
+            size[0].as_u64().unwrap() as u32,
+            size[1].as_u64().unwrap() as u32
+        ],
+        "{what}: design.png"
+    );
+    let background = pixels[0];
+    let paper = pixels.iter().filter(|&&p| p != background).count();
+    assert!(
+        paper as f64 > 0.1 * f64::from(w * h),
+        "{what}: design.png shows {paper} px of paper"
+    );
+    let has = |a| mesh.edges().iter().any(|e| e.assignment == a);
+    let reddish = |p: &[u8; 3]| p[0] > 200 && p[1] < 80 && p[2] < 80;
+    let bluish = |p: &[u8; 3]| p[2] > 200 && p[0] < 80 && p[1] < 80;
+    if has(crease::mesh::Assignment::Mountain) {
+        assert!(
+            pixels.iter().any(reddish),
+            "{what}: no mountain in design.png"
+        );
+    }
+    if has(crease::mesh::Assignment::Valley) {
+        assert!(pixels.iter().any(bluish), "{what}: no valley in design.png");
+    }
+}
+
 /// The cutter profiles (those that write a job for the machine).
 fn cutter_profiles() -> Vec<Machine> {
     let profiles: Vec<Machine> = crease::plotter::machine::known_machines()
@@ -545,6 +636,9 @@ fn check_job(
         .or_else(|_| run(true))
         .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let what = format!("{} on {}", path.display(), machine.name);
+    if machine.name.starts_with("Generic HP-GL") {
+        check_previews(&out, mesh, &what);
+    }
     let u = machine.units_per_mm;
     let gpgl = machine.protocol == "gpgl";
     let job = if gpgl {
@@ -797,6 +891,30 @@ fn every_file_gives_each_operation_the_same_colour_and_name() {
             pdf_colours.insert(hex([byte(c.r), byte(c.g), byte(c.b)]));
         }
     }
+    // The legend names every kind of line the page draws (flat lines were drawn, unnamed).
+    let texts: Vec<String> = pdf.pages[0]
+        .ops
+        .iter()
+        .filter_map(|op| match op {
+            printpdf::Op::ShowText { items } => Some(items),
+            _ => None,
+        })
+        .flatten()
+        .filter_map(|item| match item {
+            printpdf::TextItem::Text(t) => Some(t.clone()),
+            _ => None,
+        })
+        .collect();
+    let drawn: std::collections::BTreeSet<LineKind> =
+        out.sheet.lines.iter().map(|l| l.kind).collect();
+    assert!(drawn.contains(&LineKind::Flat), "miura-bent has flat lines");
+    for kind in &drawn {
+        assert!(
+            texts.iter().any(|t| t == kind.name()),
+            "the legend does not name {} lines: {texts:?}",
+            kind.name()
+        );
+    }
     for kind in kinds {
         let svg_colour = &svg_layers[kind.name()];
         let dxf_colour = hex(aci_rgb(dxf_layers[kind.name()]));
@@ -807,4 +925,43 @@ fn every_file_gives_each_operation_the_same_colour_and_name() {
             kind.name()
         );
     }
+}
+
+#[test]
+fn design_png_shows_a_flat_sheet_at_its_projected_area() {
+    // A flat 4 × 4-cell plane of 20 mm cells in the xy-plane, seen orthographically from
+    // the unit view v, covers its area × |v_z| × (px per mm)² pixels: the closed form the
+    // painted picture must match (edges anti-aliased: within 1%).
+    use crease::generate::{generate, Params, PatternKind};
+    use crease::output::png;
+    let mut params = Params::square(PatternKind::Plane, 4, 20.0);
+    params.fold = Some(0.0);
+    let mut mesh = generate(&params).unwrap();
+    let flat: Vec<_> = mesh
+        .positions()
+        .iter()
+        .map(|p| Vec3::new(p.x, p.y, 0.0))
+        .collect();
+    mesh.set_positions(flat);
+    let area: f64 = mesh
+        .faces()
+        .iter()
+        .map(|&[a, b, c]| {
+            let x = mesh.positions();
+            (x[b] - x[a]).cross(&(x[c] - x[a])).norm() / 2.0
+        })
+        .sum();
+    assert!(area > 1000.0, "{area}");
+    let camera = png::DesignCamera::framing(mesh.positions());
+    let expected = area * png::design_view().z.abs() * camera.px_per_mm.powi(2);
+    let (w, h, pixels) = read_png(&png::design(&mesh).unwrap());
+    assert_eq!([w, h], png::DESIGN_SIZE_PX);
+    let paper = pixels
+        .iter()
+        .filter(|&&p| p != png::DESIGN_BACKGROUND)
+        .count() as f64;
+    assert!(
+        (paper / expected - 1.0).abs() < 0.01,
+        "{paper} px of paper, {expected:.0} expected"
+    );
 }

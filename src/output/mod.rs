@@ -7,6 +7,7 @@ pub mod dxf;
 pub mod gpgl;
 pub mod hpgl;
 pub mod pdf;
+pub mod png;
 pub mod svg;
 
 pub use gpgl::GpglSettings;

@@ -123,9 +123,18 @@ fn page_ops(
         7.0,
         "100 mm at 100%",
     );
-    // Legend, bottom right.
-    let mut lx = page_w - 62.0;
-    for kind in [LineKind::Mountain, LineKind::Valley, LineKind::Cut] {
+    // Legend, bottom right: every kind of line the page draws.
+    let drawn: Vec<LineKind> = [
+        LineKind::Mountain,
+        LineKind::Valley,
+        LineKind::Cut,
+        LineKind::Flat,
+    ]
+    .into_iter()
+    .filter(|&k| k != LineKind::Flat || sheet.lines.iter().any(|l| l.kind == k))
+    .collect();
+    let mut lx = page_w - 5.0 - 21.0 * drawn.len() as f64;
+    for kind in drawn {
         let (col, dash) = style(kind);
         ops.push(Op::SetOutlineColor { col });
         ops.push(Op::SetLineDashPattern { dash });

@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 /// Everything a fabrication run produced, ready to write.
 pub struct FabOutput {
     /// File name and bytes, in writing order.
-    pub files: Vec<(String, Vec<u8>)>,
+    pub files: Files,
     /// The report written as report.json.
     pub report: serde_json::Value,
     /// The summary's line on the cutter job (as on the PDF): its size and time, or why
@@ -31,6 +31,9 @@ pub struct FabOutput {
     /// Largest relative edge-length difference between the sheet and the 3D design.
     pub isometry_error: f64,
 }
+
+/// Files of a run, name and bytes, in writing order.
+pub type Files = Vec<(String, Vec<u8>)>;
 
 /// Why fabrication stopped: the design fails verification, does not fit, overlaps itself.
 #[derive(Debug, thiserror::Error)]
@@ -111,10 +114,13 @@ pub fn fabricate_verified(
         short_folds: settings.short_folds,
         isometry_error,
     };
+    let (pictures, previews) = preview_files(mesh, &toolpath)?;
+    files.extend(pictures);
     let figures = run.figures();
     let report = serde_json::json!({
         "verification": verification.to_json(),
         "sheet": run.sheet_json(&figures),
+        "previews": previews,
     });
     let job_line = run.job_line(&figures);
     let warnings: Vec<String> = run.unscored_warning().into_iter().collect();
@@ -270,7 +276,7 @@ fn sheet_files(
     front: &crate::fab::Toolpath,
     back: Option<&crate::fab::Toolpath>,
     jobs_written: &[(String, Vec<u8>)],
-) -> Vec<(String, Vec<u8>)> {
+) -> Files {
     use crate::output::{dxf, svg};
     let mut files = vec![(
         "sheet.svg".to_string(),
@@ -289,12 +295,40 @@ fn sheet_files(
     files
 }
 
+/// `sheet.png` (the front job as it is cut) and `design.png` (the 3D form), and what the
+/// report says of them: scale and stroke width, and the view of the form.
+fn preview_files(
+    mesh: &Mesh,
+    front: &crate::fab::Toolpath,
+) -> Result<(Files, serde_json::Value), FabError> {
+    use crate::output::png;
+    let sheet = png::sheet(front).map_err(FabError::Input)?;
+    let design = png::design(mesh).map_err(FabError::Input)?;
+    let camera = png::DesignCamera::framing(mesh.positions());
+    let scale = png::sheet_px_per_mm(front);
+    let report = serde_json::json!({
+        "sheet.png": { "px_per_mm": scale, "stroke_px": png::sheet_stroke_px(scale) },
+        "design.png": {
+            "size_px": png::DESIGN_SIZE_PX,
+            "view": png::design_view().as_slice(),
+            "px_per_mm": camera.px_per_mm,
+        },
+    });
+    Ok((
+        vec![
+            ("sheet.png".to_string(), sheet),
+            ("design.png".to_string(), design),
+        ],
+        report,
+    ))
+}
+
 /// The crease pattern as laid out on the sheet, as SVG and as FOLD (with the layer order
 /// of a flat-folding pattern).
 fn pattern_files(
     mesh: &Mesh,
     sheet: &crate::fab::Sheet,
-) -> Result<Vec<(String, Vec<u8>)>, FabError> {
+) -> Result<Files, FabError> {
     let mut placed = mesh.clone();
     placed.set_flat(sheet.vertices.clone());
     let cp = crate::io::to_string(&placed, crate::io::Format::Svg).map_err(FabError::Input)?;
@@ -386,7 +420,7 @@ fn cutter_jobs(
     machine: &crate::plotter::Machine,
     front: &crate::fab::Toolpath,
     back: Option<&crate::fab::Toolpath>,
-) -> Result<Vec<(String, Vec<u8>)>, FabError> {
+) -> Result<Files, FabError> {
     let mut files = Vec::new();
     for (side, path) in [("sheet", Some(front)), ("sheet-back", back)] {
         let (Some(path), Some(name)) = (path, machine.job_file(side)) else {
@@ -403,8 +437,10 @@ fn cutter_jobs(
 }
 
 /// Every file a fabrication run can write, and the journals `plot` keeps beside the jobs.
-pub const OUTPUT_FILES: [&str; 16] = [
+pub const OUTPUT_FILES: [&str; 18] = [
     "sheet.svg",
+    "sheet.png",
+    "design.png",
     "sheet.hpgl",
     "sheet.gpgl",
     "sheet.dxf",

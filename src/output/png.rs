@@ -1,0 +1,220 @@
+//! Pictures for a person, not a machine: `sheet.png`, the toolpath as the cutter will cut
+//! it (every dash as it is, at a width that shows, in the operation colours of
+//! [`super::colour`], on the media), and `design.png`, the 3D form shaded with its
+//! creases coloured. Drawn with `tiny-skia` (no GPU, no system libraries).
+
+use crate::fab::{LineKind, Toolpath};
+use crate::mesh::{Mesh, Vec3};
+use tiny_skia::{Color, FillRule, LineCap, Paint, PathBuilder, Pixmap, Rect, Stroke, Transform};
+
+/// Longest side of either picture, px: sharp on a screen, a few hundred kB at most.
+pub const MAX_SIDE_PX: f64 = 2400.0;
+
+/// Resolution of `sheet.png`, px per mm: 4, less where the media is larger than
+/// [`MAX_SIDE_PX`] allows.
+pub fn sheet_px_per_mm(path: &Toolpath) -> f64 {
+    (MAX_SIDE_PX / path.media.width.max(path.media.height)).min(4.0)
+}
+
+/// Width of every stroke in `sheet.png`, px: half a millimetre, at least 2 px.
+pub fn sheet_stroke_px(px_per_mm: f64) -> f64 {
+    (0.5 * px_per_mm).round().max(2.0)
+}
+
+fn paint(rgb: [u8; 3], anti_alias: bool) -> Paint<'static> {
+    let mut p = Paint::default();
+    p.set_color_rgba8(rgb[0], rgb[1], rgb[2], 255);
+    p.anti_alias = anti_alias;
+    p
+}
+
+/// `sheet.png`: the media white with a grey edge, every stroke of the toolpath in its
+/// kind's colour, [`sheet_stroke_px`] wide with butt ends. Not anti-aliased, so every
+/// pixel is one of those colours and a reader can count what each operation covers.
+pub fn sheet(path: &Toolpath) -> Result<Vec<u8>, String> {
+    let s = sheet_px_per_mm(path);
+    let (w, h) = (path.media.width * s, path.media.height * s);
+    let mut pixmap = Pixmap::new(w.ceil() as u32, h.ceil() as u32)
+        .ok_or_else(|| format!("a {w:.0} × {h:.0} px preview is too large"))?;
+    pixmap.fill(Color::WHITE);
+    if let Some(edge) =
+        Rect::from_xywh(0.5, 0.5, w as f32 - 1.0, h as f32 - 1.0).map(PathBuilder::from_rect)
+    {
+        let thin = Stroke {
+            width: 1.0,
+            ..Stroke::default()
+        };
+        pixmap.stroke_path(
+            &edge,
+            &paint([154, 154, 154], false),
+            &thin,
+            Transform::identity(),
+            None,
+        );
+    }
+    let stroke = Stroke {
+        width: sheet_stroke_px(s) as f32,
+        line_cap: LineCap::Butt,
+        ..Stroke::default()
+    };
+    // Scores first, the outline over them, as the kinds are cut.
+    for kind in LineKind::ALL {
+        let mut pb = PathBuilder::new();
+        for st in path.strokes.iter().filter(|st| st.kind == kind) {
+            // The sheet's y grows up, the picture's down.
+            pb.move_to((st.from.x * s) as f32, (h - st.from.y * s) as f32);
+            pb.line_to((st.to.x * s) as f32, (h - st.to.y * s) as f32);
+        }
+        if let Some(p) = pb.finish() {
+            let colour = super::colour::rgb(kind);
+            pixmap.stroke_path(
+                &p,
+                &paint(colour, false),
+                &stroke,
+                Transform::identity(),
+                None,
+            );
+        }
+    }
+    pixmap.encode_png().map_err(|e| format!("sheet.png: {e}"))
+}
+
+/// Size of `design.png`, px.
+pub const DESIGN_SIZE_PX: [u32; 2] = [1200, 900];
+
+/// The direction `design.png` looks from (towards the form), unit: from the front, to the
+/// right and above, so a sheet lying in the xy-plane shows its top at a slant.
+pub fn design_view() -> Vec3 {
+    Vec3::new(0.45, -0.75, 0.85).normalize()
+}
+
+/// The orthographic camera of `design.png`: right and up axes on the screen, and the
+/// scale (px per mm) and centre that fit the form with 6% to spare on every side.
+pub struct DesignCamera {
+    /// Screen x in space.
+    pub right: Vec3,
+    /// Screen up in space.
+    pub up: Vec3,
+    /// Pixels per mm.
+    pub px_per_mm: f64,
+    /// The point of space drawn at the picture's centre.
+    pub centre: Vec3,
+}
+
+impl DesignCamera {
+    /// Frames `points`.
+    pub fn framing(points: &[Vec3]) -> DesignCamera {
+        let view = design_view();
+        let right = Vec3::z().cross(&view).normalize();
+        let up = view.cross(&right);
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in points {
+            for (k, axis) in [right, up].iter().enumerate() {
+                lo[k] = lo[k].min(p.dot(axis));
+                hi[k] = hi[k].max(p.dot(axis));
+            }
+        }
+        let [pw, ph] = DESIGN_SIZE_PX.map(f64::from);
+        let span = [(hi[0] - lo[0]).max(1e-9), (hi[1] - lo[1]).max(1e-9)];
+        let px_per_mm = (0.88 * pw / span[0]).min(0.88 * ph / span[1]);
+        let centre = right * (lo[0] + hi[0]) / 2.0 + up * (lo[1] + hi[1]) / 2.0;
+        DesignCamera {
+            right,
+            up,
+            px_per_mm,
+            centre,
+        }
+    }
+
+    /// Where `p` is drawn, px from the top-left corner.
+    pub fn screen(&self, p: Vec3) -> (f32, f32) {
+        let [pw, ph] = DESIGN_SIZE_PX.map(f64::from);
+        let d = p - self.centre;
+        (
+            (pw / 2.0 + d.dot(&self.right) * self.px_per_mm) as f32,
+            (ph / 2.0 - d.dot(&self.up) * self.px_per_mm) as f32,
+        )
+    }
+}
+
+/// Colour of the background of `design.png`.
+pub const DESIGN_BACKGROUND: [u8; 3] = [251, 250, 247];
+
+/// `design.png`: the 3D form from [`design_view`], faces painted far to near (the
+/// painter's order), each shaded by how squarely it faces the light (paper colour, both
+/// sides alike) with its mountain and valley creases drawn over it in their colours, so
+/// nearer paper hides the creases behind it.
+pub fn design(mesh: &Mesh) -> Result<Vec<u8>, String> {
+    let x = mesh.positions();
+    let camera = DesignCamera::framing(x);
+    let view = design_view();
+    let light = (view + Vec3::new(-0.3, 0.2, 0.4)).normalize();
+    let [pw, ph] = DESIGN_SIZE_PX;
+    let mut pixmap = Pixmap::new(pw, ph).ok_or("design.png: no pixmap")?;
+    let [r, g, b] = DESIGN_BACKGROUND;
+    pixmap.fill(Color::from_rgba8(r, g, b, 255));
+    let topo = mesh.topology();
+    let faces = mesh.faces();
+    let mut order: Vec<usize> = (0..faces.len()).collect();
+    let depth = |f: usize| faces[f].iter().map(|&v| x[v].dot(&view)).sum::<f64>();
+    // Far first: a point further along the view direction is nearer the viewer.
+    order.sort_by(|&a, &b| depth(a).total_cmp(&depth(b)));
+    let crease = Stroke {
+        width: 2.0,
+        line_cap: LineCap::Round,
+        ..Stroke::default()
+    };
+    let edges = mesh.edges();
+    for f in order {
+        let [a, b, c] = faces[f];
+        let n = (x[b] - x[a]).cross(&(x[c] - x[a]));
+        let lit = if n.norm() > 0.0 {
+            n.normalize().dot(&light).abs()
+        } else {
+            0.0
+        };
+        let shade = 0.45 + 0.55 * lit;
+        let tone = [241.0, 231.0, 208.0].map(|c: f64| (c * shade).round() as u8);
+        let mut pb = PathBuilder::new();
+        let (sa, sb, sc) = (
+            camera.screen(x[a]),
+            camera.screen(x[b]),
+            camera.screen(x[c]),
+        );
+        pb.move_to(sa.0, sa.1);
+        pb.line_to(sb.0, sb.1);
+        pb.line_to(sc.0, sc.1);
+        pb.close();
+        if let Some(p) = pb.finish() {
+            pixmap.fill_path(
+                &p,
+                &paint(tone, true),
+                FillRule::Winding,
+                Transform::identity(),
+                None,
+            );
+        }
+        for &e in &topo.face_edges[f] {
+            let kind = LineKind::of_edge(&edges[e]);
+            if kind == LineKind::Flat {
+                continue;
+            }
+            let [u, v] = edges[e].vertices;
+            let (su, sv) = (camera.screen(x[u]), camera.screen(x[v]));
+            let mut pb = PathBuilder::new();
+            pb.move_to(su.0, su.1);
+            pb.line_to(sv.0, sv.1);
+            if let Some(p) = pb.finish() {
+                let colour = super::colour::rgb(kind);
+                pixmap.stroke_path(
+                    &p,
+                    &paint(colour, true),
+                    &crease,
+                    Transform::identity(),
+                    None,
+                );
+            }
+        }
+    }
+    pixmap.encode_png().map_err(|e| format!("design.png: {e}"))
+}
