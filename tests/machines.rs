@@ -96,6 +96,24 @@ fn protocols_and_connections_are_checked_naming_their_key() {
         (
             &text,
             "protocol = \"hpgl\"",
+            "protocol = \"svg\"",
+            "connection = \"file\"",
+        ),
+        (
+            &text,
+            "protocol = \"hpgl\"",
+            "protocol = \"hpgl\"\nsteps = [\"Upload sheet.svg\", \"x\"]\nsoftware = 3",
+            "software",
+        ),
+        (
+            &text,
+            "protocol = \"hpgl\"",
+            &format!("protocol = \"hpgl\"\nsteps = [\"{}\"]", "x".repeat(400)),
+            "steps",
+        ),
+        (
+            &text,
+            "protocol = \"hpgl\"",
             "protocol = \"hpgl\"\nconnection = \"usb\"",
             "connection",
         ),

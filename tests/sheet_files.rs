@@ -678,21 +678,37 @@ fn check_job(
             );
         }
     }
-    // The outline closes exactly on the grid: every point it reaches it leaves as often.
-    let mut balance = std::collections::HashMap::<[i64; 2], i64>::new();
-    let mut cut = 0;
+    // Every run the toolpath closes (an outline, a hole) closes exactly on the grid: the
+    // job's run ends on the very step it started from. A run is a stretch of cut strokes
+    // each starting where the one before ended.
+    let mut runs: Vec<(Vec2, Vec2, [i64; 2], [i64; 2])> = Vec::new();
     for ((from, to), s) in job.segments.iter().zip(&strokes) {
-        if s.kind == LineKind::Cut {
-            *balance.entry(*from).or_default() += 1;
-            *balance.entry(*to).or_default() -= 1;
-            cut += 1;
+        if s.kind != LineKind::Cut {
+            continue;
+        }
+        match runs.last_mut() {
+            Some(run) if (run.1 - s.from).norm() < 1e-9 => (run.1, run.3) = (s.to, *to),
+            _ => runs.push((s.from, s.to, *from, *to)),
         }
     }
-    let open: Vec<_> = balance.iter().filter(|(_, &b)| b != 0).collect();
-    check!(
-        cut > 0 && open.is_empty(),
-        "{what}: the outline is open at {open:?}"
-    );
+    let closed: Vec<_> = runs.iter().filter(|r| (r.0 - r.1).norm() < 1e-9).collect();
+    for run in &closed {
+        check!(
+            run.2 == run.3,
+            "{what}: a closed outline starts at {:?} and ends at {:?}",
+            run.2,
+            run.3
+        );
+    }
+    // Nothing is cut twice (a kirigami slit's two sides are one line of the sheet).
+    let mut cut_once = std::collections::HashSet::new();
+    for ((from, to), s) in job.segments.iter().zip(&strokes) {
+        let twice = !cut_once.insert(if from < to { (from, to) } else { (to, from) });
+        check!(
+            !twice || s.kind != LineKind::Cut,
+            "{what}: {from:?}-{to:?} is cut twice"
+        );
+    }
     // The job's segments in millimetres on the sheet, with the line each cuts or scores.
     let to_mm = |p: [i64; 2]| {
         if gpgl {
@@ -738,7 +754,7 @@ fn check_job(
             machine.tools["mountain"].pen, machine.tools["valley"].pen,
             "{what}"
         );
-        return (balance.len(), 0, problems);
+        return (closed.len(), 0, problems);
     };
     let valley = valley.cut;
     let slack = std::f64::consts::SQRT_2 / u;
@@ -776,7 +792,7 @@ fn check_job(
             _ => {}
         }
     }
-    (balance.len(), short, problems)
+    (closed.len(), short, problems)
 }
 
 #[test]
@@ -787,7 +803,7 @@ fn every_cutter_job_read_back_closes_keeps_ends_and_clearance_and_tells_mountain
     // and sent the tool settings at every change of line kind.
     let designs = designs_and_anchors();
     let profiles = cutter_profiles();
-    let (outline_points, short_marks, problems) = std::thread::scope(|scope| {
+    let (closed_outlines, short_marks, problems) = std::thread::scope(|scope| {
         let halves: Vec<_> = designs
             .chunks(designs.len().div_ceil(2))
             .map(|part| {
@@ -818,7 +834,7 @@ fn every_cutter_job_read_back_closes_keeps_ends_and_clearance_and_tells_mountain
             })
     });
     assert!(problems.is_empty(), "{}", problems.join("\n"));
-    assert!(outline_points > 1000, "{outline_points} outline points");
+    assert!(closed_outlines > 100, "{closed_outlines} closed outlines");
     assert!(
         short_marks > 0,
         "no short mountain mark: the rule is not exercised"
@@ -964,4 +980,106 @@ fn design_png_shows_a_flat_sheet_at_its_projected_area() {
         (paper / expected - 1.0).abs() < 0.01,
         "{paper} px of paper, {expected:.0} expected"
     );
+}
+
+#[test]
+fn a_cricut_job_is_an_svg_with_a_cut_layer_and_a_score_layer_of_continuous_lines() {
+    // Cricut Design Space scores with a wheel or stylus drawing a line: every mountain and
+    // valley of miura-bent must be in the Score layer once, as one unbroken line from end
+    // to end, the outline in the Cut layer, all on the 12 × 12 in mat inside its quarter
+    // inch; read back with the svg crate's parser.
+    let machine = Machine::load("cricut-maker").unwrap();
+    assert_eq!(machine.protocol, "svg");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura-bent.fold");
+    let mesh = crease::io::read(&path).unwrap();
+    let out = fabricate(&mesh, &machine, &FabOptions::default()).unwrap();
+    assert!(
+        !out.files
+            .iter()
+            .any(|f| f.0.ends_with(".hpgl") || f.0.ends_with(".gpgl")),
+        "no cutter job: Design Space takes the SVG"
+    );
+    let next = out.next_steps.as_ref().expect("the steps for Design Space");
+    assert_eq!(next.software, "Cricut Design Space");
+    assert!(next.steps.iter().any(|s| s.contains("Score")));
+    let svg = output_text(&out, "sheet.svg");
+    let mat = 12.0 * 25.4;
+    let inside = 0.25 * 25.4 - 1e-6;
+    // (layer, kind class, points of one path), y turned up as the sheet's.
+    let mut layer = String::new();
+    let mut paths: Vec<(String, String, Vec<Vec2>)> = Vec::new();
+    for event in svg::read(svg).unwrap() {
+        use svg::node::element::tag::Type;
+        use svg::parser::Event;
+        match event {
+            Event::Tag("svg", Type::Start, a) => {
+                assert_eq!(a.get("width").unwrap().to_string(), "304.8mm");
+                assert_eq!(a.get("height").unwrap().to_string(), "304.8mm");
+            }
+            Event::Tag("g", Type::Start, a) => {
+                layer = a.get("inkscape:label").unwrap().to_string();
+            }
+            Event::Tag("path", _, a) => {
+                let data = svg::node::element::path::Data::parse(&a.get("d").unwrap().to_string())
+                    .unwrap();
+                let mut points = Vec::new();
+                for command in data.iter() {
+                    use svg::node::element::path::{Command, Position};
+                    match command {
+                        Command::Move(Position::Absolute, p) => {
+                            assert!(points.is_empty(), "{layer}: a path with a gap");
+                            points.push(Vec2::new(p[0] as f64, mat - p[1] as f64));
+                        }
+                        Command::Line(Position::Absolute, p) => {
+                            points.push(Vec2::new(p[0] as f64, mat - p[1] as f64))
+                        }
+                        Command::Close => points.push(points[0]),
+                        other => panic!("unexpected {other:?}"),
+                    }
+                }
+                let class = a.get("class").map(|c| c.to_string()).unwrap_or_default();
+                paths.push((layer.clone(), class, points));
+            }
+            _ => {}
+        }
+    }
+    let layers: std::collections::BTreeSet<&str> = paths.iter().map(|p| p.0.as_str()).collect();
+    assert_eq!(layers, ["Cut", "Score"].into_iter().collect());
+    for (_, _, points) in &paths {
+        for p in points {
+            assert!(
+                p.x >= inside && p.y >= inside && p.x <= mat - inside && p.y <= mat - inside,
+                "{p:?} is off the mat's cutting area"
+            );
+        }
+    }
+    // Every scored crease once: one straight path from one end of its line to the other.
+    let creases: Vec<_> = out
+        .sheet
+        .lines
+        .iter()
+        .filter(|l| matches!(l.kind, LineKind::Mountain | LineKind::Valley))
+        .collect();
+    let scores: Vec<_> = paths.iter().filter(|p| p.0 == "Score").collect();
+    assert_eq!(scores.len(), creases.len());
+    for line in creases {
+        let ends_match = |points: &Vec<Vec2>| {
+            points.len() == 2
+                && ((points[0] - line.a).norm() < 1e-3 && (points[1] - line.b).norm() < 1e-3
+                    || (points[0] - line.b).norm() < 1e-3 && (points[1] - line.a).norm() < 1e-3)
+        };
+        let found: Vec<_> = scores.iter().filter(|p| ends_match(&p.2)).collect();
+        assert_eq!(
+            found.len(),
+            1,
+            "{} line {:?}-{:?}",
+            line.kind.name(),
+            line.a,
+            line.b
+        );
+        assert_eq!(found[0].1, line.kind.name());
+    }
+    // The outline is cut as closed runs.
+    let cuts: Vec<_> = paths.iter().filter(|p| p.0 == "Cut").collect();
+    assert!(!cuts.is_empty() && cuts.iter().all(|p| p.2.first() == p.2.last()));
 }

@@ -110,6 +110,12 @@ pub fn fab(args: FabArgs) -> Result<u8, String> {
             eprintln!("  {step}");
         }
     }
+    if let Some(next) = &result.next_steps {
+        eprintln!("next, in {}:", next.software);
+        for (i, step) in next.steps.iter().enumerate() {
+            eprintln!("  {}. {step}", i + 1);
+        }
+    }
     for warning in &result.warnings {
         eprintln!("warning: {warning}");
     }

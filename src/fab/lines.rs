@@ -168,5 +168,22 @@ pub fn crease_lines(mesh: &Mesh, flat: &[Vec2]) -> Vec<CreaseLine> {
             junctions,
         });
     }
+    drop_second_sides(lines)
+}
+
+/// Cut lines once: the two sides of a slit (kirigami) are two boundary chains laid on the
+/// same line of the sheet, and a knife that cut both would run the slit twice.
+fn drop_second_sides(lines: Vec<CreaseLine>) -> Vec<CreaseLine> {
+    let key = |p: Vec2| [(p.x * 1e6).round() as i64, (p.y * 1e6).round() as i64];
+    let mut seen = std::collections::HashSet::new();
     lines
+        .into_iter()
+        .filter(|l| {
+            if l.kind != LineKind::Cut {
+                return true;
+            }
+            let (a, b) = (key(l.a), key(l.b));
+            seen.insert(if a < b { (a, b) } else { (b, a) })
+        })
+        .collect()
 }

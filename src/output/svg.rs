@@ -15,14 +15,42 @@ use svg::Document;
 /// vector" and thin enough that no cutter software reads it as an area.
 const HAIRLINE_MM: f64 = 0.0254;
 
+/// How `sheet.svg` groups its strokes into layers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Layers {
+    /// One layer per line kind (cut, mountain, valley, flat), for laser and cutter
+    /// software that assigns an operation per colour or layer.
+    ByKind,
+    /// One layer per operation, named as Cricut Design Space names them: "Cut" (the
+    /// outline) and "Score" (every crease, mountains red and valleys blue within it).
+    ByOperation,
+}
+
+impl Layers {
+    /// Layer labels and the kinds each holds.
+    fn groups(self) -> Vec<(&'static str, Vec<LineKind>)> {
+        match self {
+            Layers::ByKind => LineKind::ALL.iter().map(|&k| (k.name(), vec![k])).collect(),
+            Layers::ByOperation => vec![
+                (
+                    "Score",
+                    vec![LineKind::Valley, LineKind::Mountain, LineKind::Flat],
+                ),
+                ("Cut", vec![LineKind::Cut]),
+            ],
+        }
+    }
+}
+
 /// Writes the toolpath on its media.
-pub fn sheet_to_string(path: &Toolpath) -> String {
-    with_layers(page(path), path, HAIRLINE_MM).to_string() + "\n"
+pub fn sheet_to_string(path: &Toolpath, layers: Layers) -> String {
+    with_layers(page(path), path, HAIRLINE_MM, layers).to_string() + "\n"
 }
 
 /// An empty page the size of the toolpath's media, in mm, declaring Inkscape's layers.
 fn page(path: &Toolpath) -> Document {
-    let (w, h) = (path.media.width, path.media.height);
+    // 12 in is 304.79999999999995 mm in floating point: written as 304.8.
+    let (w, h) = (round(path.media.width), round(path.media.height));
     Document::new()
         .set(
             "xmlns:inkscape",
@@ -48,41 +76,53 @@ pub fn preview_to_string(path: &Toolpath) -> String {
         .set("fill", "#ffffff")
         .set("stroke", "#9a9a9a")
         .set("stroke-width", stroke);
-    with_layers(page(path).add(sheet), path, stroke).to_string() + "\n"
+    with_layers(page(path).add(sheet), path, stroke, Layers::ByKind).to_string() + "\n"
 }
 
-/// One layer per line kind, strokes `width` mm wide.
-fn with_layers(mut doc: Document, path: &Toolpath, width: f64) -> Document {
+/// The layers `layers` asks for, strokes `width` mm wide in their kind's colour; a layer
+/// with nothing on it is left out.
+fn with_layers(mut doc: Document, path: &Toolpath, width: f64, layers: Layers) -> Document {
     let h = path.media.height;
-    for kind in LineKind::ALL {
-        let strokes: Vec<&Stroke> = path.strokes.iter().filter(|s| s.kind == kind).collect();
-        if strokes.is_empty() {
-            continue;
-        }
+    for (label, kinds) in layers.groups() {
         let mut layer = Group::new()
             .set("inkscape:groupmode", "layer")
-            .set("inkscape:label", kind.name())
-            .set("id", kind.name())
-            .set("stroke", super::colour::hex(kind))
+            .set("inkscape:label", label)
+            .set("id", label)
             .set("stroke-width", width)
             .set("stroke-linecap", "butt")
             .set("stroke-linejoin", "round")
             .set("fill", "none");
-        // The outline (and any hole) is one path; a crease's dashes are one path each.
-        let mut groups: Vec<Vec<&Stroke>> = Vec::new();
-        let mut group_of: HashMap<usize, usize> = HashMap::new();
-        for s in strokes {
-            let key = if kind == LineKind::Cut { 0 } else { s.line };
-            let g = *group_of.entry(key).or_insert_with(|| {
-                groups.push(Vec::new());
-                groups.len() - 1
-            });
-            groups[g].push(s);
+        if let [kind] = kinds[..] {
+            layer = layer.set("stroke", super::colour::hex(kind));
         }
-        for group in groups {
-            layer = layer.add(Path::new().set("d", path_data(&group, h)));
+        let mut empty = true;
+        for &kind in &kinds {
+            let strokes: Vec<&Stroke> = path.strokes.iter().filter(|s| s.kind == kind).collect();
+            // The outline (and any hole) is one path; a crease's dashes are one path each.
+            let mut groups: Vec<Vec<&Stroke>> = Vec::new();
+            let mut group_of: HashMap<usize, usize> = HashMap::new();
+            for s in strokes {
+                let key = if kind == LineKind::Cut { 0 } else { s.line };
+                let g = *group_of.entry(key).or_insert_with(|| {
+                    groups.push(Vec::new());
+                    groups.len() - 1
+                });
+                groups[g].push(s);
+            }
+            for group in groups {
+                let mut element = Path::new().set("d", path_data(&group, h));
+                if kinds.len() > 1 {
+                    element = element
+                        .set("stroke", super::colour::hex(kind))
+                        .set("class", kind.name());
+                }
+                layer = layer.add(element);
+                empty = false;
+            }
         }
-        doc = doc.add(layer);
+        if !empty {
+            doc = doc.add(layer);
+        }
     }
     doc
 }

@@ -135,8 +135,13 @@ impl<'a> Run<'a> {
         }
         let (travel_mm, seconds) = (f.travel, f.estimate);
         if self.jobs_written.is_empty() {
+            let (files, software) = match self.machine.protocol.as_str() {
+                "svg" => ("sheet.svg", "the cutter's design software"),
+                _ => ("sheet.dxf or sheet.svg", "the laser's software"),
+            };
+            let software = self.machine.software.as_deref().unwrap_or(software);
             return format!(
-                "cut {cut_mm:.0} mm, pen-up travel {travel_mm:.0} mm, about {seconds:.0} s of motion; no cutter job: sheet.dxf or sheet.svg goes to the laser's software"
+                "cut {cut_mm:.0} mm, pen-up travel {travel_mm:.0} mm, about {seconds:.0} s of motion; no cutter job: {files} goes to {software}"
             );
         }
         let names: Vec<&str> = self.jobs_written.iter().map(|(n, _)| n.as_str()).collect();

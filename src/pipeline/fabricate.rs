@@ -20,6 +20,9 @@ pub struct FabOutput {
     /// For a two-sided job, what the maker does in order: which job first, how to turn
     /// the sheet, how to check the registration (as on the PDF's second page).
     pub steps: Vec<String>,
+    /// What the maker does in the machine's own software (the profile's `software` and
+    /// `steps`), if the profile says.
+    pub next_steps: Option<NextSteps>,
     /// The verification report.
     pub verification: crate::fab::Report,
     /// The placed sheet.
@@ -30,6 +33,15 @@ pub struct FabOutput {
     pub back: Option<crate::fab::Toolpath>,
     /// Largest relative edge-length difference between the sheet and the 3D design.
     pub isometry_error: f64,
+}
+
+/// The steps a machine's profile gives for its own software.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct NextSteps {
+    /// The software the files go to.
+    pub software: String,
+    /// What to do there, in order.
+    pub steps: Vec<String>,
 }
 
 /// Files of a run, name and bytes, in writing order.
@@ -99,7 +111,14 @@ pub fn fabricate_verified(
         cutter_jobs(machine, &toolpath, back.as_ref())?
     };
     let steps = two_sided_steps(registered, &jobs_written);
-    let mut files = sheet_files(&toolpath, back.as_ref(), &jobs_written);
+    // A machine driven by its design software (Cricut) takes sheet.svg as its job,
+    // layered by operation; the others get a layer per line kind.
+    let layers = if machine.protocol == "svg" {
+        crate::output::svg::Layers::ByOperation
+    } else {
+        crate::output::svg::Layers::ByKind
+    };
+    let mut files = sheet_files(&toolpath, back.as_ref(), &jobs_written, layers);
     files.extend(pattern_files(mesh, &sheet)?);
     let run = Run {
         machine,
@@ -117,10 +136,18 @@ pub fn fabricate_verified(
     let (pictures, previews) = preview_files(mesh, &toolpath)?;
     files.extend(pictures);
     let figures = run.figures();
+    let next_steps = (!machine.steps.is_empty()).then(|| NextSteps {
+        software: machine
+            .software
+            .clone()
+            .unwrap_or_else(|| machine.name.clone()),
+        steps: machine.steps.clone(),
+    });
     let report = serde_json::json!({
         "verification": verification.to_json(),
         "sheet": run.sheet_json(&figures),
         "previews": previews,
+        "next_steps": next_steps,
     });
     let job_line = run.job_line(&figures);
     let warnings: Vec<String> = run.unscored_warning().into_iter().collect();
@@ -141,6 +168,7 @@ pub fn fabricate_verified(
         job_line,
         warnings,
         steps,
+        next_steps,
         verification,
         sheet,
         toolpath,
@@ -276,11 +304,12 @@ fn sheet_files(
     front: &crate::fab::Toolpath,
     back: Option<&crate::fab::Toolpath>,
     jobs_written: &[(String, Vec<u8>)],
+    layers: crate::output::svg::Layers,
 ) -> Files {
     use crate::output::{dxf, svg};
     let mut files = vec![(
         "sheet.svg".to_string(),
-        svg::sheet_to_string(front).into_bytes(),
+        svg::sheet_to_string(front, layers).into_bytes(),
     )];
     files.extend(jobs_written.iter().take(1).cloned());
     files.push(("sheet.dxf".to_string(), dxf::to_string(front).into_bytes()));
@@ -288,7 +317,7 @@ fn sheet_files(
     if let Some(b) = back {
         files.push((
             "sheet-back.svg".to_string(),
-            svg::sheet_to_string(b).into_bytes(),
+            svg::sheet_to_string(b, layers).into_bytes(),
         ));
         files.push(("sheet-back.dxf".to_string(), dxf::to_string(b).into_bytes()));
     }
@@ -325,10 +354,7 @@ fn preview_files(
 
 /// The crease pattern as laid out on the sheet, as SVG and as FOLD (with the layer order
 /// of a flat-folding pattern).
-fn pattern_files(
-    mesh: &Mesh,
-    sheet: &crate::fab::Sheet,
-) -> Result<Files, FabError> {
+fn pattern_files(mesh: &Mesh, sheet: &crate::fab::Sheet) -> Result<Files, FabError> {
     let mut placed = mesh.clone();
     placed.set_flat(sheet.vertices.clone());
     let cp = crate::io::to_string(&placed, crate::io::Format::Svg).map_err(FabError::Input)?;

@@ -10,7 +10,7 @@ mod path;
 
 pub use fab_options::{FabOptions, MIN_WIDTH_MM, TILE_OVERLAP_MM};
 pub use fabricate::{
-    fabricate, fabricate_verified, remove_stale_outputs, FabError, FabOutput, Rejected,
+    fabricate, fabricate_verified, remove_stale_outputs, FabError, FabOutput, NextSteps, Rejected,
     OUTPUT_FILES,
 };
 pub use fit::{BlockedBy, ConditionResidual, Distances, FitReport, FitStage, PlacementRecord};

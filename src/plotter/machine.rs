@@ -42,7 +42,9 @@ pub struct Machine {
     /// Human name.
     pub name: String,
     /// The job the machine takes: "hpgl" (sheet.hpgl), "gpgl" (sheet.gpgl, Graphtec and
-    /// Silhouette) or "dxf" (laser cutters: sheet.dxf and sheet.svg, no cutter job).
+    /// Silhouette), "dxf" (laser cutters: sheet.dxf and sheet.svg, no cutter job) or
+    /// "svg" (cutters driven by their own design software, such as Cricut Design Space:
+    /// sheet.svg with one layer per operation, Cut and Score).
     pub protocol: String,
     /// How the job reaches it: "serial" (`crease plot` streams it; needs `baud`,
     /// `flow_control` and `buffer_bytes`) or "file" (the maker's own software sends it).
@@ -73,6 +75,13 @@ pub struct Machine {
     pub gpgl: Option<GpglProfile>,
     /// Tools by line kind: cut, mountain, valley, and optionally flat.
     pub tools: BTreeMap<String, Tool>,
+    /// The software a file-connected machine's files go to (e.g. "Cricut Design Space").
+    #[serde(default)]
+    pub software: Option<String>,
+    /// What the maker does there, step by step (at most 20, each under 300 characters):
+    /// `fab` prints them and report.json keeps them.
+    #[serde(default)]
+    pub steps: Vec<String>,
 }
 
 fn serial() -> String {
@@ -271,9 +280,9 @@ impl Machine {
 
     /// Protocol, connection and the settings they need, each refusal naming its key.
     fn check_protocol(&self) -> Result<(), String> {
-        if !["hpgl", "gpgl", "dxf"].contains(&self.protocol.as_str()) {
+        if !["hpgl", "gpgl", "dxf", "svg"].contains(&self.protocol.as_str()) {
             return Err(format!(
-                "protocol \"{}\" is not one of hpgl, gpgl, dxf",
+                "protocol \"{}\" is not one of hpgl, gpgl, dxf, svg",
                 self.protocol
             ));
         }
@@ -294,11 +303,11 @@ impl Machine {
                         missing.join(", ")
                     ));
                 }
-                if self.protocol == "dxf" {
-                    return Err(
-                        "protocol \"dxf\" is a file for laser software: use connection = \"file\""
-                            .into(),
-                    );
+                if ["dxf", "svg"].contains(&self.protocol.as_str()) {
+                    return Err(format!(
+                        "protocol \"{}\" is a file for the machine's own software: use connection = \"file\"",
+                        self.protocol
+                    ));
                 }
             }
             "file" => {}
@@ -310,6 +319,9 @@ impl Machine {
                     "flow_control \"{flow}\" is not one of xonxoff, rtscts, query, none"
                 ));
             }
+        }
+        if self.steps.len() > 20 || self.steps.iter().any(|s| s.chars().count() >= 300) {
+            return Err("steps: at most 20 steps, each under 300 characters".into());
         }
         if self.gpgl.is_some() && self.protocol != "gpgl" {
             return Err("a [gpgl] table belongs to protocol \"gpgl\" only".into());
