@@ -45,6 +45,7 @@ fn main() {
         )
         .unwrap();
         let options = StreamOptions {
+            device: false,
             port: link.clone(),
             baud,
             language: Language::Hpgl,

@@ -216,7 +216,8 @@ fn the_pdf_page_is_the_media_and_its_scale_bar_is_100_mm() {
         let out = fabricate(&mesh, &machine, &options).unwrap();
         let pdf = output(&out, "sheet.pdf");
         let doc = printpdf::PdfDocument::parse(pdf, &Default::default(), &mut Vec::new()).unwrap();
-        assert_eq!(doc.pages.len(), 1);
+        // The page to fold by, then the page as cut.
+        assert_eq!(doc.pages.len(), 2);
         let page = &doc.pages[0];
         let mm = |pt: f32| pt as f64 * 25.4 / 72.0;
         let (w, h) = (mm(page.media_box.width.0), mm(page.media_box.height.0));

@@ -146,23 +146,33 @@ fn protocols_and_connections_are_checked_naming_their_key() {
 
 #[test]
 fn a_file_only_machine_has_a_job_file_and_plot_refuses_it_by_name() {
-    // A file-only machine has no serial line, so plot refuses it by name.
+    // The Cameo is written to as a USB device node; the same cutter declared file-only
+    // has no line at all, so plot refuses it by name.
     let cameo = Machine::load("silhouette-cameo").unwrap();
-    assert!(cameo.serial_line().is_none());
-    assert_eq!(cameo.job_file("sheet").as_deref(), Some("sheet.gpgl"));
+    assert!(cameo.serial_line().is_some_and(|l| l.device));
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/silhouette-cameo.toml"),
+    )
+    .unwrap()
+    .replace("connection = \"usb\"", "connection = \"file\"");
+    let dir = std::env::temp_dir().join(format!("crease-file-only-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let profile = dir.join("cameo-file.toml");
+    std::fs::write(&profile, text).unwrap();
+    let file_only = Machine::load(profile.to_str().unwrap()).unwrap();
+    assert!(file_only.serial_line().is_none());
+    assert_eq!(file_only.job_file("sheet").as_deref(), Some("sheet.gpgl"));
     let (code, _, err) = run_crease(&[
         "plot",
         "/dev/null",
         "--port",
         "/dev/null",
         "--machine",
-        "silhouette-cameo",
+        profile.to_str().unwrap(),
     ]);
     assert_eq!(code, 2, "{err}");
-    assert!(
-        err.contains("silhouette-cameo") && err.contains("file"),
-        "{err}"
-    );
+    assert!(err.contains("cameo-file") && err.contains("file"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

@@ -21,6 +21,7 @@ fn job(design: &str) -> String {
 
 fn options(port: &Path, flow: FlowMode, baud: u32) -> StreamOptions {
     StreamOptions {
+        device: false,
         port: port.to_path_buf(),
         baud,
         language: Language::Hpgl,
@@ -486,4 +487,49 @@ fn after_the_front_of_a_two_sided_job_plot_says_how_to_go_on() {
         state.path.segments,
         hpgl::interpret(&text).unwrap().segments
     );
+}
+
+#[test]
+fn a_cameo_job_is_written_to_its_usb_device_node_with_status_polled() {
+    // `fab --machine silhouette-cameo` then `plot DIR --port NODE`: the report says the
+    // machine is a USB device, so the job is written to the node as a file (no baud, no
+    // line flow control), in chunks each sent when ESC ENQ says the cutter is ready. The
+    // emulator's pty stands in for /dev/usb/lp0.
+    let dir = fab_job("miura.fold", "silhouette-cameo", "cameo-usb");
+    let text = std::fs::read_to_string(dir.join("sheet.gpgl")).unwrap();
+    let link = scratch("cameo-usb").join("lp0");
+    let emulator = Emulator::start(
+        &link,
+        EmulatorConfig {
+            baud: 115200,
+            rate: 8000.0,
+            flow: Flow::None,
+            language: Language::Gpgl,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let (code, err) = plot_cli(&dir, &link, &["--dry-run"]);
+    assert_eq!(code, Some(0), "{err}");
+    let (code, err) = plot_cli(&dir, &link, &[]);
+    emulator.wait_idle(Duration::from_millis(300), Duration::from_secs(60));
+    let state = emulator.stop();
+    assert_eq!(code, Some(0), "{err}");
+    assert!(err.contains("USB device"), "{err}");
+    assert_eq!(state.lost, 0);
+    assert_eq!(state.received, text.len() + 2 * state.status_queries);
+    assert!(
+        state.status_queries >= text.len() / 1024,
+        "{} status checks for {} bytes",
+        state.status_queries,
+        text.len()
+    );
+    assert_eq!(
+        state.path.segments,
+        crease::output::gpgl::interpret(&text).unwrap().segments
+    );
+    // Baud and flow control mean nothing to a device node: refused, naming them.
+    let (code, err) = plot_cli(&dir, &link, &["--baud", "9600"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("--baud") && err.contains("USB"), "{err}");
 }

@@ -24,6 +24,8 @@ struct Case {
     language: Language,
     flow: FlowMode,
     power_cycle: bool,
+    /// Written to the emulator's pty as a device node (a USB cutter), not a serial port.
+    device: bool,
 }
 
 /// The miura job for `language`'s cutter, the segments it draws, and its file name.
@@ -69,9 +71,12 @@ fn pull_and_resume(case: &Case) -> (EmulatorState, Vec<Segment>) {
         language,
         flow,
         power_cycle,
+        device,
     } = *case;
     let (text, expected, file) = job_for(language);
-    let dir = scratch(&format!("pull-{seed}-{language:?}-{flow:?}-{power_cycle}"));
+    let dir = scratch(&format!(
+        "pull-{seed}-{language:?}-{flow:?}-{power_cycle}-{device}"
+    ));
     let link = dir.join("plotter");
     // A byte somewhere in the job, different per seed.
     let fail_after = 600 + (seed * 2654435761) % (text.len() - 1200);
@@ -80,6 +85,7 @@ fn pull_and_resume(case: &Case) -> (EmulatorState, Vec<Segment>) {
     let job_path = dir.join(file);
     std::fs::write(&job_path, &text).unwrap();
     let mut opts = StreamOptions {
+        device,
         port: link.clone(),
         baud: 115200,
         language,
@@ -162,6 +168,7 @@ fn a_pulled_cable_is_resumed_without_redrawing_or_skipping() {
                 language: Language::Hpgl,
                 flow,
                 power_cycle: false,
+                device: false,
             };
             let (state, expected) = pull_and_resume(&case);
             assert_eq!(state.lost, 0, "seed {seed} {flow:?}");
@@ -184,6 +191,7 @@ fn a_power_cut_costs_at_most_two_percent_of_the_segments_drawn_twice() {
                 language: Language::Hpgl,
                 flow,
                 power_cycle: true,
+                device: false,
             };
             let (state, expected) = pull_and_resume(&case);
             let what = format!("seed {seed} {flow:?}");
@@ -207,6 +215,7 @@ fn a_gpgl_job_resumes_after_a_pulled_cable_or_a_power_cut() {
             language: Language::Gpgl,
             flow: FlowMode::RtsCts,
             power_cycle,
+            device: false,
         };
         let (state, expected) = pull_and_resume(&case);
         let what = format!("seed {seed}, power cut {power_cycle}");
@@ -214,6 +223,36 @@ fn a_gpgl_job_resumes_after_a_pulled_cable_or_a_power_cut() {
         let twice = drawn_twice(&state, &expected, &what);
         eprintln!("{what}: {twice} of {} cuts cut twice", expected.len());
         // At most the chunk in flight (half the 1 KiB buffer) is cut again.
+        assert!(
+            twice as f64 <= 0.05 * expected.len() as f64,
+            "{what}: {twice} of {} cuts cut twice",
+            expected.len()
+        );
+    }
+}
+
+#[test]
+fn a_cameo_job_written_to_a_usb_device_node_resumes_after_a_pulled_cable() {
+    // The Cameo on Linux is /dev/usb/lp0: a file, no baud, no line flow control. Written
+    // to the emulator's pty opened as a plain file, a GP-GL job interrupted by a pulled
+    // cable resumes after the last chunk the cutter reported cut, losing nothing.
+    for seed in [2, 5] {
+        let case = Case {
+            seed,
+            language: Language::Gpgl,
+            flow: FlowMode::None,
+            power_cycle: false,
+            device: true,
+        };
+        let (state, expected) = pull_and_resume(&case);
+        let what = format!("device node, seed {seed}");
+        assert_eq!(state.lost, 0, "{what}");
+        assert!(
+            state.status_queries > 2,
+            "{what}: status polled {} times",
+            state.status_queries
+        );
+        let twice = drawn_twice(&state, &expected, &what);
         assert!(
             twice as f64 <= 0.05 * expected.len() as f64,
             "{what}: {twice} of {} cuts cut twice",

@@ -183,7 +183,8 @@ fn the_two_jobs_register_through_crosses_both_cut_first() {
         assert!(plain.report["sheet"]["two_sided"].is_null());
         let pdf = &out.files.iter().find(|f| f.0 == "sheet.pdf").unwrap().1;
         let doc = printpdf::PdfDocument::parse(pdf, &Default::default(), &mut Vec::new()).unwrap();
-        assert_eq!(doc.pages.len(), 2);
+        // Folding template, steps, the front job as cut.
+        assert_eq!(doc.pages.len(), 3);
         let page_text = pdf_page_text(&doc.pages[1]);
         assert!(page_text.contains(&second) && page_text.contains("Turn the sheet over"));
         let files: Vec<&str> = out.files.iter().map(|f| f.0.as_str()).collect();

@@ -75,6 +75,8 @@ pub struct EmulateArgs {
 struct LineSettings {
     source: String,
     language: Language,
+    /// A USB device node written as a file (connection "usb"), not a serial port.
+    device: bool,
     baud: u32,
     flow: String,
     buffer: usize,
@@ -98,6 +100,7 @@ impl LineSettings {
         Ok(LineSettings {
             source: format!("{source} {name} ({})", m.name),
             language,
+            device: line.device,
             baud: line.baud,
             flow: line.flow_control,
             buffer: line.buffer_bytes,
@@ -142,6 +145,7 @@ impl LineSettings {
         Ok(Some(LineSettings {
             source: format!("the job's machine ({machine}, from report.json)"),
             language,
+            device: plotter["connection"].as_str() == Some("usb"),
             baud: u32::try_from(number("baud")?).map_err(|_| bad("baud out of range"))?,
             flow: plotter["flow_control"]
                 .as_str()
@@ -252,9 +256,18 @@ pub fn plot(args: PlotArgs) -> Result<u8, String> {
     let (job_path, text, line) = open_job(args.job, args.machine.as_deref())?;
     let path = pen_path(&text, line.language, &job_path)?;
     let baud = args.baud.unwrap_or(line.baud);
-    crease::limits::BAUD
-        .check_count("--baud", baud as u64)
-        .map_err(|e| e.to_string())?;
+    if line.device && (args.baud.is_some() || args.flow.is_some()) {
+        return Err(format!(
+            "--baud and --flow are for serial ports; {} is a USB device node ({}), which has neither",
+            args.port.display(),
+            line.source
+        ));
+    }
+    if !line.device {
+        crease::limits::BAUD
+            .check_count("--baud", baud as u64)
+            .map_err(|e| e.to_string())?;
+    }
     let flow = FlowMode::parse(args.flow.as_deref().unwrap_or(&line.flow))?;
     let unfinished = stream::unfinished(text.as_bytes(), &job_path);
     if let (Some(j), false, false) = (&unfinished, args.resume, args.restart) {
@@ -264,6 +277,18 @@ pub fn plot(args: PlotArgs) -> Result<u8, String> {
             j.received,
             j.job_len
         ));
+    }
+    if args.dry_run && line.device {
+        out(&format!(
+            "{}: {} bytes, {} pen-down segments; would {} to the USB device {} in chunks checked by ESC ENQ, settings from {}\n",
+            job_path.display(),
+            text.len(),
+            path.segments.len(),
+            if args.resume { "resume" } else { "send" },
+            args.port.display(),
+            line.source
+        ));
+        return Ok(0);
     }
     if args.dry_run {
         out(&format!(
@@ -285,16 +310,25 @@ pub fn plot(args: PlotArgs) -> Result<u8, String> {
             std::fs::remove_file(&journal).map_err(|e| format!("{}: {e}", journal.display()))?;
         }
     }
-    eprintln!(
-        "plotting with {}: {baud} baud, {flow:?} flow control",
-        line.source
-    );
+    if line.device {
+        eprintln!(
+            "plotting with {}: USB device {}, status polled",
+            line.source,
+            args.port.display()
+        );
+    } else {
+        eprintln!(
+            "plotting with {}: {baud} baud, {flow:?} flow control",
+            line.source
+        );
+    }
     let options = StreamOptions {
         port: args.port,
         baud,
         language: line.language,
         flow,
         buffer: line.buffer,
+        device: line.device,
         resume: args.resume,
         answer_timeout: std::time::Duration::from_secs(10),
     };
@@ -347,15 +381,15 @@ fn stream_with_progress(
         .expect("valid template")
         .progress_chars("=> "),
     );
-    let baud = options.baud;
+    let rate = options.line_rate();
     let result = crease::plotter::stream(
         text.as_bytes(),
         job_path,
         options,
         &mut |p| {
             bar.set_position(p.confirmed as u64);
-            // The line is the hard limit: what remains cannot cross it faster than baud/10.
-            let left = (p.total - p.confirmed) as f64 * 10.0 / baud as f64;
+            // The line is the hard limit: what remains cannot cross it faster.
+            let left = (p.total - p.confirmed) as f64 / rate;
             bar.set_message(format!(
                 "{} commands, ≥{left:.0} s left at the line rate",
                 p.commands

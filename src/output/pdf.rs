@@ -2,7 +2,7 @@
 //! for folding by hand (mountain dash-dot, valley dashed, cut solid), a 100 mm scale bar
 //! to check the printer did not scale, a legend, the title and the report's summary.
 
-use crate::fab::{LineKind, Media, Sheet};
+use crate::fab::{LineKind, Media, Sheet, Toolpath};
 use crate::mesh::Vec2;
 use printpdf::{
     BuiltinFont, Color, Line, LineDashPattern, LinePoint, Mm, Op, PdfDocument, PdfFontHandle,
@@ -189,12 +189,35 @@ fn save(title: &str, pages: Vec<PdfPage>) -> Vec<u8> {
         .save(&PdfSaveOptions::default(), &mut Vec::new())
 }
 
-/// The template as PDF bytes, one page the size of the sheet's media. `summary` lines go
-/// under the title.
-pub fn to_bytes(sheet: &Sheet, title: &str, summary: &[String]) -> Vec<u8> {
+/// Title of the page that shows the cut as the knife makes it.
+pub const AS_CUT_TITLE: &str = "As cut: every dash and cut as the job makes it (fold by page 1)";
+
+/// A page the size of the media with the toolpath's strokes as they are cut: every dash
+/// a solid segment in its operation's colour, as `sheet.svg` and the cutter's job have
+/// them (page 1 draws whole fold lines in a style to fold by).
+fn as_cut_page(path: &Toolpath) -> PdfPage {
+    let (w, h) = (path.media.width, path.media.height);
+    let mut ops = vec![Op::SetOutlineThickness { pt: Pt(0.4) }];
+    solid_black(&mut ops);
+    for kind in LineKind::ALL {
+        let (col, _) = style(kind);
+        ops.push(Op::SetOutlineColor { col });
+        for s in path.strokes.iter().filter(|s| s.kind == kind) {
+            ops.push(line((s.from.x, s.from.y), (s.to.x, s.to.y)));
+        }
+    }
+    text(&mut ops, 5.0, h - 6.0, 9.0, AS_CUT_TITLE);
+    PdfPage::new(Mm(w as f32), Mm(h as f32), ops)
+}
+
+/// The template as PDF bytes: one page the size of the sheet's media to fold by
+/// (`summary` lines under the title), then, with `cut`, the page as cut.
+pub fn to_bytes(sheet: &Sheet, title: &str, summary: &[String], cut: Option<&Toolpath>) -> Vec<u8> {
     let (w, h) = (sheet.media.width, sheet.media.height);
     let ops = page_ops(sheet, (0.0, 0.0), w, h, title, summary);
-    save(title, vec![PdfPage::new(Mm(w as f32), Mm(h as f32), ops)])
+    let mut pages = vec![PdfPage::new(Mm(w as f32), Mm(h as f32), ops)];
+    pages.extend(cut.map(as_cut_page));
+    save(title, pages)
 }
 
 /// A two-sided job's template: the sheet with the front job's registration crosses at
@@ -206,6 +229,7 @@ pub fn to_bytes_two_sided(
     summary: &[String],
     marks: &[Vec2],
     steps: &[String],
+    cut: Option<&Toolpath>,
 ) -> Vec<u8> {
     let (w, h) = (sheet.media.width, sheet.media.height);
     let mut ops = page_ops(sheet, (0.0, 0.0), w, h, title, summary);
@@ -262,13 +286,12 @@ pub fn to_bytes_two_sided(
         }
         text(&mut second, x0, y0 - 5.0, 8.0, label);
     }
-    save(
-        title,
-        vec![
-            PdfPage::new(Mm(w as f32), Mm(h as f32), ops),
-            PdfPage::new(Mm(w as f32), Mm(h as f32), second),
-        ],
-    )
+    let mut pages = vec![
+        PdfPage::new(Mm(w as f32), Mm(h as f32), ops),
+        PdfPage::new(Mm(w as f32), Mm(h as f32), second),
+    ];
+    pages.extend(cut.map(as_cut_page));
+    save(title, pages)
 }
 
 /// A sheet too large for the printer, split over `page` sized pages. Each page shows a

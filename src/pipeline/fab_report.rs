@@ -83,6 +83,7 @@ impl<'a> Run<'a> {
             // What `crease plot` needs to stream this job to the machine it was made for.
             "plotter": line.as_ref().filter(|_| !self.jobs_written.is_empty()).map(|l| serde_json::json!({
                 "protocol": machine.protocol,
+                "connection": machine.connection,
                 "baud": l.baud,
                 "flow_control": l.flow_control,
                 "buffer_bytes": l.buffer_bytes,
@@ -200,7 +201,8 @@ impl<'a> Run<'a> {
         summary
     }
 
-    /// The printable template: tiled over `page`s, two pages for a two-sided job, else one.
+    /// The printable template: tiled over `page`s; else the page to fold by (and for a
+    /// two-sided job the page of steps), then the front job as it is cut.
     pub fn pdf(&self, page: &Media, title: &str, summary: &[String]) -> Vec<u8> {
         let sheet = self.sheet;
         if self.tiled {
@@ -214,9 +216,16 @@ impl<'a> Run<'a> {
             )
         } else if !self.steps.is_empty() {
             let marks = crate::fab::registration::front_centres(&sheet.media, self.margin);
-            crate::output::pdf::to_bytes_two_sided(sheet, title, summary, &marks, self.steps)
+            crate::output::pdf::to_bytes_two_sided(
+                sheet,
+                title,
+                summary,
+                &marks,
+                self.steps,
+                self.jobs.first().copied(),
+            )
         } else {
-            crate::output::pdf::to_bytes(sheet, title, summary)
+            crate::output::pdf::to_bytes(sheet, title, summary, self.jobs.first().copied())
         }
     }
 }

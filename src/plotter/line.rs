@@ -48,11 +48,28 @@ pub struct StreamOptions {
     pub flow: FlowMode,
     /// The plotter's buffer size (bytes), from the machine profile.
     pub buffer: usize,
+    /// The port is a device node read and written as a file (a USB printer-class cutter
+    /// such as the Silhouette Cameo on Linux, `/dev/usb/lpN`): no line speed and no
+    /// line flow control (USB paces the writes); `baud` is then not used.
+    pub device: bool,
     /// Continue a job from its journal.
     pub resume: bool,
     /// How long a silent plotter is given before it counts as not answering (on top of
     /// the time the bytes in flight need on the line).
     pub answer_timeout: Duration,
+}
+
+impl StreamOptions {
+    /// Bytes per second the line carries: a tenth of the baud rate on a serial port (8N1),
+    /// and for a USB device node a conservative 100 kB/s (full-speed USB bulk transfers
+    /// run several times faster).
+    pub fn line_rate(&self) -> f64 {
+        if self.device {
+            100_000.0
+        } else {
+            f64::from(self.baud.max(1)) / 10.0
+        }
+    }
 }
 
 /// What went wrong while plotting. The journal is kept in every case.

@@ -1,5 +1,6 @@
-//! The serial line to the plotter: opening it with the flow control asked for, writing
-//! through flow-control stops, and reading replies.
+//! The line to the plotter: a serial port opened with the flow control asked for, or a
+//! device node (a USB printer-class cutter) opened as a file; writing through
+//! flow-control stops, and reading replies.
 //!
 //! Replies to the queries a plotter answers on receipt (ESC.B, ESC.E, ESC ENQ) come back
 //! at once. An HP-GL `OA;` is answered only when the plotter has executed everything before
@@ -16,8 +17,79 @@ use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
+/// What the job goes through.
+enum Port {
+    /// A serial port (or the emulator's pseudo-terminal).
+    Serial(TTYPort),
+    /// A device node written and read as a file, non-blocking, waited on with `poll`.
+    Device(std::fs::File),
+}
+
+/// A device node that went away.
+fn hung_up() -> std::io::Error {
+    std::io::Error::new(
+        ErrorKind::BrokenPipe,
+        "the device hung up (unplugged or switched off)",
+    )
+}
+
+/// How long a read waits for a byte, as the serial port's timeout.
+const READ_WAIT: Duration = Duration::from_millis(50);
+
+impl Port {
+    /// Whether a byte can be read within `wait` (a device node only). A device that hung
+    /// up (unplugged, switched off) is an error, not silence.
+    fn readable(file: &std::fs::File, wait: Duration) -> std::io::Result<bool> {
+        use nix::poll::{poll, PollFd, PollFlags, PollTimeout};
+        use std::os::fd::AsFd;
+        let mut fds = [PollFd::new(file.as_fd(), PollFlags::POLLIN)];
+        let ms = PollTimeout::try_from(wait).unwrap_or(PollTimeout::MAX);
+        let n = poll(&mut fds, ms).map_err(std::io::Error::from)?;
+        let gone = PollFlags::POLLHUP | PollFlags::POLLERR | PollFlags::POLLNVAL;
+        if fds[0].revents().is_some_and(|r| r.intersects(gone)) {
+            return Err(hung_up());
+        }
+        Ok(n > 0)
+    }
+
+    fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
+        match self {
+            Port::Serial(p) => p.write(bytes),
+            Port::Device(f) => f.write(bytes),
+        }
+    }
+
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        match self {
+            Port::Serial(p) => p.read(buf),
+            Port::Device(f) => {
+                if !Port::readable(f, READ_WAIT)? {
+                    return Err(ErrorKind::TimedOut.into());
+                }
+                // Readable with nothing to read is the end of the device.
+                match f.read(buf)? {
+                    0 => Err(hung_up()),
+                    n => Ok(n),
+                }
+            }
+        }
+    }
+
+    /// Bytes waiting to be read (for a device node: some, if any are).
+    fn bytes_to_read(&self) -> std::io::Result<u32> {
+        match self {
+            Port::Serial(p) => p.bytes_to_read().map_err(std::io::Error::other),
+            Port::Device(f) => Ok(if Port::readable(f, Duration::ZERO)? {
+                256
+            } else {
+                0
+            }),
+        }
+    }
+}
+
 pub(crate) struct Link {
-    port: TTYPort,
+    port: Port,
     pub(crate) name: String,
     language: Language,
     partial: Vec<u8>,
@@ -58,7 +130,8 @@ impl Link {
             match self.port.write(rest) {
                 Ok(0) => std::thread::sleep(Duration::from_millis(2)),
                 Ok(n) => rest = &rest[n..],
-                Err(e) if transient(&e) => {}
+                // A device node that cannot take more says so at once: wait a little.
+                Err(e) if transient(&e) => std::thread::sleep(Duration::from_millis(1)),
                 Err(e) => return Err(self.vanished(confirmed, e)),
             }
         }
@@ -188,9 +261,42 @@ impl Link {
     }
 }
 
+/// Opens a device node for reading and writing, non-blocking. Errors name it and say why.
+fn open_device(name: &str) -> Result<Port, StreamError> {
+    use std::os::unix::fs::OpenOptionsExt;
+    std::fs::OpenOptions::new()
+        .read(true)
+        .write(true)
+        .custom_flags(nix::fcntl::OFlag::O_NONBLOCK.bits())
+        .open(name)
+        .map(Port::Device)
+        .map_err(|e| StreamError::Open {
+            port: name.to_string(),
+            cause: match e.kind() {
+                ErrorKind::NotFound => {
+                    "no such device (is the cutter plugged in and switched on? on Linux it appears as /dev/usb/lp0 when the usblp driver is loaded)".to_string()
+                }
+                ErrorKind::PermissionDenied => format!(
+                    "{e}: add yourself to the device's group (usually lp) and log in again"
+                ),
+                _ => e.to_string(),
+            },
+        })
+}
+
 /// Opens the port with the flow control asked for. Errors name the port and say why.
 pub(crate) fn open(options: &StreamOptions) -> Result<Link, StreamError> {
     let name = options.port.display().to_string();
+    if options.device {
+        return Ok(Link {
+            port: open_device(&name)?,
+            name,
+            language: options.language,
+            partial: Vec::new(),
+            marks: VecDeque::new(),
+            drawn: 0,
+        });
+    }
     if !BAUD_RATES.contains(&options.baud) {
         return Err(StreamError::Input(format!(
             "{} is not a serial speed (use one of {})",
@@ -229,7 +335,7 @@ pub(crate) fn open(options: &StreamOptions) -> Result<Link, StreamError> {
             },
         })?;
     Ok(Link {
-        port,
+        port: Port::Serial(port),
         name,
         language: options.language,
         partial: Vec::new(),

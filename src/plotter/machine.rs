@@ -47,7 +47,9 @@ pub struct Machine {
     /// sheet.svg with one layer per operation, Cut and Score).
     pub protocol: String,
     /// How the job reaches it: "serial" (`crease plot` streams it; needs `baud`,
-    /// `flow_control` and `buffer_bytes`) or "file" (the maker's own software sends it).
+    /// `flow_control` and `buffer_bytes`), "usb" (`crease plot --port /dev/usb/lpN`
+    /// writes it to a USB printer-class device node; needs `buffer_bytes`) or "file" (the
+    /// maker's own software sends it).
     #[serde(default = "serial")]
     pub connection: String,
     /// Plotter units per mm.
@@ -108,7 +110,9 @@ pub struct GpglProfile {
 /// The serial line of a machine that is streamed to.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SerialLine {
-    /// Speed.
+    /// A device node written as a file (connection "usb"), not a serial port.
+    pub device: bool,
+    /// Speed (0 for a device node, which has none).
     pub baud: u32,
     /// xonxoff, rtscts, query or none.
     pub flow_control: String,
@@ -310,8 +314,26 @@ impl Machine {
                     ));
                 }
             }
+            "usb" => {
+                if !["hpgl", "gpgl"].contains(&self.protocol.as_str()) {
+                    return Err(format!(
+                        "connection = \"usb\" streams a cutter job; protocol \"{}\" is a file for the machine's own software",
+                        self.protocol
+                    ));
+                }
+                if self.buffer_bytes.is_none() {
+                    return Err("connection = \"usb\" needs buffer_bytes (how much of the job to send between status checks)".into());
+                }
+                if self.baud.is_some() || self.flow_control.is_some() {
+                    return Err("connection = \"usb\" is a device node with no baud or flow_control: leave them out".into());
+                }
+            }
             "file" => {}
-            other => return Err(format!("connection \"{other}\" is not one of serial, file")),
+            other => {
+                return Err(format!(
+                    "connection \"{other}\" is not one of serial, usb, file"
+                ))
+            }
         }
         if let Some(flow) = &self.flow_control {
             if !["xonxoff", "rtscts", "query", "none"].contains(&flow.as_str()) {
@@ -347,10 +369,19 @@ impl Machine {
 
     /// The serial line `crease plot` streams over; `None` for a file-only machine.
     pub fn serial_line(&self) -> Option<SerialLine> {
+        if self.connection == "usb" {
+            return Some(SerialLine {
+                device: true,
+                baud: 0,
+                flow_control: "none".into(),
+                buffer_bytes: self.buffer_bytes?,
+            });
+        }
         if self.connection != "serial" {
             return None;
         }
         Some(SerialLine {
+            device: false,
             baud: self.baud?,
             flow_control: self.flow_control.clone()?,
             buffer_bytes: self.buffer_bytes?,

@@ -35,7 +35,7 @@ impl Session<'_> {
     /// How long a reply may take when `bytes` are ahead of it on the line.
     fn wait(&self, bytes: usize) -> Duration {
         self.options.answer_timeout
-            + Duration::from_secs_f64(bytes as f64 / (self.options.baud as f64 / 10.0))
+            + Duration::from_secs_f64(bytes as f64 / self.options.line_rate())
     }
 
     /// How long to wait for the plotter to work through `bytes` and answer: the line

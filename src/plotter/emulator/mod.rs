@@ -116,6 +116,8 @@ pub struct EmulatorState {
     pub errors: Vec<String>,
     /// Segments drawn before a power cycle (the paper keeps them).
     pub earlier: Vec<(u32, [i64; 2], [i64; 2])>,
+    /// Status queries answered (GP-GL `ESC ENQ`).
+    pub status_queries: usize,
 }
 
 /// A running emulator.
@@ -265,7 +267,10 @@ impl Plotter {
         if !self.escape.is_empty() && self.config.language == Language::Gpgl {
             self.escape.clear();
             return match b {
-                0x05 => Some(format!("{}\u{3}", self.gpgl_status())),
+                0x05 => {
+                    state.status_queries += 1;
+                    Some(format!("{}\u{3}", self.gpgl_status()))
+                }
                 0x04 => {
                     // Reset: the buffer, a half-read command and the position are gone;
                     // what was cut stays cut.
