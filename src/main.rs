@@ -82,6 +82,8 @@ enum Command {
     Fab(cli::fab::FabArgs),
     /// List the machine profiles `--machine` can name.
     Machines,
+    /// List the materials `fab --material` can name.
+    Materials,
     /// Send an HP-GL or GP-GL job to a plotter or cutter over a serial port, with flow
     /// control, progress confirmed by the machine, and a journal for --resume.
     Plot(cli::plot::PlotArgs),
@@ -198,6 +200,7 @@ fn run(cli: Cli) -> Result<u8, String> {
         Command::Surface(args) => cli::fit::surface(args),
         Command::Fab(args) => cli::fab::fab(args),
         Command::Machines => cli::machines(),
+        Command::Materials => cli::materials(),
         Command::Plot(args) => cli::plot::plot(args),
         Command::Studio(args) => cli::studio::studio(args),
         Command::Emulate(args) => cli::plot::emulate(args),

@@ -4,6 +4,7 @@
 mod common;
 
 use common::run_crease;
+use crease::fab::LineKind;
 use crease::plotter::Machine;
 use std::path::Path;
 
@@ -203,4 +204,149 @@ fn a_bad_profile_stops_fab_with_one_line_naming_the_file() {
     );
     assert!(!out.exists(), "nothing written");
     let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn each_shipped_material_sets_dash_force_and_clearance_as_its_file_says() {
+    // generic-hpgl cutting miura-bent in each material of materials/: the longest dash of
+    // each fold kind is the material's cut, consecutive dashes of a line are its gap
+    // apart, the clearance is its own, the job's forces (FS) are the profile's times its
+    // force_scale, and report.json names it.
+    use crease::plotter::Material;
+    let names = crease::plotter::material::known_materials();
+    assert!(names.len() >= 4, "{names:?}");
+    let base = Machine::load("generic-hpgl").unwrap();
+    let mesh =
+        crease::io::read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura-bent.fold"))
+            .unwrap();
+    let mut clearances = std::collections::BTreeSet::new();
+    for name in names {
+        let material = Material::load(&name).unwrap();
+        let machine = base.with_material(&material);
+        assert_eq!(machine.clearance_mm, material.clearance_mm, "{name}");
+        clearances.insert((material.clearance_mm * 100.0) as i64);
+        let options = crease::pipeline::FabOptions {
+            media: Some(crease::fab::Media::parse("a3").unwrap()),
+            fit: true,
+            ..Default::default()
+        };
+        let out = crease::pipeline::fabricate(&mesh, &machine, &options).unwrap();
+        assert_eq!(out.report["sheet"]["material"], material.name.as_str());
+        for (kind, [cut, gap]) in [
+            (LineKind::Mountain, material.dash.mountain),
+            (LineKind::Valley, material.dash.valley),
+        ] {
+            let dashes: Vec<_> = out
+                .toolpath
+                .strokes
+                .iter()
+                .filter(|s| s.kind == kind)
+                .collect();
+            let longest = dashes.iter().map(|s| s.length()).fold(0.0, f64::max);
+            assert!(
+                (longest - cut).abs() < 1e-6,
+                "{name} {kind:?}: longest dash {longest} vs {cut}"
+            );
+            // Full dashes of one line follow each other a gap apart (across a junction,
+            // twice the clearance apart), never closer.
+            let mut gaps = 0;
+            let closest = gap.min(2.0 * material.clearance_mm);
+            for a in &dashes {
+                for b in &dashes {
+                    let full = |s: &&&crease::fab::Stroke| (s.length() - cut).abs() < 1e-6;
+                    if a.line != b.line || a == b || !full(&a) || !full(&b) {
+                        continue;
+                    }
+                    let apart = (b.from - a.to).norm();
+                    assert!(
+                        apart > closest - 1e-6,
+                        "{name} {kind:?}: dashes {apart} mm apart"
+                    );
+                    gaps += usize::from((apart - gap).abs() < 1e-6);
+                }
+            }
+            assert!(gaps > 0, "{name} {kind:?}: no two full dashes a gap apart");
+        }
+        // Forces as sent: the profile's times the scale, one FS per distinct force.
+        let job = std::str::from_utf8(&out.files.iter().find(|f| f.0 == "sheet.hpgl").unwrap().1)
+            .unwrap();
+        let sent: std::collections::BTreeSet<i64> = job
+            .split(';')
+            .filter_map(|c| c.strip_prefix("FS"))
+            .map(|v| v.parse().unwrap())
+            .collect();
+        let expected: std::collections::BTreeSet<i64> = base
+            .tools
+            .values()
+            .filter_map(|t| t.force)
+            .map(|f| (f * material.force_scale).round().max(1.0) as i64)
+            .collect();
+        assert_eq!(sent, expected, "{name}");
+    }
+    assert!(clearances.len() >= 3, "the materials differ in clearance");
+}
+
+#[test]
+fn a_bad_material_file_is_refused_naming_its_key() {
+    use crease::plotter::Material;
+    let good = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("materials/paper-80gsm.toml"),
+    )
+    .unwrap();
+    assert!(Material::parse(&good).is_ok());
+    for (from, to, key) in [
+        ("force_scale = 0.5", "force_scale = 40.0", "force_scale"),
+        ("clearance_mm = 0.8", "clearance_mm = -1.0", "clearance_mm"),
+        (
+            "thickness_mm = 0.1",
+            "thickness_mm = 0.1\ngrain = \"long\"",
+            "grain",
+        ),
+        (
+            "mountain = [2.5, 2.0]",
+            "mountain = [0.01, 2.0]",
+            "dash.mountain",
+        ),
+        ("speed_scale = 1.0\n", "", "speed_scale"),
+    ] {
+        assert!(good.contains(from), "{from}");
+        let err = Material::parse(&good.replacen(from, to, 1)).expect_err(to);
+        assert!(err.contains(key), "{to}: {err}");
+        assert!(!err.contains('\n'), "{to}: one line: {err}");
+    }
+    // Through the command line: exit 2, the file and the key named, nothing written.
+    let dir = std::env::temp_dir().join(format!("crease-material-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.toml");
+    std::fs::write(
+        &bad,
+        good.replacen("force_scale = 0.5", "force_scale = 40.0", 1),
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let design = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura.fold");
+    let (code, _, err) = run_crease(&[
+        "fab",
+        design.to_str().unwrap(),
+        "--material",
+        bad.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("bad.toml") && err.contains("force_scale"),
+        "{err}"
+    );
+    assert!(!out.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+    // `crease materials` lists each shipped material by name.
+    let (code, list, _) = run_crease(&["materials"]);
+    assert_eq!(code, 0);
+    for name in crease::plotter::material::known_materials() {
+        assert!(
+            list.lines().any(|l| l.starts_with(&name)),
+            "{name} missing: {list}"
+        );
+    }
 }

@@ -10,6 +10,10 @@ pub struct FabArgs {
     /// Machine profile: a name from machines/ or a path to a .toml file.
     #[arg(long, default_value = "generic-hpgl")]
     machine: String,
+    /// Material: a name from materials/ (`crease materials` lists them) or a path to a
+    /// .toml file; sets the dash codes, clearance, force and speed for that sheet.
+    #[arg(long)]
+    material: Option<String>,
     /// Media: a4, a3, letter, 12x12in, WxHmm (default: the machine's).
     #[arg(long)]
     media: Option<String>,
@@ -44,6 +48,7 @@ pub fn fab(args: FabArgs) -> Result<u8, String> {
     let FabArgs {
         design,
         machine,
+        material,
         media,
         width,
         fit,
@@ -53,7 +58,10 @@ pub fn fab(args: FabArgs) -> Result<u8, String> {
         mountains_from_back,
         tile,
     } = args;
-    let machine = crease::plotter::Machine::load(&machine).map_err(|e| e.to_string())?;
+    let mut machine = crease::plotter::Machine::load(&machine).map_err(|e| e.to_string())?;
+    if let Some(name) = &material {
+        machine = machine.with_material(&crease::plotter::Material::load(name)?);
+    }
     let media = media
         .as_deref()
         .map(crease::fab::Media::parse)

@@ -232,6 +232,28 @@ pub fn convert(input: &Path, output: &Path) -> Result<u8, String> {
 }
 
 /// `crease machines`: the profiles `--machine` can name, with protocol and media.
+/// `crease materials`: the materials `--material` can name, with what they set.
+pub fn materials() -> Result<u8, String> {
+    let mut table = String::new();
+    for name in crease::plotter::material::known_materials() {
+        match crease::plotter::Material::load(&name) {
+            Ok(m) => table.push_str(&format!(
+                "{name:<22} {:>5.2} mm  mountain {:?} valley {:?}  clearance {} mm  force x{} speed x{}  {}\n",
+                m.thickness_mm,
+                m.dash.mountain,
+                m.dash.valley,
+                m.clearance_mm,
+                m.force_scale,
+                m.speed_scale,
+                m.name
+            )),
+            Err(e) => table.push_str(&format!("{name:<22} (unusable: {e})\n")),
+        }
+    }
+    out(&table);
+    Ok(0)
+}
+
 pub fn machines() -> Result<u8, String> {
     let mut table = String::new();
     for name in crease::plotter::machine::known_machines() {

@@ -80,6 +80,7 @@ impl<'a> Run<'a> {
         let marks = |centres: [crate::mesh::Vec2; 3]| centres.map(|p| [p.x, p.y]);
         serde_json::json!({
             "machine": machine.name,
+            "material": machine.material,
             // What `crease plot` needs to stream this job to the machine it was made for.
             "plotter": line.as_ref().filter(|_| !self.jobs_written.is_empty()).map(|l| serde_json::json!({
                 "protocol": machine.protocol,

@@ -84,6 +84,10 @@ pub struct Machine {
     /// `fab` prints them and report.json keeps them.
     #[serde(default)]
     pub steps: Vec<String>,
+    /// The material laid over the profile ([`Machine::with_material`]), if any: not a
+    /// profile key.
+    #[serde(skip)]
+    pub material: Option<String>,
 }
 
 fn serial() -> String {
@@ -487,7 +491,7 @@ impl Machine {
 }
 
 /// A range's refusal as the profile's error text (it names the key).
-fn text(e: crate::limits::OutOfRange) -> String {
+pub(super) fn text(e: crate::limits::OutOfRange) -> String {
     e.to_string()
 }
 

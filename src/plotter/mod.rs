@@ -6,11 +6,13 @@ mod journal;
 mod line;
 mod link;
 pub mod machine;
+pub mod material;
 mod session;
 pub mod stream;
 
 pub use emulator::{Emulator, EmulatorConfig, EmulatorState, Flow};
 pub use machine::{Machine, MachineError};
+pub use material::Material;
 pub use stream::{stream, FlowMode, Journal, Progress, StreamError, StreamOptions, StreamReport};
 
 /// The language a plotter speaks, which decides how the sender asks it anything.

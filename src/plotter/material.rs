@@ -1,0 +1,162 @@
+//! Materials as data: `materials/*.toml` say how a sheet wants to be cut and scored (dash
+//! codes, clearance, force and speed relative to the machine profile's), and `--material`
+//! lays them over a machine. A machine profile's forces and speeds are set for 250 g/m²
+//! cardstock, the reference every material file is relative to.
+
+use super::machine::{text, Machine};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// How one material is cut and scored.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Material {
+    /// Human name, e.g. "Cardstock 250 g/m²".
+    pub name: String,
+    /// Sheet thickness, mm.
+    pub thickness_mm: f64,
+    /// Distance dashes keep from junctions, the cut and other creases, mm (replaces the
+    /// profile's `clearance_mm`).
+    pub clearance_mm: f64,
+    /// Force relative to the profile's (its values are for 250 g/m² cardstock).
+    pub force_scale: f64,
+    /// Speed relative to the profile's.
+    pub speed_scale: f64,
+    /// Perforation per fold kind, `[cut, gap]` mm (replaces the profile's where it
+    /// perforates; a continuous score line stays continuous).
+    pub dash: MaterialDashes,
+}
+
+/// Dash codes of a material.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialDashes {
+    /// Mountain folds.
+    pub mountain: [f64; 2],
+    /// Valley folds.
+    pub valley: [f64; 2],
+}
+
+/// Relative force or speed: a tenth to four times the profile's.
+const SCALE: crate::limits::Range = crate::limits::Range {
+    what: "a scale",
+    unit: "",
+    min: 0.1,
+    max: 4.0,
+};
+
+/// Sheet thickness a cutter or laser takes: 0.01 to 20 mm.
+const THICKNESS: crate::limits::Range = crate::limits::Range {
+    what: "the thickness",
+    unit: "mm",
+    min: 0.01,
+    max: 20.0,
+};
+
+/// Folders searched for materials by name: `$CREASE_MATERIALS`, `./materials`, and the
+/// `materials/` folder crease was built from.
+pub fn search_path() -> Vec<PathBuf> {
+    let mut dirs = Vec::new();
+    if let Ok(d) = std::env::var("CREASE_MATERIALS") {
+        dirs.push(PathBuf::from(d));
+    }
+    dirs.push(PathBuf::from("materials"));
+    dirs.push(Path::new(env!("CARGO_MANIFEST_DIR")).join("materials"));
+    dirs
+}
+
+/// Names of the materials found, sorted, each once.
+pub fn known_materials() -> Vec<String> {
+    let mut known: Vec<String> = search_path()
+        .iter()
+        .filter_map(|d| std::fs::read_dir(d).ok())
+        .flatten()
+        .flatten()
+        .filter_map(|e| {
+            let p = e.path();
+            if p.extension()? != "toml" {
+                return None;
+            }
+            Some(p.file_stem()?.to_string_lossy().into_owned())
+        })
+        .collect();
+    known.sort();
+    known.dedup();
+    known
+}
+
+impl Material {
+    /// Loads a material by name (from [`search_path`]) or by path; errors name the file
+    /// and the key.
+    pub fn load(name_or_path: &str) -> Result<Material, String> {
+        let as_path = Path::new(name_or_path);
+        let path = if as_path.extension().is_some_and(|e| e == "toml") || name_or_path.contains('/')
+        {
+            Some(as_path.to_path_buf()).filter(|p| p.is_file())
+        } else {
+            search_path()
+                .into_iter()
+                .map(|d| d.join(format!("{name_or_path}.toml")))
+                .find(|p| p.is_file())
+        };
+        let Some(path) = path else {
+            return Err(format!(
+                "--material {name_or_path}: no such material (known: {}; or give a path to a .toml)",
+                known_materials().join(", ")
+            ));
+        };
+        let text =
+            std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        Material::parse(&text).map_err(|e| format!("{}: {e}", path.display()))
+    }
+
+    /// Parses and checks material text: each refusal names its key.
+    pub fn parse(source: &str) -> Result<Material, String> {
+        use crate::limits::{CLEARANCE, DASH};
+        let m: Material = toml::from_str(source).map_err(|e| crate::io::toml_error(source, &e))?;
+        THICKNESS
+            .check("thickness_mm", m.thickness_mm)
+            .map_err(text)?;
+        CLEARANCE
+            .check("clearance_mm", m.clearance_mm)
+            .map_err(text)?;
+        SCALE.check("force_scale", m.force_scale).map_err(text)?;
+        SCALE.check("speed_scale", m.speed_scale).map_err(text)?;
+        for (kind, [cut, gap]) in [("mountain", m.dash.mountain), ("valley", m.dash.valley)] {
+            DASH.check(format!("dash.{kind} cut"), cut).map_err(text)?;
+            DASH.check(format!("dash.{kind} gap"), gap).map_err(text)?;
+        }
+        Ok(m)
+    }
+}
+
+impl Machine {
+    /// This machine cutting `material`: its dash codes where the profile perforates, its
+    /// clearance, and forces and speeds scaled from the profile's (kept within what the
+    /// machine's language takes: GP-GL pressure 1 to 33).
+    pub fn with_material(&self, material: &Material) -> Machine {
+        let mut m = self.clone();
+        m.clearance_mm = material.clearance_mm;
+        for (kind, tool) in m.tools.iter_mut() {
+            let dash = match kind.as_str() {
+                "mountain" => Some(material.dash.mountain),
+                "valley" => Some(material.dash.valley),
+                _ => None,
+            };
+            if tool.dash.is_some() {
+                tool.dash = dash.or(tool.dash);
+            }
+            tool.force = tool.force.map(|f| {
+                let f = f * material.force_scale;
+                if m.protocol == "gpgl" {
+                    f.round().clamp(1.0, 33.0)
+                } else {
+                    f
+                }
+            });
+            tool.speed_mm_s = tool.speed_mm_s.map(|v| v * material.speed_scale);
+        }
+        m.material = Some(material.name.clone());
+        m
+    }
+}
