@@ -11,7 +11,8 @@ pub struct FabArgs {
     #[arg(long, default_value = "generic-hpgl")]
     machine: String,
     /// Material: a name from materials/ (`crease materials` lists them) or a path to a
-    /// .toml file; sets the dash codes, clearance, force and speed for that sheet.
+    /// .toml file; sets the dash codes, clearance, force and speed for that sheet
+    /// (default: none, the machine profile's own values, set for 250 g/m² cardstock).
     #[arg(long)]
     material: Option<String>,
     /// Media: a4, a3, letter, 12x12in, WxHmm (default: the machine's).
