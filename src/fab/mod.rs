@@ -27,6 +27,6 @@ pub use lines::{crease_lines, CreaseLine, LineKind};
 pub use route::route;
 
 pub use score::{score, score_lines};
-pub use toolpath::{dashes, DashCode, ScoreSettings, ShortFolds, Stroke, Toolpath};
+pub use toolpath::{dashes, DashCode, ScoreSettings, ShortFolds, Stroke, ToolSetting, Toolpath};
 pub use unfold::{check_overlap, unfold, UnfoldError};
 pub use verify::{verify, verify_within, FamilyReport, Report, Tolerances};

@@ -86,6 +86,18 @@ impl Default for ScoreSettings {
     }
 }
 
+/// How one kind of line is cut: the tool that cuts it and its speed and force. Routing
+/// groups strokes by it (one tour per physical tool); the writers send it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ToolSetting {
+    /// Pen or tool number (`SP n`).
+    pub pen: u32,
+    /// Speed in mm/s (`VS`, sent in cm/s), if the machine takes one.
+    pub speed: Option<f64>,
+    /// Force (`FS`), in the machine's units, if it takes one.
+    pub force: Option<f64>,
+}
+
 /// One pen-down segment.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Stroke {

@@ -3,20 +3,10 @@
 //! parked at the end. Every byte costs plot time on a 960 B/s line, so nothing is sent
 //! twice. Also an interpreter of what we write, to read a job back.
 
+pub use crate::fab::toolpath::ToolSetting;
 use crate::fab::{LineKind, Stroke, Toolpath};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
-
-/// How one kind of line is cut.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ToolSetting {
-    /// Pen or tool number (`SP n`).
-    pub pen: u32,
-    /// Speed in mm/s (`VS`, sent in cm/s), if the machine takes one.
-    pub speed: Option<f64>,
-    /// Force (`FS`), in the machine's units, if it takes one.
-    pub force: Option<f64>,
-}
 
 /// What the writer needs from a machine profile.
 #[derive(Clone, Debug, PartialEq)]

@@ -400,7 +400,7 @@ fn sides(
     strokes: Vec<crate::fab::Stroke>,
     media: &crate::fab::Media,
     margin: f64,
-    tools: &BTreeMap<crate::fab::LineKind, crate::output::ToolSetting>,
+    tools: &BTreeMap<crate::fab::LineKind, crate::fab::ToolSetting>,
     options: &FabOptions,
     registered: bool,
 ) -> (crate::fab::Toolpath, Option<crate::fab::Toolpath>) {

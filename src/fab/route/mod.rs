@@ -7,8 +7,8 @@
 
 use super::lines::LineKind;
 use super::toolpath::Stroke;
+use super::toolpath::ToolSetting;
 use crate::mesh::Vec2;
-use crate::output::ToolSetting;
 use std::collections::{BTreeMap, HashMap};
 use tour::improve;
 
