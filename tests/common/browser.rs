@@ -122,8 +122,27 @@ pub async fn wait_until(client: &Client, what: &str, script: &str) {
 /// A browser session (profile in `profile`) on the studio at `url`, once the page has
 /// drawn its first frame.
 pub async fn open_page(driver: &Driver, profile: &Path, url: &str) -> Client {
-    let client = browser(driver, profile).await;
-    client.goto(url).await.expect("the page loads");
+    // Now and then headless chromium's renderer hangs before the first load (once in
+    // about ten suite runs here, "Timed out receiving message from renderer" after the
+    // default five minutes): the load is given 90 s, and a hung browser is replaced by a
+    // fresh one, once. A page that does not load twice fails the test.
+    let mut client = browser(driver, profile).await;
+    let timeouts = fantoccini::wd::TimeoutConfiguration::new(
+        None,
+        Some(std::time::Duration::from_secs(90)),
+        None,
+    );
+    client
+        .update_timeouts(timeouts.clone())
+        .await
+        .expect("timeouts");
+    if let Err(first) = client.goto(url).await {
+        eprintln!("the page did not load ({first}); trying a fresh browser");
+        let _ = client.close().await;
+        client = browser(driver, &profile.with_extension("retry")).await;
+        client.update_timeouts(timeouts).await.expect("timeouts");
+        client.goto(url).await.expect("the page loads");
+    }
     wait_until(
         &client,
         "the first frame",
