@@ -3,9 +3,8 @@
 
 mod common;
 
-use common::fabbing::{a3, designs_and_anchors, patterns, segment_distance};
+use common::fabbing::{a3, designs_and_anchors, near_pairs, patterns, segment_distance};
 use crease::fab::{LineKind, Stroke};
-use crease::mesh::Vec2;
 use crease::pipeline::{fabricate, FabOptions};
 use crease::plotter::Machine;
 use std::path::Path;
@@ -73,25 +72,7 @@ fn no_dash_comes_within_the_clearance_of_the_cut_or_of_another_creases_dash() {
         let strokes = &out.toolpath.strokes;
         let is_dash = |s: &Stroke| matches!(s.kind, LineKind::Mountain | LineKind::Valley);
         // A coarse grid keeps the pairwise check near linear on BoxPleatPyramid.
-        let cell = 10.0;
-        let mut grid: std::collections::HashMap<(i64, i64), Vec<usize>> = Default::default();
-        for (i, s) in strokes.iter().enumerate() {
-            let lo = s.from.inf(&s.to) - Vec2::repeat(clearance);
-            let hi = s.from.sup(&s.to) + Vec2::repeat(clearance);
-            for x in (lo.x / cell).floor() as i64..=(hi.x / cell).floor() as i64 {
-                for y in (lo.y / cell).floor() as i64..=(hi.y / cell).floor() as i64 {
-                    grid.entry((x, y)).or_default().push(i);
-                }
-            }
-        }
-        let mut near = std::collections::HashSet::new();
-        for list in grid.values() {
-            for (k, &i) in list.iter().enumerate() {
-                for &j in &list[k + 1..] {
-                    near.insert((i.min(j), i.max(j)));
-                }
-            }
-        }
+        let near = near_pairs(strokes, clearance);
         for (i, j) in near {
             let (a, b) = (&strokes[i], &strokes[j]);
             if a.line == b.line || !(is_dash(a) || is_dash(b)) {

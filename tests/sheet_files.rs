@@ -3,7 +3,9 @@
 
 mod common;
 
-use common::fabbing::{a3, designs_and_anchors, output, output_text, patterns, segment_distance};
+use common::fabbing::{
+    a3, designs_and_anchors, near_pairs, output, output_text, patterns, segment_distance,
+};
 use crease::fab::{verify, Report, Tolerances};
 use crease::fab::{LineKind, Stroke};
 use crease::mesh::{Mesh, Vec2, Vec3};
@@ -577,31 +579,6 @@ fn cutter_profiles() -> Vec<Machine> {
         .collect();
     assert!(profiles.len() >= 5, "{} cutter profiles", profiles.len());
     profiles
-}
-
-/// Pairs of strokes whose boxes, grown by `reach`, share a cell of a coarse grid: every
-/// pair closer than `reach`, and few more.
-fn near_pairs(strokes: &[Stroke], reach: f64) -> std::collections::HashSet<(usize, usize)> {
-    let cell = 10.0;
-    let mut grid: std::collections::HashMap<(i64, i64), Vec<usize>> = Default::default();
-    for (i, s) in strokes.iter().enumerate() {
-        let lo = s.from.inf(&s.to) - Vec2::repeat(reach);
-        let hi = s.from.sup(&s.to) + Vec2::repeat(reach);
-        for x in (lo.x / cell).floor() as i64..=(hi.x / cell).floor() as i64 {
-            for y in (lo.y / cell).floor() as i64..=(hi.y / cell).floor() as i64 {
-                grid.entry((x, y)).or_default().push(i);
-            }
-        }
-    }
-    let mut near = std::collections::HashSet::new();
-    for list in grid.values() {
-        for (k, &i) in list.iter().enumerate() {
-            for &j in &list[k + 1..] {
-                near.insert((i.min(j), i.max(j)));
-            }
-        }
-    }
-    near
 }
 
 /// Checks one design's job on one machine; returns (closed cut runs, short mountain marks).

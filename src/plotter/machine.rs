@@ -172,41 +172,17 @@ pub fn search_path() -> Vec<PathBuf> {
 pub fn known_machines() -> Vec<String> {
     // The working folder is searched by name but not listed: its .toml files are mostly
     // not profiles (Cargo.toml).
-    let mut known: Vec<String> = search_path()
-        .iter()
-        .filter(|d| d.as_os_str() != ".")
-        .filter_map(|d| std::fs::read_dir(d).ok())
-        .flatten()
-        .flatten()
-        .filter_map(|e| {
-            let p = e.path();
-            if p.extension()? != "toml" {
-                return None;
-            }
-            Some(p.file_stem()?.to_string_lossy().into_owned())
-        })
-        .collect();
-    known.sort();
-    known.dedup();
-    known
+    let dirs = search_path();
+    super::lookup::toml_names(dirs.iter().filter(|d| d.as_os_str() != "."))
 }
 
 impl Machine {
     /// Loads a profile by name (searched in [`search_path`]) or by path.
     pub fn load(name_or_path: &str) -> Result<Machine, MachineError> {
-        let as_path = Path::new(name_or_path);
-        let path = if as_path.extension().is_some_and(|e| e == "toml") || name_or_path.contains('/')
-        {
-            Some(as_path.to_path_buf())
-        } else {
-            search_path()
-                .into_iter()
-                .map(|d| d.join(format!("{name_or_path}.toml")))
-                .find(|p| p.is_file())
-        };
+        let path = super::lookup::find_toml(name_or_path, &search_path());
         let path = match path {
-            Some(p) if p.is_file() => p,
-            _ => {
+            Some(p) => p,
+            None => {
                 let known = known_machines();
                 return Err(MachineError::Unknown {
                     name: name_or_path.to_string(),

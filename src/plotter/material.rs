@@ -67,38 +67,14 @@ pub fn search_path() -> Vec<PathBuf> {
 
 /// Names of the materials found, sorted, each once.
 pub fn known_materials() -> Vec<String> {
-    let mut known: Vec<String> = search_path()
-        .iter()
-        .filter_map(|d| std::fs::read_dir(d).ok())
-        .flatten()
-        .flatten()
-        .filter_map(|e| {
-            let p = e.path();
-            if p.extension()? != "toml" {
-                return None;
-            }
-            Some(p.file_stem()?.to_string_lossy().into_owned())
-        })
-        .collect();
-    known.sort();
-    known.dedup();
-    known
+    super::lookup::toml_names(&search_path())
 }
 
 impl Material {
     /// Loads a material by name (from [`search_path`]) or by path; errors name the file
     /// and the key.
     pub fn load(name_or_path: &str) -> Result<Material, String> {
-        let as_path = Path::new(name_or_path);
-        let path = if as_path.extension().is_some_and(|e| e == "toml") || name_or_path.contains('/')
-        {
-            Some(as_path.to_path_buf()).filter(|p| p.is_file())
-        } else {
-            search_path()
-                .into_iter()
-                .map(|d| d.join(format!("{name_or_path}.toml")))
-                .find(|p| p.is_file())
-        };
+        let path = super::lookup::find_toml(name_or_path, &search_path());
         let Some(path) = path else {
             return Err(format!(
                 "--material {name_or_path}: no such material (known: {}; or give a path to a .toml)",

@@ -5,6 +5,7 @@ pub mod emulator;
 mod journal;
 mod line;
 mod link;
+mod lookup;
 pub mod machine;
 pub mod material;
 mod session;
