@@ -533,3 +533,55 @@ fn a_cameo_job_is_written_to_its_usb_device_node_with_status_polled() {
     assert_eq!(code, Some(2), "{err}");
     assert!(err.contains("--baud") && err.contains("USB"), "{err}");
 }
+
+#[test]
+fn a_print_and_cut_job_cuts_only_after_the_cutter_finds_its_marks() {
+    // `fab --print-and-cut` on the Cameo: the job searches for the marks (TB123) and the
+    // sender waits for the answer. Marks found: the job arrives complete and is cut as
+    // written. Marks not found: plot stops with a message naming the marks, and the
+    // emulator has cut nothing (the sender sent no cut after the search).
+    let dir = fab_job_with(
+        "miura.fold",
+        "silhouette-cameo",
+        "print-and-cut-plot",
+        &["--print-and-cut"],
+    );
+    let text = std::fs::read_to_string(dir.join("sheet.gpgl")).unwrap();
+    let search = text.find("TB123").expect("the job searches for marks");
+    assert!(
+        search < text.find('D').unwrap(),
+        "the search comes before any cut"
+    );
+    for found in [true, false] {
+        let link = scratch("print-and-cut-plot").join(format!("lp-{found}"));
+        let emulator = Emulator::start(
+            &link,
+            EmulatorConfig {
+                baud: 115200,
+                rate: 8000.0,
+                flow: Flow::None,
+                language: Language::Gpgl,
+                marks_found: found,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let (code, err) = plot_cli(&dir, &link, &["--restart"]);
+        emulator.wait_idle(Duration::from_millis(300), Duration::from_secs(60));
+        let state = emulator.stop();
+        if found {
+            assert_eq!(code, Some(0), "{err}");
+            assert_eq!(state.lost, 0);
+            assert_eq!(
+                state.path.segments,
+                crease::output::gpgl::interpret(&text).unwrap().segments
+            );
+        } else {
+            assert_eq!(code, Some(1), "{err}");
+            assert!(err.contains("did not find the registration marks"), "{err}");
+            assert!(state.path.segments.is_empty(), "{:?}", state.path.segments);
+            // The search's chunk is all that went: it ends at the search command.
+            assert!(state.received <= search + 40 + 2 * state.status_queries);
+        }
+    }
+}

@@ -43,6 +43,15 @@ pub struct FabArgs {
     /// registration marks, instead of refusing (no cutter job is written then).
     #[arg(long)]
     tile: bool,
+    /// Print-then-cut: lay the sheet out on a printed page (--media, default a4 for
+    /// Silhouette, letter for Cricut) with the machine's registration marks, and cut in
+    /// their frame (default: off; the machine's profile names its marks).
+    #[arg(long)]
+    print_and_cut: bool,
+    /// Print-then-cut: print the paper's face in this colour, #RRGGBB (default: none,
+    /// white paper).
+    #[arg(long, requires = "print_and_cut")]
+    print_fill: Option<String>,
 }
 
 pub fn fab(args: FabArgs) -> Result<u8, String> {
@@ -58,7 +67,13 @@ pub fn fab(args: FabArgs) -> Result<u8, String> {
         force,
         mountains_from_back,
         tile,
+        print_and_cut,
+        print_fill,
     } = args;
+    let print_fill = print_fill
+        .as_deref()
+        .map(|c| crease::output::colour::parse_hex("--print-fill", c))
+        .transpose()?;
     let mut machine = crease::plotter::Machine::load(&machine).map_err(|e| e.to_string())?;
     if let Some(name) = &material {
         machine = machine.with_material(&crease::plotter::Material::load(name)?);
@@ -76,6 +91,8 @@ pub fn fab(args: FabArgs) -> Result<u8, String> {
         force,
         mountains_from_back,
         tile,
+        print_and_cut,
+        print_fill,
     };
     let result = match crease::pipeline::fabricate(&mesh, &machine, &options) {
         Ok(r) => r,

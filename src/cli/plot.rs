@@ -69,6 +69,10 @@ pub struct EmulateArgs {
     /// A GP-GL cutter with no media loaded (its status says 2).
     #[arg(long)]
     pub no_media: bool,
+    /// A GP-GL cutter that cannot find print-and-cut registration marks (it answers 1 to
+    /// the TB123 search; default: it finds them).
+    #[arg(long)]
+    pub no_marks: bool,
 }
 
 /// The line a job is streamed over, and where those settings came from.
@@ -435,6 +439,7 @@ pub fn emulate(args: EmulateArgs) -> Result<u8, String> {
         power_cycle,
         language,
         no_media,
+        no_marks,
     } = args;
     use crease::limits::{BAUD, BUFFER, DRAW_RATE};
     use crease::plotter::{emulator, EmulatorConfig, Flow};
@@ -455,6 +460,7 @@ pub fn emulate(args: EmulateArgs) -> Result<u8, String> {
         language: Language::from_protocol(&language)
             .ok_or_else(|| format!("--language {language}: use hpgl or gpgl"))?,
         media_loaded: !no_media,
+        marks_found: !no_marks,
     };
     // Refused before the banner: a user's file at that path is never replaced.
     emulator::check_link_path(&link).map_err(|e| e.to_string())?;

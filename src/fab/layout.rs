@@ -81,6 +81,32 @@ pub struct Sheet {
     pub size: [f64; 2],
 }
 
+impl Sheet {
+    /// The sheet moved by `by` onto `media` (a sheet laid out in a region of a page, put
+    /// on the page).
+    pub fn moved(self, media: Media, by: Vec2) -> Sheet {
+        Sheet {
+            media,
+            lines: self
+                .lines
+                .into_iter()
+                .map(|l| CreaseLine {
+                    a: l.a + by,
+                    b: l.b + by,
+                    ..l
+                })
+                .collect(),
+            vertices: self.vertices.into_iter().map(|p| p + by).collect(),
+            ..self
+        }
+    }
+
+    /// The pattern's bounding box on the media (bottom-left, top-right).
+    pub fn bounds(&self) -> (Vec2, Vec2) {
+        bounds(&self.vertices)
+    }
+}
+
 /// Why a pattern does not go on the media.
 #[derive(Debug, thiserror::Error)]
 pub enum LayoutError {

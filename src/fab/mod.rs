@@ -8,6 +8,7 @@ pub mod intersect;
 pub mod layers;
 pub mod layout;
 pub mod lines;
+pub mod print_and_cut;
 pub mod registration;
 pub mod rounding;
 pub mod route;

@@ -32,3 +32,14 @@ pub fn aci(kind: LineKind) -> u8 {
         LineKind::Flat => 9,
     }
 }
+
+/// A colour given as `#RRGGBB` (or `RRGGBB`); anything else is refused naming `what`.
+pub fn parse_hex(what: &str, text: &str) -> Result<[u8; 3], String> {
+    let hex = text.trim().trim_start_matches('#');
+    let bad = || format!("{what} \"{text}\" is not a colour: give #RRGGBB, e.g. #ffe8a0");
+    if hex.len() != 6 || !hex.bytes().all(|b| b.is_ascii_hexdigit()) {
+        return Err(bad());
+    }
+    let byte = |i: usize| u8::from_str_radix(&hex[i..i + 2], 16).map_err(|_| bad());
+    Ok([byte(0)?, byte(2)?, byte(4)?])
+}

@@ -25,24 +25,87 @@ pub struct GpglSettings {
     /// Tool per line kind: `pen` is the tool holder (`J`), `speed` mm/s (`!`, in cm/s),
     /// `force` the pressure (`FX`, 1–33).
     pub tools: BTreeMap<LineKind, ToolSetting>,
+    /// Print-and-cut: find these registration marks first and cut in their frame.
+    pub registration: Option<Registration>,
 }
 
-/// Writes a toolpath as GP-GL. The cutter's origin is the media's top-left corner, its
-/// carriage axis the sheet's x and its feed axis runs down the sheet (the toolpath's y
-/// grows upward, so feed = height − y); strokes whose kind has no tool are an error.
+/// Registration marks a print-and-cut job finds before it cuts
+/// ([`crate::fab::print_and_cut`]): once found, the cutter's (0, 0) is the marks' origin
+/// and it cuts nothing outside their frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Registration {
+    /// The origin (the top-left corner of the square mark) on the sheet, mm, y up.
+    pub origin: crate::mesh::Vec2,
+    /// The frame: distance from the origin to the top-right mark (width) and to the
+    /// bottom-left mark (length), mm.
+    pub size: [f64; 2],
+}
+
+/// The command that searches for the marks; the cutter answers `0` (found) when done.
+pub const SEARCH_MARKS: &str = "TB123";
+
+/// Silhouette's registration set-up, as inkscape-silhouette's `Graphtec.py` sends it: mark
+/// mode on (`TB50,0`, `TB99`), Cameo portrait marks (`TB52,2`), marks 20 mm long
+/// (`TB51,400`) and 0.5 mm wide (`TB53,10`), `TB55,1`, then the automatic search
+/// (`TB123,length,width,top,left`, in steps) starting 10 mm before the origin.
+fn registration_commands(r: &Registration, page_height: f64, u: f64) -> Vec<String> {
+    let steps = |mm: f64| (mm * u).round() as i64;
+    let top = page_height - r.origin.y;
+    vec![
+        "TB50,0".into(),
+        "TB99".into(),
+        "TB52,2".into(),
+        "TB51,400".into(),
+        "TB53,10".into(),
+        "TB55,1".into(),
+        format!(
+            "{SEARCH_MARKS},{},{},{},{}",
+            steps(r.size[1]),
+            steps(r.size[0]),
+            steps(top - 10.0),
+            steps(r.origin.x - 10.0)
+        ),
+    ]
+}
+
+/// The answer a cutter gives to `cmd`, if it answers: the mark search's `0` (found),
+/// right-aligned in five characters as a Cameo sends it.
+pub fn reply_to(cmd: &str) -> Option<String> {
+    cmd.trim()
+        .starts_with(SEARCH_MARKS)
+        .then(|| format!("    0{ETX}"))
+}
+
+/// Writes a toolpath as GP-GL. The cutter's origin is the media's top-left corner (or,
+/// registered, the marks' origin), its carriage axis the sheet's x and its feed axis runs
+/// down the sheet (the toolpath's y grows upward, so feed = top − y); strokes whose kind
+/// has no tool are an error.
 pub fn to_string(path: &Toolpath, settings: &GpglSettings) -> Result<String, String> {
+    use crate::mesh::Vec2;
     let u = settings.units_per_mm;
     let order = |(x, y): (i64, i64)| if settings.feed_first { (y, x) } else { (x, y) };
     let h = path.media.height;
-    let down = |p: crate::mesh::Vec2| crate::mesh::Vec2::new(p.x, h - p.y);
-    let point = |p: crate::mesh::Vec2| order(((p.x * u).round() as i64, (p.y * u).round() as i64));
+    let (origin, limits) = match &settings.registration {
+        Some(r) => (r.origin, Vec2::new(r.size[0], r.size[1])),
+        None => (
+            Vec2::new(0.0, h),
+            Vec2::new(path.media.width, path.media.height),
+        ),
+    };
+    let down = |p: Vec2| Vec2::new(p.x - origin.x, origin.y - p.y);
+    let point = |p: Vec2| order(((p.x * u).round() as i64, (p.y * u).round() as i64));
     let mut out = String::from(RESET);
     let command = |out: &mut String, text: &str| {
         out.push_str(text);
         out.push(ETX);
     };
     command(&mut out, "FN0");
-    let (limit_a, limit_b) = point(crate::mesh::Vec2::new(path.media.width, path.media.height));
+    if let Some(r) = &settings.registration {
+        for c in registration_commands(r, h, u) {
+            command(&mut out, &c);
+        }
+    }
+    let (limit_a, limit_b) = point(limits);
     command(&mut out, "\\0,0");
     command(&mut out, &format!("Z{limit_a},{limit_b}"));
     // `at` in (x, y) steps, the order the sheet has; `order` turns it into the cutter's.

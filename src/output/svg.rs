@@ -47,6 +47,65 @@ pub fn sheet_to_string(path: &Toolpath, layers: Layers) -> String {
     with_layers(page(path), path, HAIRLINE_MM, layers).to_string() + "\n"
 }
 
+/// A Cricut Print Then Cut file: a "Print" layer (the paper's face in `fill`, if given,
+/// and every crease line whole, in its colour, as the printer draws it) under the "Score"
+/// and "Cut" layers of [`Layers::ByOperation`], all in one frame, so Design Space keeps
+/// them in register once they are attached.
+pub fn print_then_cut_to_string(
+    path: &Toolpath,
+    sheet: &crate::fab::Sheet,
+    faces: &[[usize; 3]],
+    fill: Option<[u8; 3]>,
+) -> String {
+    let h = path.media.height;
+    let xy = |p: Vec2| format!("{} {}", round(p.x), round(h - p.y));
+    let mut print = Group::new()
+        .set("inkscape:groupmode", "layer")
+        .set("inkscape:label", "Print")
+        .set("id", "Print")
+        .set("stroke-width", PRINTED_LINE_MM)
+        .set("stroke-linecap", "round");
+    if let Some([r, g, b]) = fill {
+        let mut d = String::new();
+        for f in faces {
+            let [a, b2, c] = f.map(|i| sheet.vertices[i]);
+            let _ = write!(d, "M{} L{} L{} Z ", xy(a), xy(b2), xy(c));
+        }
+        print = print.add(
+            Path::new()
+                .set("d", d.trim_end())
+                .set("fill", format!("#{r:02x}{g:02x}{b:02x}"))
+                .set("stroke", "none"),
+        );
+    }
+    for kind in LineKind::ALL {
+        let mut d = String::new();
+        for l in sheet.lines.iter().filter(|l| l.kind == kind) {
+            let _ = write!(d, "M{} L{} ", xy(l.a), xy(l.b));
+        }
+        if !d.is_empty() {
+            print = print.add(
+                Path::new()
+                    .set("d", d.trim_end())
+                    .set("fill", "none")
+                    .set("stroke", super::colour::hex(kind))
+                    .set("class", kind.name()),
+            );
+        }
+    }
+    with_layers(
+        page(path).add(print),
+        path,
+        HAIRLINE_MM,
+        Layers::ByOperation,
+    )
+    .to_string()
+        + "\n"
+}
+
+/// Width of a printed crease line, mm: visible on paper, thinner than a dash's kerf.
+const PRINTED_LINE_MM: f64 = 0.3;
+
 /// An empty page the size of the toolpath's media, in mm, declaring Inkscape's layers.
 fn page(path: &Toolpath) -> Document {
     // 12 in is 304.79999999999995 mm in floating point: written as 304.8.

@@ -20,6 +20,11 @@ pub struct FabOptions {
     /// When the pattern does not fit the media, split the PDF over pages instead of
     /// refusing (no cutter job is written then).
     pub tile: bool,
+    /// Print-then-cut: lay the sheet out on a printed page with the machine's
+    /// registration marks and cut in their frame ([`crate::fab::print_and_cut`]).
+    pub print_and_cut: bool,
+    /// Print-then-cut: the colour the paper's face is printed, RGB.
+    pub print_fill: Option<[u8; 3]>,
 }
 
 /// Narrowest sheet `--width` may ask for, mm: a cutter's step is 0.025–0.05 mm, and a

@@ -61,7 +61,7 @@ impl<'a> Run<'a> {
         let transfer = self
             .machine
             .serial_line()
-            .map_or(0.0, |l| job_bytes as f64 * 10.0 / l.baud as f64);
+            .map_or(0.0, |l| job_bytes as f64 / l.bytes_per_second());
         Figures {
             line_length,
             cut_length,

@@ -86,7 +86,15 @@ pub fn fabricate_verified(
     };
     let margin = options.margin.unwrap_or(machine.margin_mm);
     let lines = crease_lines(mesh, &flat);
-    let (sheet, tiled) = lay_out(&flat, &lines, &page, margin, sizing, options)?;
+    let print = print_layout(machine, options)?;
+    let (sheet, tiled) = match &print {
+        Some(p) => (
+            p.place(&flat, &lines, sizing)
+                .map_err(|e| FabError::Rejected(Rejected(e)))?,
+            false,
+        ),
+        None => lay_out(&flat, &lines, &page, margin, sizing, options)?,
+    };
     check_cuttable(&sheet, machine)?;
     let settings = machine.score_settings();
     let (strokes, unscored) = score_lines(&sheet, &settings);
@@ -108,7 +116,8 @@ pub fn fabricate_verified(
     let jobs_written = if tiled {
         Vec::new()
     } else {
-        cutter_jobs(machine, &toolpath, back.as_ref())?
+        let frame = print.as_ref().and_then(|p| p.frame.as_ref());
+        cutter_jobs(machine, &toolpath, back.as_ref(), frame)?
     };
     let steps = two_sided_steps(registered, &jobs_written);
     // A machine driven by its design software (Cricut) takes sheet.svg as its job,
@@ -119,6 +128,17 @@ pub fn fabricate_verified(
         crate::output::svg::Layers::ByKind
     };
     let mut files = sheet_files(&toolpath, back.as_ref(), &jobs_written, layers);
+    if let (Some(p), Some(svg)) = (&print, files.first_mut()) {
+        if p.family == crate::fab::print_and_cut::MarkFamily::Cricut {
+            svg.1 = crate::output::svg::print_then_cut_to_string(
+                &toolpath,
+                &sheet,
+                mesh.faces(),
+                options.print_fill,
+            )
+            .into_bytes();
+        }
+    }
     files.extend(pattern_files(mesh, &sheet)?);
     let run = Run {
         machine,
@@ -136,18 +156,25 @@ pub fn fabricate_verified(
     let (pictures, previews) = preview_files(mesh, &toolpath)?;
     files.extend(pictures);
     let figures = run.figures();
-    let next_steps = (!machine.steps.is_empty()).then(|| NextSteps {
-        software: machine
-            .software
-            .clone()
-            .unwrap_or_else(|| machine.name.clone()),
-        steps: machine.steps.clone(),
-    });
+    let next_steps = match &print {
+        Some(p) => Some(NextSteps {
+            software: p.family.software().to_string(),
+            steps: p.family.steps(&jobs_written),
+        }),
+        None => (!machine.steps.is_empty()).then(|| NextSteps {
+            software: machine
+                .software
+                .clone()
+                .unwrap_or_else(|| machine.name.clone()),
+            steps: machine.steps.clone(),
+        }),
+    };
     let report = serde_json::json!({
         "verification": verification.to_json(),
         "sheet": run.sheet_json(&figures),
         "previews": previews,
         "next_steps": next_steps,
+        "print_and_cut": print.as_ref().map(crate::fab::print_and_cut::PrintLayout::to_json),
     });
     let job_line = run.job_line(&figures);
     let warnings: Vec<String> = run.unscored_warning().into_iter().collect();
@@ -157,7 +184,19 @@ pub fn fabricate_verified(
     } else {
         mesh.title.as_str()
     };
-    files.push(("sheet.pdf".to_string(), run.pdf(&page, title, &summary)));
+    let pdf = match &print {
+        Some(p) => {
+            let page = crate::output::pdf::PrintPage {
+                frame: p.frame.as_ref(),
+                faces: mesh.faces(),
+                fill: options.print_fill,
+                caption: p.family.caption(),
+            };
+            crate::output::pdf::to_bytes_print(&sheet, title, &page, &toolpath)
+        }
+        None => run.pdf(&page, title, &summary),
+    };
+    files.push(("sheet.pdf".to_string(), pdf));
     files.push((
         "report.json".to_string(),
         (serde_json::to_string_pretty(&report).expect("json") + "\n").into_bytes(),
@@ -281,6 +320,41 @@ fn lay_out(
         }
         Err(LayoutError::Bad(m)) => Err(FabError::Input(m)),
     }
+}
+
+/// Where a print-and-cut run lays the sheet out, if `--print-and-cut` asks for one: the
+/// machine's marks on the media asked for (default a4 for Silhouette, letter for Cricut).
+/// A machine that finds no marks, or a run also two-sided or tiled, is refused.
+fn print_layout(
+    machine: &crate::plotter::Machine,
+    options: &FabOptions,
+) -> Result<Option<crate::fab::print_and_cut::PrintLayout>, FabError> {
+    use crate::fab::print_and_cut::{MarkFamily, PrintLayout};
+    if !options.print_and_cut {
+        return Ok(None);
+    }
+    let family = machine.mark_family().ok_or_else(|| {
+        FabError::Input(format!(
+            "{} finds no print-and-cut marks (its profile has no print_and_cut key): use --machine silhouette-cameo or cricut-maker",
+            machine.name
+        ))
+    })?;
+    if options.mountains_from_back || options.tile {
+        return Err(FabError::Input(
+            "--print-and-cut cuts one printed side in one piece: leave out --mountains-from-back and --tile".into(),
+        ));
+    }
+    let page = match &options.media {
+        Some(m) => m.clone(),
+        None => crate::fab::Media::parse(match family {
+            MarkFamily::Silhouette => "a4",
+            MarkFamily::Cricut => "letter",
+        })
+        .map_err(FabError::Input)?,
+    };
+    PrintLayout::new(family, &page)
+        .map(Some)
+        .map_err(FabError::Input)
 }
 
 /// A two-sided job's steps for the maker (see [`crate::fab::registration::steps`]),
@@ -446,14 +520,20 @@ fn cutter_jobs(
     machine: &crate::plotter::Machine,
     front: &crate::fab::Toolpath,
     back: Option<&crate::fab::Toolpath>,
+    marks: Option<&crate::fab::print_and_cut::MarkFrame>,
 ) -> Result<Files, FabError> {
+    let mut gpgl = machine.gpgl_settings();
+    gpgl.registration = marks.map(|m| crate::output::gpgl::Registration {
+        origin: m.origin,
+        size: m.size,
+    });
     let mut files = Vec::new();
     for (side, path) in [("sheet", Some(front)), ("sheet-back", back)] {
         let (Some(path), Some(name)) = (path, machine.job_file(side)) else {
             continue;
         };
         let text = match machine.protocol.as_str() {
-            "gpgl" => crate::output::gpgl::to_string(path, &machine.gpgl_settings()),
+            "gpgl" => crate::output::gpgl::to_string(path, &gpgl),
             _ => crate::output::hpgl::to_string(path, &machine.hpgl_settings()),
         }
         .map_err(FabError::Input)?;

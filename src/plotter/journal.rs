@@ -108,6 +108,13 @@ pub(crate) fn tool_state(job: &[u8], upto: usize, language: Language) -> String 
             }
         };
         if keep {
+            // Each TB setting (mark mode, mark type, size, the search) is its own: a
+            // registered job resumes by finding its marks again.
+            let name = if name == "TB" {
+                c.split(',').next().unwrap_or(c).to_string()
+            } else {
+                name
+            };
             state.retain(|(n, _)| *n != name);
             state.push((name, c.to_string()));
         }
@@ -130,4 +137,21 @@ fn command_name(cmd: &str, language: Language) -> String {
 pub(crate) fn save_journal(path: &Path, journal: &Journal) {
     let text = serde_json::to_string(journal).expect("journal serialises");
     let _ = crate::io::write_atomic(path, text.as_bytes());
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_registered_gpgl_job_resumes_by_searching_for_its_marks_again() {
+        // Every TB setting is kept, in order, and the last of each other setting: a
+        // cutter reset for the resume finds the marks before it cuts on.
+        let job = "\u{1b}\u{4}FN0\u{3}TB50,0\u{3}TB99\u{3}TB52,2\u{3}TB123,4600,3600,200,100\u{3}\\0,0\u{3}Z4600,3600\u{3}J1\u{3}FX20\u{3}M10,10\u{3}D20,20\u{3}FX8\u{3}";
+        let state = tool_state(job.as_bytes(), job.len(), Language::Gpgl);
+        assert_eq!(
+            state,
+            "FN0\u{3}TB50,0\u{3}TB99\u{3}TB52,2\u{3}TB123,4600,3600,200,100\u{3}\\0,0\u{3}Z4600,3600\u{3}J1\u{3}FX8\u{3}"
+        );
+    }
 }

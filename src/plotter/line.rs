@@ -65,12 +65,16 @@ impl StreamOptions {
     /// run several times faster).
     pub fn line_rate(&self) -> f64 {
         if self.device {
-            100_000.0
+            DEVICE_BYTES_PER_S
         } else {
             f64::from(self.baud.max(1)) / 10.0
         }
     }
 }
+
+/// Bytes per second a USB device node takes: far more than a cutter cuts, so the cutter
+/// sets the pace (a USB 1.1 printer-class link moves about 1 MB/s).
+pub const DEVICE_BYTES_PER_S: f64 = 100_000.0;
 
 /// What went wrong while plotting. The journal is kept in every case.
 #[derive(Debug, thiserror::Error)]
@@ -109,6 +113,14 @@ pub enum StreamError {
     /// The cutter says no media is loaded (GP-GL status 2).
     #[error("the cutter reports no media loaded after {confirmed} confirmed bytes; load the sheet, then --resume")]
     NoMedia {
+        /// Bytes confirmed.
+        confirmed: usize,
+    },
+    /// The cutter did not find the print-and-cut registration marks.
+    #[error("the cutter did not find the registration marks (it answered \"{answer}\") after {confirmed} confirmed bytes, before cutting anything: check the print lies square with the black square at the top left, the marks are solid black and the sensor is clean, then --restart")]
+    MarksNotFound {
+        /// What it answered to the search.
+        answer: String,
         /// Bytes confirmed.
         confirmed: usize,
     },

@@ -84,6 +84,10 @@ pub struct Machine {
     /// `fab` prints them and report.json keeps them.
     #[serde(default)]
     pub steps: Vec<String>,
+    /// The registration marks its print-and-cut finds: "silhouette" (Type 1 marks, a
+    /// GP-GL job in their frame) or "cricut" (Design Space's own frame; protocol "svg").
+    #[serde(default)]
+    pub print_and_cut: Option<String>,
     /// The material laid over the profile ([`Machine::with_material`]), if any: not a
     /// profile key.
     #[serde(skip)]
@@ -122,6 +126,17 @@ pub struct SerialLine {
     pub flow_control: String,
     /// The machine's input buffer, bytes.
     pub buffer_bytes: usize,
+}
+
+impl SerialLine {
+    /// Bytes the line carries per second: a serial byte is 10 bits on the wire.
+    pub fn bytes_per_second(&self) -> f64 {
+        if self.device {
+            super::line::DEVICE_BYTES_PER_S
+        } else {
+            f64::from(self.baud.max(1)) / 10.0
+        }
+    }
 }
 
 /// Why a machine profile cannot be used.
@@ -208,6 +223,7 @@ impl Machine {
         let m: Machine = toml::from_str(text).map_err(|e| crate::io::toml_error(text, &e))?;
         m.check_ranges()?;
         m.check_protocol()?;
+        m.check_print_and_cut()?;
         ShortFolds::parse(&m.short_folds)?;
         for (k, t) in &m.tools {
             if Machine::kind(k).is_none() {
@@ -386,7 +402,35 @@ impl Machine {
             feed_first: profile.axis_order.as_deref() != Some("carriage-first"),
             blade_offset_mm: self.blade_offset_mm(),
             tools: self.hpgl_settings().tools,
+            registration: None,
         }
+    }
+
+    /// The print-and-cut marks the machine finds, if its profile names them.
+    pub fn mark_family(&self) -> Option<crate::fab::print_and_cut::MarkFamily> {
+        self.print_and_cut
+            .as_deref()
+            .and_then(|n| crate::fab::print_and_cut::MarkFamily::parse(n).ok())
+    }
+
+    /// Silhouette marks are found by a GP-GL job; Cricut's by Design Space, from SVG.
+    fn check_print_and_cut(&self) -> Result<(), String> {
+        use crate::fab::print_and_cut::MarkFamily;
+        let Some(name) = &self.print_and_cut else {
+            return Ok(());
+        };
+        let family = MarkFamily::parse(name).map_err(|e| format!("print_and_cut: {e}"))?;
+        let needs = match family {
+            MarkFamily::Silhouette => "gpgl",
+            MarkFamily::Cricut => "svg",
+        };
+        if self.protocol != needs {
+            return Err(format!(
+                "print_and_cut = \"{name}\" needs protocol \"{needs}\", not \"{}\"",
+                self.protocol
+            ));
+        }
+        Ok(())
     }
 
     fn kind(name: &str) -> Option<LineKind> {

@@ -9,6 +9,9 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
+/// How long a cutter may search for registration marks: inkscape-silhouette allows 40 s.
+const MARK_SEARCH_PATIENCE: Duration = Duration::from_secs(40);
+
 /// Where a resumed job continues and what must be sent first to get there.
 pub(super) struct ResumePoint {
     pub(super) start: usize,
@@ -133,6 +136,37 @@ impl Session<'_> {
         }
     }
 
+    fn mark_search_in(&self, bytes: &[u8]) -> bool {
+        let search = crate::output::gpgl::SEARCH_MARKS.as_bytes();
+        bytes.windows(search.len()).any(|w| w == search)
+    }
+
+    /// The end of a registration mark search (`TB123…`) in `job[from..to]`, if there is one.
+    fn mark_search_end(&self, from: usize, to: usize) -> Option<usize> {
+        let search = crate::output::gpgl::SEARCH_MARKS.as_bytes();
+        let at = self.job[from..to]
+            .windows(search.len())
+            .position(|w| w == search)?
+            + from;
+        let etx = self.job[at..].iter().position(|&b| b == 0x03)? + at;
+        Some(etx + 1)
+    }
+
+    /// Waits for the cutter's answer to a mark search: `0` when it found the marks;
+    /// anything else stops the job before it cuts.
+    fn await_marks_found(&mut self) -> Result<(), StreamError> {
+        let confirmed = self.journal.received;
+        let answer = self.link.reply(
+            "TB123 (the registration mark search)",
+            MARK_SEARCH_PATIENCE,
+            confirmed,
+        )?;
+        if answer.trim() != "0" {
+            return Err(StreamError::MarksNotFound { answer, confirmed });
+        }
+        Ok(())
+    }
+
     /// Polls the cutter every 20 ms until it is ready (paused and moving both wait).
     fn until_ready(&mut self, patience: Duration) -> Result<(), StreamError> {
         let start = Instant::now();
@@ -164,7 +198,12 @@ impl Session<'_> {
             // Chunks of whole commands, each cut before the next goes: a quarter buffer
             // (at most 1 KiB), so a resume cuts little again and the wait is short.
             let end = self.chunk_end(self.sent, (buffer / 4).clamp(16, 1024));
-            self.send_job(end)?;
+            // The mark search ends its chunk, and its answer is awaited before more goes.
+            let search = self.mark_search_end(self.sent, end);
+            self.send_job(search.unwrap_or(end))?;
+            if search.is_some() {
+                self.await_marks_found()?;
+            }
             return self.until_ready(patience);
         }
         match self.options.flow {
@@ -258,6 +297,9 @@ impl Session<'_> {
         let received = self.journal.received;
         self.link
             .send(&point.preamble, received, self.interrupted)?;
+        if self.mark_search_in(&point.preamble) {
+            self.await_marks_found()?;
+        }
         Ok((point.start, point.note))
     }
 

@@ -78,6 +78,9 @@ pub struct EmulatorConfig {
     pub language: Language,
     /// Whether media is loaded (GP-GL's status says `2` when not).
     pub media_loaded: bool,
+    /// Whether a registration mark search (GP-GL `TB123`) finds the marks: it answers
+    /// `0` when it does, `1` when not.
+    pub marks_found: bool,
 }
 
 impl Default for EmulatorConfig {
@@ -92,6 +95,7 @@ impl Default for EmulatorConfig {
             power_cycle: false,
             language: Language::Hpgl,
             media_loaded: true,
+            marks_found: true,
         }
     }
 }
@@ -216,7 +220,8 @@ impl Machine {
     fn execute(&mut self, cmd: &str) -> Result<Option<String>, String> {
         match self {
             Machine::Hpgl(i) => i.execute(cmd),
-            Machine::Gpgl(i) => i.execute(cmd).map(|_| None),
+            // A found mark search is answered; the rest of GP-GL is silent.
+            Machine::Gpgl(i) => i.execute(cmd).map(|_| gpgl::reply_to(cmd)),
         }
     }
 
@@ -341,6 +346,11 @@ impl Plotter {
                 let cmd = String::from_utf8_lossy(&self.command).into_owned();
                 self.command.clear();
                 match self.interpreter.execute(&cmd) {
+                    Ok(Some(_)) if !self.config.marks_found && gpgl::reply_to(&cmd).is_some() => {
+                        replies.push(format!("    1{}", gpgl::ETX));
+                        // Nothing is cut after a failed search: the job is dropped.
+                        self.buffer.clear();
+                    }
                     Ok(Some(r)) => replies.push(r),
                     Ok(None) => {}
                     Err(e) => {
