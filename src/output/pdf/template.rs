@@ -1,72 +1,11 @@
-//! A printable template at 1:1: the page is the media, crease lines in distinct dash styles
-//! for folding by hand (mountain dash-dot, valley dashed, cut solid), a 100 mm scale bar
-//! to check the printer did not scale, a legend, the title and the report's summary.
+//! The template to fold by: the sheet at 1:1 with its lines in styles to fold by, a scale
+//! bar, a legend, the title and the run's summary; a two-sided job's page of steps; a
+//! sheet too large tiled over pages; and the page as cut.
 
+use super::{cross, line, rgb, save, solid_black, style, text, wrap, SCALE_BAR_MM};
 use crate::fab::{LineKind, Media, Sheet, Toolpath};
 use crate::mesh::Vec2;
-use printpdf::{
-    BuiltinFont, Color, Line, LineDashPattern, LinePoint, Mm, Op, PaintMode, PdfDocument,
-    PdfFontHandle, PdfPage, PdfSaveOptions, Point, Polygon, PolygonRing, Pt, Rgb, TextItem,
-    WindingOrder,
-};
-
-/// Length of the scale bar (mm).
-pub const SCALE_BAR_MM: f64 = 100.0;
-
-fn rgb(r: f32, g: f32, b: f32) -> Color {
-    Color::Rgb(Rgb {
-        r,
-        g,
-        b,
-        icc_profile: None,
-    })
-}
-
-/// A kind's colour ([`super::colour`], the same in every file) and its line style on the
-/// template.
-fn style(kind: LineKind) -> (Color, LineDashPattern) {
-    let [r, g, b] = super::colour::rgb(kind).map(|c| f32::from(c) / 255.0);
-    let dash = match kind {
-        LineKind::Cut => LineDashPattern::solid(),
-        LineKind::Mountain => LineDashPattern::new(0.0, &[6.0, 2.0, 1.0, 2.0]),
-        LineKind::Valley => LineDashPattern::new(0.0, &[4.0, 3.0]),
-        LineKind::Flat => LineDashPattern::new(0.0, &[1.0, 2.0]),
-    };
-    (rgb(r, g, b), dash)
-}
-
-fn line(a: (f64, f64), b: (f64, f64)) -> Op {
-    let p = |(x, y): (f64, f64)| LinePoint {
-        p: Point::new(Mm(x as f32), Mm(y as f32)),
-        bezier: false,
-    };
-    Op::DrawLine {
-        line: Line {
-            points: vec![p(a), p(b)],
-            is_closed: false,
-        },
-    }
-}
-
-fn text(ops: &mut Vec<Op>, x: f64, y: f64, size: f32, s: &str) {
-    ops.extend([
-        Op::StartTextSection,
-        Op::SetTextCursor {
-            pos: Point::new(Mm(x as f32), Mm(y as f32)),
-        },
-        Op::SetFont {
-            font: PdfFontHandle::Builtin(BuiltinFont::Helvetica),
-            size: Pt(size),
-        },
-        Op::SetFillColor {
-            col: rgb(0.0, 0.0, 0.0),
-        },
-        Op::ShowText {
-            items: vec![TextItem::Text(s.to_string())],
-        },
-        Op::EndTextSection,
-    ]);
-}
+use printpdf::{LineDashPattern, Mm, Op, PdfPage, Pt};
 
 /// Drawing ops of one page of `page_w × page_h` mm showing the sheet shifted by `shift`.
 fn page_ops(
@@ -151,166 +90,13 @@ fn page_ops(
     ops
 }
 
-/// A cross of arms `arm` mm end to end centred on `c`, in the current colour.
-fn cross(ops: &mut Vec<Op>, c: (f64, f64), arm: f64) {
-    let h = arm / 2.0;
-    ops.push(line((c.0 - h, c.1), (c.0 + h, c.1)));
-    ops.push(line((c.0, c.1 - h), (c.0, c.1 + h)));
-}
-
-fn solid_black(ops: &mut Vec<Op>) {
-    ops.push(Op::SetOutlineColor {
-        col: rgb(0.0, 0.0, 0.0),
-    });
-    ops.push(Op::SetLineDashPattern {
-        dash: LineDashPattern::solid(),
-    });
-}
-
-/// `s` broken at spaces into lines of at most `width` characters.
-fn wrap(s: &str, width: usize) -> Vec<String> {
-    let mut lines = vec![String::new()];
-    for word in s.split_whitespace() {
-        let last = lines.last_mut().expect("one line");
-        if !last.is_empty() && last.len() + 1 + word.len() > width {
-            lines.push(word.to_string());
-        } else {
-            if !last.is_empty() {
-                last.push(' ');
-            }
-            last.push_str(word);
-        }
-    }
-    lines
-}
-
-fn save(title: &str, pages: Vec<PdfPage>) -> Vec<u8> {
-    PdfDocument::new(title)
-        .with_pages(pages)
-        .save(&PdfSaveOptions::default(), &mut Vec::new())
-}
-
-/// A filled polygon through `points` (mm), in the current fill colour.
-fn filled(points: &[Vec2]) -> Op {
-    let ring = PolygonRing {
-        points: points
-            .iter()
-            .map(|p| LinePoint {
-                p: Point::new(Mm(p.x as f32), Mm(p.y as f32)),
-                bezier: false,
-            })
-            .collect(),
-    };
-    Op::DrawPolygon {
-        polygon: Polygon {
-            rings: vec![ring],
-            mode: PaintMode::Fill,
-            winding_order: WindingOrder::NonZero,
-        },
-    }
-}
-
-/// What a print-and-cut page shows besides the sheet.
-pub struct PrintPage<'a> {
-    /// The Silhouette marks; none for Cricut (Design Space prints its own frame).
-    pub frame: Option<&'a crate::fab::print_and_cut::MarkFrame>,
-    /// The sheet's triangles (indices into its vertices), filled with `fill` if given.
-    pub faces: &'a [[usize; 3]],
-    /// A colour the maker chose for the paper's face, RGB.
-    pub fill: Option<[u8; 3]>,
-    /// Lines printed below the frame (title, how to print), clear of marks and sheet.
-    pub caption: Vec<String>,
-}
-
-/// A print-and-cut sheet as PDF bytes: page 1 is printed (the sheet filled and its fold
-/// guides, the registration marks, a caption and a 100 mm scale bar below the frame),
-/// page 2 shows what the knife cuts, as the job has it.
-pub fn to_bytes_print(sheet: &Sheet, title: &str, print: &PrintPage, cut: &Toolpath) -> Vec<u8> {
-    use crate::fab::print_and_cut::LINE_MM;
-    let (w, h) = (sheet.media.width, sheet.media.height);
-    let mut ops = Vec::new();
-    if let Some([r, g, b]) = print.fill {
-        let col = rgb(
-            f32::from(r) / 255.0,
-            f32::from(g) / 255.0,
-            f32::from(b) / 255.0,
-        );
-        ops.push(Op::SetFillColor { col });
-        for f in print.faces {
-            ops.push(filled(&f.map(|i| sheet.vertices[i])));
-        }
-    }
-    ops.push(Op::SetOutlineThickness { pt: Pt(0.5) });
-    for kind in [
-        LineKind::Flat,
-        LineKind::Valley,
-        LineKind::Mountain,
-        LineKind::Cut,
-    ] {
-        let (col, dash) = style(kind);
-        ops.push(Op::SetOutlineColor { col });
-        ops.push(Op::SetLineDashPattern { dash });
-        for l in sheet.lines.iter().filter(|l| l.kind == kind) {
-            ops.push(line((l.a.x, l.a.y), (l.b.x, l.b.y)));
-        }
-    }
-    if let Some(frame) = print.frame {
-        ops.push(Op::SetFillColor {
-            col: rgb(0.0, 0.0, 0.0),
-        });
-        let sq = frame.square();
-        ops.push(filled(&[
-            sq.lo,
-            Vec2::new(sq.hi.x, sq.lo.y),
-            sq.hi,
-            Vec2::new(sq.lo.x, sq.hi.y),
-        ]));
-        solid_black(&mut ops);
-        ops.push(Op::SetOutlineThickness {
-            pt: Pt((LINE_MM * 72.0 / 25.4) as f32),
-        });
-        for [corner, along, down] in frame.corner_marks() {
-            ops.push(line((corner.x, corner.y), (along.x, along.y)));
-            ops.push(line((corner.x, corner.y), (down.x, down.y)));
-        }
-    }
-    // Caption and scale bar in the band below the frame (or the image), 10 mm and more
-    // up from the page's edge: inside every printer's printable area.
-    solid_black(&mut ops);
-    ops.push(Op::SetOutlineThickness { pt: Pt(0.5) });
-    let (x0, y0) = (15.0, 12.0);
-    ops.push(line((x0, y0), (x0 + SCALE_BAR_MM, y0)));
-    for t in [0.0, 50.0, SCALE_BAR_MM] {
-        ops.push(line((x0 + t, y0 - 1.0), (x0 + t, y0 + 1.5)));
-    }
-    text(
-        &mut ops,
-        x0 + SCALE_BAR_MM + 2.0,
-        y0 - 1.0,
-        7.0,
-        "100 mm at 100%",
-    );
-    let mut y = y0 + 6.0 + 3.5 * print.caption.len() as f64;
-    for l in std::iter::once(title).chain(print.caption.iter().map(String::as_str)) {
-        text(&mut ops, x0, y, 7.0, l);
-        y -= 3.5;
-    }
-    save(
-        title,
-        vec![
-            PdfPage::new(Mm(w as f32), Mm(h as f32), ops),
-            as_cut_page(cut),
-        ],
-    )
-}
-
 /// Title of the page that shows the cut as the knife makes it.
 pub const AS_CUT_TITLE: &str = "As cut: every dash and cut as the job makes it (fold by page 1)";
 
 /// A page the size of the media with the toolpath's strokes as they are cut: every dash
 /// a solid segment in its operation's colour, as `sheet.svg` and the cutter's job have
 /// them (page 1 draws whole fold lines in a style to fold by).
-fn as_cut_page(path: &Toolpath) -> PdfPage {
+pub(super) fn as_cut_page(path: &Toolpath) -> PdfPage {
     let (w, h) = (path.media.width, path.media.height);
     let mut ops = vec![Op::SetOutlineThickness { pt: Pt(0.4) }];
     solid_black(&mut ops);
