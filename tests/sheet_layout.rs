@@ -115,7 +115,8 @@ fn a_tiled_sheet_is_turned_to_print_on_the_fewest_pages() {
             pages_for(hi.x - lo.x, hi.y - lo.y, page, m),
             pages_for(hi.y - lo.y, hi.x - lo.x, page, m),
         );
-        let got = doc.pages.len();
+        // The last page holds the title, summary and legend, not a window of the sheet.
+        let got = doc.pages.len() - 1;
         assert!(
             got <= up && got <= quarter,
             "{design}: {got} pages, upright {up}, turned {quarter}"
@@ -271,4 +272,199 @@ fn width_is_the_laid_out_width_and_fit_fills_the_media_within_the_margin() {
             Err(FabError::Input(_))
         ));
     }
+}
+
+/// What a PDF page prints, read back by printpdf's parser: stroked segments with their
+/// colour (RGB bytes), and text runs (start, size in points, text); all mm, y up.
+struct PrintedPage {
+    size: Vec2,
+    lines: Vec<([u8; 3], Vec2, Vec2)>,
+    texts: Vec<(Vec2, f64, String)>,
+}
+
+fn printed_pages(pdf: &[u8]) -> Vec<PrintedPage> {
+    let doc = printpdf::PdfDocument::parse(pdf, &Default::default(), &mut Vec::new()).unwrap();
+    let mm = |pt: f32| f64::from(pt) * 25.4 / 72.0;
+    doc.pages
+        .iter()
+        .map(|page| {
+            let mut out = PrintedPage {
+                size: Vec2::new(mm(page.media_box.width.0), mm(page.media_box.height.0)),
+                lines: Vec::new(),
+                texts: Vec::new(),
+            };
+            let (mut colour, mut cursor, mut size) = ([0u8; 3], Vec2::zeros(), 0.0);
+            for op in &page.ops {
+                match op {
+                    printpdf::Op::SetOutlineColor {
+                        col: printpdf::Color::Rgb(c),
+                    } => colour = [c.r, c.g, c.b].map(|v| (v * 255.0).round() as u8),
+                    printpdf::Op::DrawLine { line } => {
+                        let p = |i: usize| {
+                            Vec2::new(mm(line.points[i].p.x.0), mm(line.points[i].p.y.0))
+                        };
+                        out.lines.push((colour, p(0), p(1)));
+                    }
+                    printpdf::Op::SetTextCursor { pos } => {
+                        cursor = Vec2::new(mm(pos.x.0), mm(pos.y.0))
+                    }
+                    printpdf::Op::SetFont { size: s, .. } => size = f64::from(s.0),
+                    printpdf::Op::ShowText { items } => {
+                        let text: String = items
+                            .iter()
+                            .map(|i| match i {
+                                printpdf::TextItem::Text(t) => t.clone(),
+                                _ => String::new(),
+                            })
+                            .collect();
+                        out.texts.push((cursor, size, text));
+                    }
+                    _ => {}
+                }
+            }
+            out
+        })
+        .collect()
+}
+
+#[test]
+fn the_template_prints_inside_a_10_mm_margin_on_paper_and_its_text_clears_the_pattern() {
+    // The bundled designs, on the cutter's mat (Cameo), a laser bed (300 × 200 mm), A4
+    // and A3 paper, --fit or natural size, flat lines shown or hidden: every page of
+    // sheet.pdf is a paper size (A5, A4, letter, legal, A3, either way up); everything
+    // drawn or written lies 10 mm inside its edges (text measured at 0.6 em a character
+    // and its full point size tall, more than Helvetica takes); no text on the page to
+    // fold by comes within 1 mm of the pattern; its legend names exactly the kinds of line
+    // drawn, flat included only when flat lines are shown.
+    let papers = [
+        (148.0, 210.0),
+        (210.0, 297.0),
+        (215.9, 279.4),
+        (215.9, 355.6),
+        (297.0, 420.0),
+    ];
+    let is_paper = |s: Vec2| {
+        papers.iter().any(|&(w, h)| {
+            ((s.x - w).abs() < 0.1 && (s.y - h).abs() < 0.1)
+                || ((s.x - h).abs() < 0.1 && (s.y - w).abs() < 0.1)
+        })
+    };
+    let colour_of = |k: &str| match k {
+        "mountain" => [255, 0, 0],
+        "valley" => [0, 0, 255],
+        "cut" => [0, 0, 0],
+        "flat" => [192, 192, 192],
+        other => panic!("{other}"),
+    };
+    let mut with_notes = 0;
+    let mut runs = 0;
+    let configs = [
+        ("silhouette-cameo", None, false, false),
+        ("laser-dxf", None, true, true),
+        ("generic-hpgl", Some("a4"), true, false),
+        ("generic-hpgl", Some("a3"), false, false),
+    ];
+    for (i, design) in patterns().iter().enumerate() {
+        let mesh = crease::io::read(design).unwrap();
+        let name = design.file_name().unwrap().to_string_lossy().into_owned();
+        // Two of the four set-ups per design, each set-up on half of the designs.
+        for &(machine, media, fit, hide_flat) in [configs[i % 4], configs[(i + 1) % 4]].iter() {
+            let options = FabOptions {
+                media: media.map(|m| crease::fab::Media::parse(m).unwrap()),
+                fit,
+                hide_flat,
+                ..Default::default()
+            };
+            let Ok(out) = fabricate(&mesh, &Machine::load(machine).unwrap(), &options) else {
+                continue; // too large for the media at natural size
+            };
+            runs += 1;
+            let what = format!("{name} on {machine} {media:?} fit {fit}");
+            let pages = printed_pages(output(&out, "sheet.pdf"));
+            with_notes += usize::from(pages.len() > 2);
+            for (i, page) in pages.iter().enumerate() {
+                let (w, h) = (page.size.x, page.size.y);
+                assert!(is_paper(page.size), "{what}: page {i} is {w} × {h} mm");
+                let inside = |p: Vec2| {
+                    p.x >= 10.0 - 1e-3
+                        && p.x <= w - 10.0 + 1e-3
+                        && p.y >= 10.0 - 1e-3
+                        && p.y <= h - 10.0 + 1e-3
+                };
+                for (_, a, b) in &page.lines {
+                    assert!(
+                        inside(*a) && inside(*b),
+                        "{what}: page {i} draws {a:?}-{b:?}"
+                    );
+                }
+                for (at, size, t) in &page.texts {
+                    let end = *at
+                        + Vec2::new(
+                            t.len() as f64 * size * 0.6 * 25.4 / 72.0,
+                            size * 25.4 / 72.0,
+                        );
+                    assert!(
+                        inside(*at) && inside(end),
+                        "{what}: page {i} writes \"{t}\" at {at:?} to {end:?}"
+                    );
+                }
+            }
+            // The page to fold by: text clear of the pattern, which the page shifts by
+            // the paper's shift (checked: every coloured line lies within it).
+            let fold = &pages[0];
+            let shift = crease::output::pdf::paper_for(&out.sheet).shift;
+            let (plo, phi) = out.sheet.bounds();
+            let (plo, phi) = (plo + shift, phi + shift);
+            // A legend's sample line has its kind's name written 9 mm to its right.
+            let sample = |a: &Vec2| {
+                fold.texts
+                    .iter()
+                    .any(|(at, _, t)| (at - a - Vec2::new(9.0, -1.0)).norm() < 1e-3 && t.len() < 10)
+            };
+            for (c, a, b) in &fold.lines {
+                if *c != [0, 0, 0] && !sample(a) {
+                    for p in [a, b] {
+                        assert!(
+                            p.x >= plo.x - 1e-3
+                                && p.y >= plo.y - 1e-3
+                                && p.x <= phi.x + 1e-3
+                                && p.y <= phi.y + 1e-3,
+                            "{what}: a crease line at {p:?} outside the pattern's box"
+                        );
+                    }
+                }
+            }
+            for (at, size, t) in &fold.texts {
+                let top = at.y + size * 25.4 / 72.0;
+                let bottom = at.y - size * 0.25 * 25.4 / 72.0;
+                assert!(
+                    top < plo.y - 1.0 || bottom > phi.y + 1.0,
+                    "{what}: \"{t}\" ({bottom:.1}–{top:.1} mm) meets the pattern ({:.1}–{:.1} mm)",
+                    plo.y,
+                    phi.y
+                );
+            }
+            // The legend (on page 1, or on the notes page) names every colour of crease
+            // drawn and the cut; flat only when flat lines are drawn.
+            let drawn: std::collections::BTreeSet<[u8; 3]> =
+                fold.lines.iter().map(|l| l.0).collect();
+            let legend_page = if pages.len() > 2 { &pages[1] } else { fold };
+            let named: std::collections::BTreeSet<[u8; 3]> = legend_page
+                .texts
+                .iter()
+                .filter(|(_, _, t)| ["mountain", "valley", "cut", "flat"].contains(&t.as_str()))
+                .map(|(_, _, t)| colour_of(t))
+                .collect();
+            assert_eq!(drawn, named, "{what}: drawn {drawn:?}, legend {named:?}");
+            assert!(
+                !hide_flat || !drawn.contains(&[192, 192, 192]),
+                "{what}: flat lines hidden"
+            );
+        }
+    }
+    assert!(runs >= 20, "{runs} runs");
+    assert!(
+        with_notes >= 1,
+        "some pattern fills its page and sends the text to a notes page"
+    );
 }

@@ -43,6 +43,10 @@ pub struct FabArgs {
     /// registration marks, instead of refusing (no cutter job is written then).
     #[arg(long)]
     tile: bool,
+    /// Leave flat (triangulation) lines off the printed template (default: drawn light
+    /// grey and dotted; they are never cut or scored).
+    #[arg(long)]
+    hide_flat: bool,
     /// Print-then-cut: lay the sheet out on a printed page (--media, default a4 for
     /// Silhouette, letter for Cricut) with the machine's registration marks, and cut in
     /// their frame (default: off; the machine's profile names its marks).
@@ -55,45 +59,12 @@ pub struct FabArgs {
 }
 
 pub fn fab(args: FabArgs) -> Result<u8, String> {
-    let FabArgs {
-        design,
-        machine,
-        material,
-        media,
-        width,
-        fit,
-        margin,
-        out: out_dir,
-        force,
-        mountains_from_back,
-        tile,
-        print_and_cut,
-        print_fill,
-    } = args;
-    let print_fill = print_fill
-        .as_deref()
-        .map(|c| crease::output::colour::parse_hex("--print-fill", c))
-        .transpose()?;
-    let mut machine = crease::plotter::Machine::load(&machine).map_err(|e| e.to_string())?;
-    if let Some(name) = &material {
+    let mut machine = crease::plotter::Machine::load(&args.machine).map_err(|e| e.to_string())?;
+    if let Some(name) = &args.material {
         machine = machine.with_material(&crease::plotter::Material::load(name)?);
     }
-    let media = media
-        .as_deref()
-        .map(crease::fab::Media::parse)
-        .transpose()?;
-    let mesh = io::read(&design).map_err(|e| e.to_string())?;
-    let options = crease::pipeline::FabOptions {
-        media,
-        width,
-        fit,
-        margin,
-        force,
-        mountains_from_back,
-        tile,
-        print_and_cut,
-        print_fill,
-    };
+    let options = options_of(&args)?;
+    let mesh = io::read(&args.design).map_err(|e| e.to_string())?;
     let result = match crease::pipeline::fabricate(&mesh, &machine, &options) {
         Ok(r) => r,
         Err(crease::pipeline::FabError::Input(m)) => return Err(m),
@@ -103,8 +74,10 @@ pub fn fab(args: FabArgs) -> Result<u8, String> {
             return Ok(1);
         }
     };
-    let dir = out_dir
-        .unwrap_or_else(|| PathBuf::from("out").join(design.file_stem().unwrap_or_default()));
+    let dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("out").join(args.design.file_stem().unwrap_or_default()));
     io::write_all_atomic(&dir, &result.files).map_err(|e| e.to_string())?;
     let removed = crease::pipeline::remove_stale_outputs(&dir, &result.files);
     if !removed.is_empty() {
@@ -114,8 +87,7 @@ pub fn fab(args: FabArgs) -> Result<u8, String> {
             removed.join(", ")
         );
     }
-    let s = &result.report["sheet"];
-    if s["tiled"] == true {
+    if result.report["sheet"]["tiled"] == true {
         eprintln!(
             "{}: the sheet is larger than {}; sheet.pdf is tiled over pages with {} mm overlap and registration marks (no cutter job written)",
             dir.display(),
@@ -124,10 +96,43 @@ pub fn fab(args: FabArgs) -> Result<u8, String> {
         );
         return Ok(0);
     }
+    say_what_was_made(&dir, &result);
+    Ok(0)
+}
+
+/// The run's options from the command line; a media or colour that does not parse is
+/// refused naming the option.
+fn options_of(args: &FabArgs) -> Result<crease::pipeline::FabOptions, String> {
+    let print_fill = args
+        .print_fill
+        .as_deref()
+        .map(|c| crease::output::colour::parse_hex("--print-fill", c))
+        .transpose()?;
+    let media = args
+        .media
+        .as_deref()
+        .map(crease::fab::Media::parse)
+        .transpose()?;
+    Ok(crease::pipeline::FabOptions {
+        media,
+        width: args.width,
+        fit: args.fit,
+        margin: args.margin,
+        force: args.force,
+        mountains_from_back: args.mountains_from_back,
+        tile: args.tile,
+        hide_flat: args.hide_flat,
+        print_and_cut: args.print_and_cut,
+        print_fill,
+    })
+}
+
+/// The summary on stderr: the job, the steps to take, and what the maker must do by hand.
+fn say_what_was_made(dir: &std::path::Path, result: &crease::pipeline::FabOutput) {
     eprintln!(
         "{}: {} strokes; {}",
         dir.display(),
-        s["strokes"],
+        result.report["sheet"]["strokes"],
         result.job_line
     );
     if !result.steps.is_empty() {
@@ -148,5 +153,4 @@ pub fn fab(args: FabArgs) -> Result<u8, String> {
     if !result.verification.pass() {
         eprintln!("warning: the design fails verification; cut anyway because of --force");
     }
-    Ok(0)
 }

@@ -23,6 +23,8 @@ pub struct FabOptions {
     /// Print-then-cut: lay the sheet out on a printed page with the machine's
     /// registration marks and cut in their frame ([`crate::fab::print_and_cut`]).
     pub print_and_cut: bool,
+    /// Leave flat (triangulation) lines off the printed template.
+    pub hide_flat: bool,
     /// Print-then-cut: the colour the paper's face is printed, RGB.
     pub print_fill: Option<[u8; 3]>,
 }

@@ -210,10 +210,11 @@ impl<'a> Run<'a> {
             crate::output::pdf::to_bytes_tiled(
                 sheet,
                 page,
-                self.margin,
+                sheet.margin,
                 TILE_OVERLAP_MM,
                 title,
                 summary,
+                !self.options.hide_flat,
             )
         } else if !self.steps.is_empty() {
             let marks = crate::fab::registration::front_centres(&sheet.media, self.margin);
@@ -224,9 +225,16 @@ impl<'a> Run<'a> {
                 &marks,
                 self.steps,
                 self.jobs.first().copied(),
+                !self.options.hide_flat,
             )
         } else {
-            crate::output::pdf::to_bytes(sheet, title, summary, self.jobs.first().copied())
+            crate::output::pdf::to_bytes(
+                sheet,
+                title,
+                summary,
+                self.jobs.first().copied(),
+                !self.options.hide_flat,
+            )
         }
     }
 }

@@ -306,6 +306,8 @@ fn lay_out(
         // Turned for the fewest pages, on a virtual sheet just large enough; the PDF is
         // tiled.
         Err(LayoutError::TooLarge { .. }) if options.tile => {
+            // Each page keeps a band for its label, scale bar and legend.
+            let margin = margin.max(crate::output::pdf::TILE_MARGIN_MM);
             crate::fab::layout::layout_tiled(flat, lines, media, margin, TILE_OVERLAP_MM, sizing)
                 .map(|s| (s, true))
                 .map_err(|e| FabError::Input(e.to_string()))

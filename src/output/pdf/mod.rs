@@ -7,7 +7,10 @@ mod print;
 mod template;
 
 pub use print::{to_bytes_print, PrintPage};
-pub use template::{to_bytes, to_bytes_tiled, to_bytes_two_sided, AS_CUT_TITLE};
+pub use template::{
+    paper_for, to_bytes, to_bytes_tiled, to_bytes_two_sided, Paper, AS_CUT_TITLE,
+    PRINTABLE_MARGIN_MM, TILE_MARGIN_MM,
+};
 
 use crate::fab::LineKind;
 use crate::mesh::Vec2;

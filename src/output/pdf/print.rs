@@ -95,7 +95,7 @@ pub fn to_bytes_print(sheet: &Sheet, title: &str, print: &PrintPage, cut: &Toolp
         title,
         vec![
             PdfPage::new(Mm(w as f32), Mm(h as f32), ops),
-            as_cut_page(cut),
+            as_cut_page(cut, &super::template::Paper::of_media(&sheet.media)),
         ],
     )
 }

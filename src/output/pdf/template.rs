@@ -2,122 +2,344 @@
 //! bar, a legend, the title and the run's summary; a two-sided job's page of steps; a
 //! sheet too large tiled over pages; and the page as cut.
 
-use super::{cross, line, rgb, save, solid_black, style, text, wrap, SCALE_BAR_MM};
+use super::{cross, line, save, solid_black, style, text, wrap, SCALE_BAR_MM};
 use crate::fab::{LineKind, Media, Sheet, Toolpath};
 use crate::mesh::Vec2;
-use printpdf::{LineDashPattern, Mm, Op, PdfPage, Pt};
+use printpdf::{Mm, Op, PdfPage, Pt};
 
-/// Drawing ops of one page of `page_w × page_h` mm showing the sheet shifted by `shift`.
-fn page_ops(
-    sheet: &Sheet,
-    shift: (f64, f64),
-    page_w: f64,
-    page_h: f64,
-    title: &str,
-    summary: &[String],
-) -> Vec<Op> {
-    let mut ops = Vec::new();
-    ops.push(Op::SetOutlineThickness { pt: Pt(0.5) });
-    let visible =
-        |x: f64, y: f64| (-1.0..=page_w + 1.0).contains(&x) && (-1.0..=page_h + 1.0).contains(&y);
+/// Edge of the page no printer is trusted to print, mm: everything on a template stays
+/// inside it.
+pub const PRINTABLE_MARGIN_MM: f64 = 10.0;
+
+/// Margin of a tiled page, mm: the printable margin, then a band for the page's label
+/// above the window and the scale bar and legend below it.
+pub const TILE_MARGIN_MM: f64 = 20.0;
+
+/// Paper a template may be printed on, portrait, mm, by area.
+const PAPERS: [(&str, f64, f64); 5] = [
+    ("a5", 148.0, 210.0),
+    ("letter", 215.9, 279.4),
+    ("a4", 210.0, 297.0),
+    ("legal", 215.9, 355.6),
+    ("a3", 297.0, 420.0),
+];
+
+/// The paper a template is printed on, and the shift from the media's coordinates to it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Paper {
+    /// Its name (a4, letter …), or the media's.
+    pub name: String,
+    /// Width, mm.
+    pub width: f64,
+    /// Height, mm.
+    pub height: f64,
+    /// Added to media coordinates to place them on the paper.
+    pub shift: Vec2,
+}
+
+impl Paper {
+    /// The media as the paper, nothing shifted.
+    pub fn of_media(media: &Media) -> Paper {
+        Paper {
+            name: media.name.clone(),
+            width: media.width,
+            height: media.height,
+            shift: Vec2::zeros(),
+        }
+    }
+}
+
+/// The media itself when it is paper and holds the pattern inside the printable margin;
+/// else the smallest paper that does (upright first), the pattern centred on it; else (a
+/// pattern larger than A3) the media.
+pub fn paper_for(sheet: &Sheet) -> Paper {
+    let m = PRINTABLE_MARGIN_MM;
+    let (lo, hi) = sheet.bounds();
+    let media = &sheet.media;
+    let same = |a: f64, b: f64| (a - b).abs() < 0.5;
+    let is_paper = PAPERS.iter().any(|&(_, w, h)| {
+        same(media.width, w) && same(media.height, h)
+            || same(media.width, h) && same(media.height, w)
+    });
+    let as_media = Paper::of_media(media);
+    let inside = lo.x >= m - 1e-9
+        && lo.y >= m - 1e-9
+        && hi.x <= media.width - m + 1e-9
+        && hi.y <= media.height - m + 1e-9;
+    if is_paper && inside {
+        return as_media;
+    }
+    let size = hi - lo;
+    for &(name, w, h) in &PAPERS {
+        for (pw, ph) in [(w, h), (h, w)] {
+            if size.x + 2.0 * m <= pw && size.y + 2.0 * m <= ph {
+                return Paper {
+                    name: name.to_string(),
+                    width: pw,
+                    height: ph,
+                    shift: (Vec2::new(pw, ph) - size) / 2.0 - lo,
+                };
+            }
+        }
+    }
+    as_media
+}
+
+/// Helvetica's average advance, mm per character at `size` points (about half an em).
+fn char_mm(size: f32) -> f64 {
+    f64::from(size) * 0.55 * 25.4 / 72.0
+}
+
+/// The sheet's lines shifted by `shift` and clipped to `window` (page mm), each kind in
+/// its style; flat lines only if `flat`.
+fn pattern_ops(sheet: &Sheet, shift: Vec2, window: (Vec2, Vec2), flat: bool) -> Vec<Op> {
+    let mut ops = vec![Op::SetOutlineThickness { pt: Pt(0.5) }];
     for kind in [
         LineKind::Flat,
         LineKind::Valley,
         LineKind::Mountain,
         LineKind::Cut,
     ] {
+        if kind == LineKind::Flat && !flat {
+            continue;
+        }
         let (col, dash) = style(kind);
         ops.push(Op::SetOutlineColor { col });
         ops.push(Op::SetLineDashPattern { dash });
         for l in sheet.lines.iter().filter(|l| l.kind == kind) {
-            let (a, b) = (
-                (l.a.x + shift.0, l.a.y + shift.1),
-                (l.b.x + shift.0, l.b.y + shift.1),
-            );
-            // Lines wholly off the page are left out (the page boundary clips the rest).
-            let off = (a.0 < 0.0 && b.0 < 0.0)
-                || (a.1 < 0.0 && b.1 < 0.0)
-                || (a.0 > page_w && b.0 > page_w)
-                || (a.1 > page_h && b.1 > page_h);
-            if !off || visible(a.0, a.1) {
-                ops.push(line(a, b));
+            if let Some((a, b)) = clip(l.a + shift, l.b + shift, window) {
+                ops.push(line((a.x, a.y), (b.x, b.y)));
             }
         }
     }
-    // Scale bar with end ticks, in the bottom margin.
-    let (x0, y0) = (5.0, 4.0);
-    ops.push(Op::SetOutlineColor {
-        col: rgb(0.0, 0.0, 0.0),
-    });
-    ops.push(Op::SetLineDashPattern {
-        dash: LineDashPattern::solid(),
-    });
-    ops.push(line((x0, y0), (x0 + SCALE_BAR_MM, y0)));
-    for t in [0.0, 50.0, SCALE_BAR_MM] {
-        ops.push(line((x0 + t, y0 - 1.0), (x0 + t, y0 + 1.5)));
+    ops
+}
+
+/// The part of segment `a`–`b` inside the rectangle `window` (Liang–Barsky), if any.
+fn clip(a: Vec2, b: Vec2, (lo, hi): (Vec2, Vec2)) -> Option<(Vec2, Vec2)> {
+    let d = b - a;
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (p, q) in [
+        (-d.x, a.x - lo.x),
+        (d.x, hi.x - a.x),
+        (-d.y, a.y - lo.y),
+        (d.y, hi.y - a.y),
+    ] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return None;
+            }
+        } else {
+            let t = q / p;
+            if p < 0.0 {
+                t0 = t0.max(t);
+            } else {
+                t1 = t1.min(t);
+            }
+        }
     }
-    text(
-        &mut ops,
-        x0 + SCALE_BAR_MM + 2.0,
-        y0 - 1.0,
-        7.0,
-        "100 mm at 100%",
-    );
-    // Legend, bottom right: every kind of line the page draws.
-    let drawn: Vec<LineKind> = [
+    (t0 <= t1).then(|| (a + d * t0, a + d * t1))
+}
+
+/// The kinds of line a template of `sheet` draws, in legend order: those it has (flat
+/// only when `flat`).
+fn drawn_kinds(sheet: &Sheet, flat: bool) -> Vec<LineKind> {
+    [
         LineKind::Mountain,
         LineKind::Valley,
         LineKind::Cut,
         LineKind::Flat,
     ]
     .into_iter()
-    .filter(|&k| k != LineKind::Flat || sheet.lines.iter().any(|l| l.kind == k))
-    .collect();
-    let mut lx = page_w - 5.0 - 21.0 * drawn.len() as f64;
-    for kind in drawn {
+    .filter(|&k| (k != LineKind::Flat || flat) && sheet.lines.iter().any(|l| l.kind == k))
+    .collect()
+}
+
+/// Height of the band the scale bar and legend take above the printable margin, mm.
+const FOOT_MM: f64 = 10.0;
+
+/// The 100 mm scale bar (baseline `y`) and a legend of `kinds` in the row above it, from
+/// the left printable margin.
+fn foot_ops(ops: &mut Vec<Op>, y: f64, kinds: &[LineKind]) {
+    let x0 = PRINTABLE_MARGIN_MM;
+    solid_black(ops);
+    ops.push(Op::SetOutlineThickness { pt: Pt(0.5) });
+    ops.push(line((x0, y), (x0 + SCALE_BAR_MM, y)));
+    for t in [0.0, 50.0, SCALE_BAR_MM] {
+        ops.push(line((x0 + t, y - 1.0), (x0 + t, y + 1.5)));
+    }
+    text(ops, x0 + SCALE_BAR_MM + 2.0, y - 1.0, 6.0, "100 mm at 100%");
+    let mut lx = x0;
+    for &kind in kinds {
         let (col, dash) = style(kind);
         ops.push(Op::SetOutlineColor { col });
         ops.push(Op::SetLineDashPattern { dash });
-        ops.push(line((lx, y0), (lx + 8.0, y0)));
-        text(&mut ops, lx + 9.0, y0 - 1.0, 7.0, kind.name());
-        lx += 21.0;
+        ops.push(line((lx, y + 5.0), (lx + 8.0, y + 5.0)));
+        text(ops, lx + 9.0, y + 4.0, 6.0, kind.name());
+        lx += 12.0 + char_mm(6.0) * kind.name().len() as f64;
     }
-    // Title and summary, top margin.
-    text(&mut ops, 5.0, page_h - 6.0, 9.0, title);
-    for (i, s) in summary.iter().enumerate() {
-        text(&mut ops, 5.0, page_h - 10.0 - 3.5 * i as f64, 6.5, s);
+}
+
+/// Lines of a title (9 pt) and summary (6.5 pt, wrapped to `width` mm) from baseline
+/// `top` down; returns the baseline below the last.
+fn head_ops(ops: &mut Vec<Op>, top: f64, width: f64, title: &str, summary: &[String]) -> f64 {
+    let x0 = PRINTABLE_MARGIN_MM;
+    let mut y = top;
+    for l in wrap(title, (width / char_mm(9.0)) as usize) {
+        text(ops, x0, y, 9.0, &l);
+        y -= 4.0;
     }
-    ops
+    for s in summary {
+        for l in wrap(s, (width / char_mm(6.5)) as usize) {
+            text(ops, x0, y, 6.5, &l);
+            y -= 3.0;
+        }
+    }
+    y
+}
+
+/// Height the title and summary take, mm.
+fn head_height(width: f64, title: &str, summary: &[String]) -> f64 {
+    let mut ops = Vec::new();
+    let top = 0.0;
+    top - head_ops(&mut ops, top, width, title, summary)
+}
+
+/// The page to fold by: the pattern on `paper` with its title and summary above it and
+/// the scale bar and legend below it, each where it clears the pattern by 2 mm inside the
+/// printable margin. Returns the page and whether anything had no room (it then goes on
+/// a page of notes).
+fn fold_page(
+    sheet: &Sheet,
+    paper: &Paper,
+    title: &str,
+    summary: &[String],
+    flat: bool,
+) -> (Vec<Op>, bool) {
+    let m = PRINTABLE_MARGIN_MM;
+    let (w, h) = (paper.width, paper.height);
+    let window = (Vec2::repeat(m), Vec2::new(w - m, h - m));
+    let mut ops = pattern_ops(sheet, paper.shift, window, flat);
+    let (lo, hi) = sheet.bounds();
+    let (lo, hi) = (lo + paper.shift, hi + paper.shift);
+    let width = w - 2.0 * m;
+    let head = head_height(width, title, summary);
+    let mut all = true;
+    if h - m - head - 2.0 >= hi.y {
+        head_ops(&mut ops, h - m - 4.0, width, title, summary);
+    } else {
+        all = false;
+    }
+    if lo.y >= m + FOOT_MM + 2.0 {
+        foot_ops(&mut ops, m + 2.0, &drawn_kinds(sheet, flat));
+    } else {
+        all = false;
+    }
+    (ops, all)
+}
+
+/// A page of what had no room beside the pattern: title, summary, scale bar and legend.
+fn notes_page(
+    sheet: &Sheet,
+    paper: &Paper,
+    title: &str,
+    summary: &[String],
+    flat: bool,
+) -> PdfPage {
+    let m = PRINTABLE_MARGIN_MM;
+    let mut ops = Vec::new();
+    let mut lines = summary.to_vec();
+    lines.push(format!("The last page: {AS_CUT_TITLE}."));
+    lines.push(
+        "The title, summary and legend are on this page: the pattern's pages leave them no room."
+            .into(),
+    );
+    head_ops(
+        &mut ops,
+        paper.height - m - 4.0,
+        paper.width - 2.0 * m,
+        title,
+        &lines,
+    );
+    foot_ops(&mut ops, m + 2.0, &drawn_kinds(sheet, flat));
+    PdfPage::new(Mm(paper.width as f32), Mm(paper.height as f32), ops)
 }
 
 /// Title of the page that shows the cut as the knife makes it.
 pub const AS_CUT_TITLE: &str = "As cut: every dash and cut as the job makes it (fold by page 1)";
 
-/// A page the size of the media with the toolpath's strokes as they are cut: every dash
-/// a solid segment in its operation's colour, as `sheet.svg` and the cutter's job have
-/// them (page 1 draws whole fold lines in a style to fold by).
-pub(super) fn as_cut_page(path: &Toolpath) -> PdfPage {
-    let (w, h) = (path.media.width, path.media.height);
+/// The toolpath's strokes as they are cut, on `paper`: every dash a solid segment in its
+/// operation's colour, as `sheet.svg` and the cutter's job have them (the page to fold by
+/// draws whole fold lines in a style to fold by); titled above or below the strokes,
+/// where there is room (else the page of notes says what it is).
+pub(super) fn as_cut_page(path: &Toolpath, paper: &Paper) -> PdfPage {
+    let (w, h) = (paper.width, paper.height);
     let mut ops = vec![Op::SetOutlineThickness { pt: Pt(0.4) }];
     solid_black(&mut ops);
+    let (mut lo, mut hi) = (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY));
     for kind in LineKind::ALL {
         let (col, _) = style(kind);
         ops.push(Op::SetOutlineColor { col });
         for s in path.strokes.iter().filter(|s| s.kind == kind) {
-            ops.push(line((s.from.x, s.from.y), (s.to.x, s.to.y)));
+            let (a, b) = (s.from + paper.shift, s.to + paper.shift);
+            lo = lo.inf(&a.inf(&b));
+            hi = hi.sup(&a.sup(&b));
+            ops.push(line((a.x, a.y), (b.x, b.y)));
         }
     }
-    text(&mut ops, 5.0, h - 6.0, 9.0, AS_CUT_TITLE);
+    if let Some(y) = as_cut_title_at(lo, hi, h) {
+        text(&mut ops, PRINTABLE_MARGIN_MM, y, 9.0, AS_CUT_TITLE);
+    }
     PdfPage::new(Mm(w as f32), Mm(h as f32), ops)
 }
 
-/// The template as PDF bytes: one page the size of the sheet's media to fold by
-/// (`summary` lines under the title), then, with `cut`, the page as cut.
-pub fn to_bytes(sheet: &Sheet, title: &str, summary: &[String], cut: Option<&Toolpath>) -> Vec<u8> {
-    let (w, h) = (sheet.media.width, sheet.media.height);
-    let ops = page_ops(sheet, (0.0, 0.0), w, h, title, summary);
-    let mut pages = vec![PdfPage::new(Mm(w as f32), Mm(h as f32), ops)];
-    pages.extend(cut.map(as_cut_page));
+/// The baseline of the as-cut page's title: above strokes spanning `lo`–`hi` on a page
+/// `h` mm tall, or below them, if either leaves room inside the printable margin.
+fn as_cut_title_at(lo: Vec2, hi: Vec2, h: f64) -> Option<f64> {
+    let m = PRINTABLE_MARGIN_MM;
+    if hi.y <= h - m - 6.0 {
+        Some(h - m - 4.0)
+    } else if lo.y >= m + 6.0 {
+        Some(m + 1.0)
+    } else {
+        None
+    }
+}
+
+/// Whether the as-cut page of `path` on `paper` has room for its title.
+fn as_cut_titled(path: &Toolpath, paper: &Paper) -> bool {
+    let (mut lo, mut hi) = (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY));
+    for s in &path.strokes {
+        for p in [s.from + paper.shift, s.to + paper.shift] {
+            lo = lo.inf(&p);
+            hi = hi.sup(&p);
+        }
+    }
+    as_cut_title_at(lo, hi, paper.height).is_some()
+}
+
+/// The template as PDF bytes, on [`paper_for`] the sheet: the page to fold by (flat
+/// lines light grey, or left out when `flat` is false), a page of notes if the title,
+/// summary or legend had no room beside the pattern, then, with `cut`, the page as cut.
+pub fn to_bytes(
+    sheet: &Sheet,
+    title: &str,
+    summary: &[String],
+    cut: Option<&Toolpath>,
+    flat: bool,
+) -> Vec<u8> {
+    let paper = paper_for(sheet);
+    let (ops, all) = fold_page(sheet, &paper, title, summary, flat);
+    let all = all && cut.is_none_or(|c| as_cut_titled(c, &paper));
+    let mut pages = vec![PdfPage::new(
+        Mm(paper.width as f32),
+        Mm(paper.height as f32),
+        ops,
+    )];
+    if !all {
+        pages.push(notes_page(sheet, &paper, title, summary, flat));
+    }
+    pages.extend(cut.map(|c| as_cut_page(c, &paper)));
     save(title, pages)
 }
 
@@ -131,12 +353,16 @@ pub fn to_bytes_two_sided(
     marks: &[Vec2],
     steps: &[String],
     cut: Option<&Toolpath>,
+    flat: bool,
 ) -> Vec<u8> {
-    let (w, h) = (sheet.media.width, sheet.media.height);
-    let mut ops = page_ops(sheet, (0.0, 0.0), w, h, title, summary);
+    let paper = paper_for(sheet);
+    let (w, h) = (paper.width, paper.height);
+    let (mut ops, all) = fold_page(sheet, &paper, title, summary, flat);
+    let all = all && cut.is_none_or(|c| as_cut_titled(c, &paper));
     solid_black(&mut ops);
     for m in marks {
-        cross(&mut ops, (m.x, m.y), crate::fab::registration::MARK_ARM_MM);
+        let c = m + paper.shift;
+        cross(&mut ops, (c.x, c.y), crate::fab::registration::MARK_ARM_MM);
     }
     let mut second = Vec::new();
     text(
@@ -146,8 +372,7 @@ pub fn to_bytes_two_sided(
         12.0,
         &format!("{title}: two-sided job"),
     );
-    // Helvetica averages about half an em per character.
-    let per_line = ((w - 20.0) / (9.0 * 0.5 * 25.4 / 72.0)) as usize;
+    let per_line = ((w - 20.0) / char_mm(9.0)) as usize;
     let mut y = h - 25.0;
     for step in steps {
         for l in wrap(step, per_line) {
@@ -158,10 +383,11 @@ pub fn to_bytes_two_sided(
     }
     // The sheet's two sides, small: the front as it is cut, then turned over left to
     // right, with the crosses where each job cuts them.
-    let k = ((w - 30.0) / 2.0 / w).min((y - 20.0) / h).max(0.05);
+    let (mw, mh) = (sheet.media.width, sheet.media.height);
+    let k = ((w - 30.0) / 2.0 / mw).min((y - 20.0) / mh).max(0.05);
     let mirrored: Vec<Vec2> = marks
         .iter()
-        .map(|&m| crate::fab::registration::mirrored(w, m))
+        .map(|&m| crate::fab::registration::mirrored(mw, m))
         .collect();
     solid_black(&mut second);
     for (i, (label, points)) in [
@@ -171,13 +397,13 @@ pub fn to_bytes_two_sided(
     .into_iter()
     .enumerate()
     {
-        let x0 = 10.0 + i as f64 * (w * k + 10.0);
-        let y0 = y - 5.0 - h * k;
+        let x0 = 10.0 + i as f64 * (mw * k + 10.0);
+        let y0 = y - 5.0 - mh * k;
         let corners = [
             (x0, y0),
-            (x0 + w * k, y0),
-            (x0 + w * k, y0 + h * k),
-            (x0, y0 + h * k),
+            (x0 + mw * k, y0),
+            (x0 + mw * k, y0 + mh * k),
+            (x0, y0 + mh * k),
         ];
         for j in 0..4 {
             second.push(line(corners[j], corners[(j + 1) % 4]));
@@ -187,17 +413,23 @@ pub fn to_bytes_two_sided(
         }
         text(&mut second, x0, y0 - 5.0, 8.0, label);
     }
+    // The steps stay page 2, as the summary says; notes, if any, follow them.
     let mut pages = vec![
         PdfPage::new(Mm(w as f32), Mm(h as f32), ops),
         PdfPage::new(Mm(w as f32), Mm(h as f32), second),
     ];
-    pages.extend(cut.map(as_cut_page));
+    if !all {
+        pages.push(notes_page(sheet, &paper, title, summary, flat));
+    }
+    pages.extend(cut.map(|c| as_cut_page(c, &paper)));
     save(title, pages)
 }
 
 /// A sheet too large for the printer, split over `page` sized pages. Each page shows a
-/// window of the sheet inside `margin`; neighbouring windows overlap by `overlap` mm, and
-/// registration crosses mark the window corners so the pages can be aligned and taped.
+/// window of the sheet inside `margin` (at least [`TILE_MARGIN_MM`]); neighbouring windows
+/// overlap by `overlap` mm, and registration crosses mark the window corners so the pages
+/// can be aligned and taped. Each page is labelled above its window, with the scale bar
+/// and legend below it; a last page holds the title and `summary`.
 pub fn to_bytes_tiled(
     sheet: &Sheet,
     page: &Media,
@@ -205,19 +437,34 @@ pub fn to_bytes_tiled(
     overlap: f64,
     title: &str,
     summary: &[String],
+    flat: bool,
 ) -> Vec<u8> {
     let (uw, uh) = (page.width - 2.0 * margin, page.height - 2.0 * margin);
     let step = (uw - overlap, uh - overlap);
     let size = [sheet.media.width, sheet.media.height];
     let (cols, rows) = crate::fab::layout::tile_grid(size, page, margin, overlap);
+    let window = (
+        Vec2::repeat(margin),
+        Vec2::new(page.width - margin, page.height - margin),
+    );
+    let kinds = drawn_kinds(sheet, flat);
     let mut pages = Vec::new();
     for r in 0..rows {
         for c in 0..cols {
             // Window of the sheet shown on this page, bottom-left corner.
             let (wx, wy) = (c as f64 * step.0, r as f64 * step.1);
-            let shift = (margin - wx, margin - wy);
+            let shift = Vec2::new(margin - wx, margin - wy);
             let label = format!("{title}: page {} of {} (row {} of {rows}, column {} of {cols}); overlap {overlap} mm", r * cols + c + 1, rows * cols, r + 1, c + 1);
-            let mut ops = page_ops(sheet, shift, page.width, page.height, &label, summary);
+            let mut ops = pattern_ops(sheet, shift, window, flat);
+            let m = PRINTABLE_MARGIN_MM;
+            head_ops(
+                &mut ops,
+                page.height - m - 4.0,
+                page.width - 2.0 * m,
+                &label,
+                &[],
+            );
+            foot_ops(&mut ops, m + 2.0, &kinds);
             solid_black(&mut ops);
             // Registration crosses at the window's corners and at its overlap edges.
             let xs = [margin, margin + overlap, margin + uw - overlap, margin + uw];
@@ -239,5 +486,12 @@ pub fn to_bytes_tiled(
             ));
         }
     }
+    pages.push(notes_page(
+        sheet,
+        &Paper::of_media(page),
+        title,
+        summary,
+        flat,
+    ));
     save(title, pages)
 }
