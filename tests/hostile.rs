@@ -158,7 +158,7 @@ fn absurd_media_widths_margins_and_pages_are_refused_with_short_messages() {
             &design,
             "--tile",
             "--media",
-            "10.01x10.01mm",
+            "50.01x50.01mm",
             "--margin",
             "0",
             "--out",

@@ -350,3 +350,127 @@ fn a_bad_material_file_is_refused_naming_its_key() {
         );
     }
 }
+
+#[test]
+fn thick_board_is_cut_as_panels_set_back_from_each_valley_by_half_its_gap() {
+    // corrugated-3mm (hinge_gap = true) on miura-bent: panels.dxf, read with the dxf
+    // crate, holds one closed outline per panel. Each valley's gap is 2·h·tan(ρ/2) with
+    // ρ the design's fold there, computed here from its faces' normals; no panel comes
+    // nearer a valley's midpoint than half that gap, and panels reach the midpoint of
+    // every mountain longer than 20 mm (they take no gap: the membrane is on their
+    // inside).
+    use crease::mesh::{Vec2, Vec3};
+    let material = crease::plotter::Material::load("corrugated-3mm").unwrap();
+    assert!(material.hinge_gap);
+    let h = material.thickness_mm;
+    let machine = Machine::load("generic-hpgl")
+        .unwrap()
+        .with_material(&material);
+    let mesh =
+        crease::io::read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura-bent.fold"))
+            .unwrap();
+    let options = crease::pipeline::FabOptions {
+        media: Some(crease::fab::Media::parse("a3").unwrap()),
+        fit: true,
+        ..Default::default()
+    };
+    let out = crease::pipeline::fabricate(&mesh, &machine, &options).unwrap();
+    let dxf_bytes = &out.files.iter().find(|f| f.0 == "panels.dxf").unwrap().1;
+    let drawing = dxf::Drawing::load(&mut std::io::Cursor::new(dxf_bytes)).unwrap();
+    let mut segments: Vec<(Vec2, Vec2)> = Vec::new();
+    for e in drawing.entities() {
+        if let dxf::entities::EntityType::Line(l) = &e.specific {
+            segments.push((Vec2::new(l.p1.x, l.p1.y), Vec2::new(l.p2.x, l.p2.y)));
+        }
+    }
+    // Closed outlines: every end meets exactly one other segment's start or end.
+    let key = |p: Vec2| ((p.x * 1e4).round() as i64, (p.y * 1e4).round() as i64);
+    let mut ends = std::collections::HashMap::new();
+    for (a, b) in &segments {
+        *ends.entry(key(*a)).or_insert(0) += 1;
+        *ends.entry(key(*b)).or_insert(0) += 1;
+    }
+    assert!(ends.values().all(|&n| n % 2 == 0), "an open outline");
+    let hinge = &out.report["hinge"];
+    assert_eq!(hinge["thickness_mm"], h);
+    let panels = hinge["panels"].as_u64().unwrap() as usize;
+    assert!(panels > 20, "{panels} panels");
+    // DXF's y grows up, as the sheet's does. The gap along a fold is measured from its
+    // midpoint: at its ends other panels come to the vertex.
+    let dist = |p: Vec2, a: Vec2, b: Vec2| {
+        let d = b - a;
+        let t = ((p - a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
+        (a + d * t - p).norm()
+    };
+    let positions = mesh.positions();
+    let topology = mesh.topology();
+    let normal = |f: usize| {
+        let [i, j, k] = mesh.faces()[f];
+        let n: Vec3 = (positions[j] - positions[i]).cross(&(positions[k] - positions[i]));
+        n.normalize()
+    };
+    let (mut valleys, mut mountains, mut exact, mut reached) = (0, 0, 0, 0);
+    for (e, edge) in mesh.edges().iter().enumerate() {
+        let kind = LineKind::of_edge(edge);
+        let [Some(l), Some(r)] = topology.edge_faces[e] else {
+            continue;
+        };
+        let [a, b] = edge.vertices.map(|v| out.sheet.vertices[v]);
+        match kind {
+            LineKind::Valley => {
+                valleys += 1;
+                let rho = normal(l).dot(&normal(r)).clamp(-1.0, 1.0).acos();
+                let gap = 2.0 * h * (rho.min(2.0 * 2f64.atan()) / 2.0).tan();
+                let mid = (a + b) / 2.0;
+                let closest = segments
+                    .iter()
+                    .map(|&(p, q)| dist(mid, p, q))
+                    .fold(f64::INFINITY, f64::min);
+                assert!(
+                    closest >= gap / 2.0 - 1e-3,
+                    "edge {e}: a panel {closest:.3} mm from a valley's middle that needs {:.3}",
+                    gap / 2.0
+                );
+                // A straight valley line takes the largest gap among its edges.
+                exact += usize::from(closest <= gap / 2.0 + 1e-3);
+                let reported = hinge["folds"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .find(|f| f["edge"] == e)
+                    .unwrap();
+                assert!((reported["gap_mm"].as_f64().unwrap() - gap).abs() < 1e-6);
+            }
+            LineKind::Mountain => {
+                mountains += 1;
+                let mid = (a + b) / 2.0;
+                let touching = segments
+                    .iter()
+                    .filter(|&&(p, q)| dist(mid, p, q) < 1e-3)
+                    .count();
+                // A short mountain between wide valleys is swallowed by their gaps.
+                assert!(
+                    touching >= 2 || (b - a).norm() < 20.0,
+                    "edge {e}: the panels do not reach the mountain"
+                );
+                reached += usize::from(touching >= 2);
+            }
+            _ => {}
+        }
+    }
+    assert!(
+        valleys > 10 && mountains > 10,
+        "{valleys} valleys, {mountains} mountains"
+    );
+    assert!(reached * 10 >= mountains * 9, "{reached} of {mountains}");
+    assert!(
+        exact * 2 >= valleys,
+        "panels come to half the gap at {exact} of {valleys} valleys"
+    );
+    // Without a hinge-gap material, no panels are written.
+    let plain =
+        crease::pipeline::fabricate(&mesh, &Machine::load("generic-hpgl").unwrap(), &options)
+            .unwrap();
+    assert!(plain.files.iter().all(|f| f.0 != "panels.dxf"));
+    assert!(plain.report["hinge"].is_null());
+}

@@ -147,6 +147,19 @@ fn say_what_was_made(dir: &std::path::Path, result: &crease::pipeline::FabOutput
             eprintln!("  {}. {step}", i + 1);
         }
     }
+    let hinge = &result.report["hinge"];
+    if let Some(panels) = hinge["panels"].as_u64() {
+        let widest = hinge["folds"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .filter_map(|f| f["gap_mm"].as_f64())
+            .fold(0.0, f64::max);
+        eprintln!(
+            "panels.svg, panels.dxf: {panels} panels of {} mm sheet, set back from each valley by half its hinge gap (widest {widest:.1} mm); glue them on a membrane along the scored sheet",
+            hinge["thickness_mm"]
+        );
+    }
     for warning in &result.warnings {
         eprintln!("warning: {warning}");
     }

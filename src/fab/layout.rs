@@ -344,7 +344,7 @@ pub fn layout_tiled(
     let usable = Vec2::new(page.width - 2.0 * margin, page.height - 2.0 * margin);
     if usable.x <= overlap || usable.y <= overlap {
         return Err(LayoutError::Bad(format!(
-            "the margin of {margin} mm and the overlap of {overlap} mm leave no room on {}",
+            "tiled pages of {} keep a margin of {margin} mm (room for each page's label, scale bar and legend) and overlap by {overlap} mm: that leaves no room for the sheet; tile over larger pages (--media a4)",
             page.name
         )));
     }

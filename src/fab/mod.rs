@@ -4,6 +4,7 @@
 pub mod budget;
 pub mod clearance;
 pub mod flat_fold;
+pub mod hinge;
 pub mod intersect;
 pub mod layers;
 pub mod layout;

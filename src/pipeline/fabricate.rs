@@ -156,28 +156,28 @@ pub fn fabricate_verified(
     let (pictures, previews) = preview_files(mesh, &toolpath)?;
     files.extend(pictures);
     let figures = run.figures();
-    let next_steps = match &print {
-        Some(p) => Some(NextSteps {
-            software: p.family.software().to_string(),
-            steps: p.family.steps(&jobs_written),
-        }),
-        None => (!machine.steps.is_empty()).then(|| NextSteps {
-            software: machine
-                .software
-                .clone()
-                .unwrap_or_else(|| machine.name.clone()),
-            steps: machine.steps.clone(),
-        }),
+    let next_steps = next_steps_of(print.as_ref(), machine, &jobs_written);
+    let hinge = match machine.hinge_thickness_mm {
+        Some(h) if !tiled => Some(
+            crate::fab::hinge::hinge_gaps(mesh, &sheet, h)
+                .map_err(|e| FabError::Rejected(Rejected(e)))?,
+        ),
+        _ => None,
     };
+    if let Some(gaps) = &hinge {
+        files.extend(panel_files(gaps, &sheet.media));
+    }
     let report = serde_json::json!({
         "verification": verification.to_json(),
         "sheet": run.sheet_json(&figures),
         "previews": previews,
         "next_steps": next_steps,
         "print_and_cut": print.as_ref().map(crate::fab::print_and_cut::PrintLayout::to_json),
+        "hinge": hinge.as_ref().map(|g| hinge_json(g, mesh)),
     });
     let job_line = run.job_line(&figures);
-    let warnings: Vec<String> = run.unscored_warning().into_iter().collect();
+    let mut warnings: Vec<String> = run.unscored_warning().into_iter().collect();
+    warnings.extend(hinge.as_ref().and_then(too_far_warning));
     let summary = run.summary(verification.pass(), &job_line, &warnings);
     let title = if mesh.title.is_empty() {
         "crease pattern"
@@ -213,6 +213,100 @@ pub fn fabricate_verified(
         toolpath,
         back,
         isometry_error,
+    })
+}
+
+/// What the maker does next in the machine's software (the profile's `steps`), or for a
+/// print-and-cut run the marks' family's steps.
+fn next_steps_of(
+    print: Option<&crate::fab::print_and_cut::PrintLayout>,
+    machine: &crate::plotter::Machine,
+    jobs_written: &[(String, Vec<u8>)],
+) -> Option<NextSteps> {
+    match print {
+        Some(p) => Some(NextSteps {
+            software: p.family.software().to_string(),
+            steps: p.family.steps(jobs_written),
+        }),
+        None => (!machine.steps.is_empty()).then(|| NextSteps {
+            software: machine
+                .software
+                .clone()
+                .unwrap_or_else(|| machine.name.clone()),
+            steps: machine.steps.clone(),
+        }),
+    }
+}
+
+/// `panels.svg` and `panels.dxf`: every panel's outline, set back from its folds, as a
+/// cut on the sheet's media (the panels go back on the membrane where they were cut).
+fn panel_files(gaps: &crate::fab::hinge::HingeGaps, media: &crate::fab::Media) -> Files {
+    use crate::fab::{LineKind, Stroke, Toolpath};
+    let strokes = gaps
+        .panels
+        .iter()
+        .enumerate()
+        .flat_map(|(n, p)| {
+            let k = p.outline.len();
+            (0..k).map(move |i| Stroke {
+                kind: LineKind::Cut,
+                from: p.outline[i],
+                to: p.outline[(i + 1) % k],
+                line: n,
+            })
+        })
+        .collect();
+    let path = Toolpath {
+        media: media.clone(),
+        strokes,
+    };
+    vec![
+        (
+            "panels.svg".to_string(),
+            crate::output::svg::sheet_to_string(&path, crate::output::svg::Layers::ByKind)
+                .into_bytes(),
+        ),
+        (
+            "panels.dxf".to_string(),
+            crate::output::dxf::to_string(&path).into_bytes(),
+        ),
+    ]
+}
+
+/// report.json's `hinge`: the formula, the thickness, each fold's angle and gap, the
+/// panels, and the valleys folded too far for a gap.
+fn hinge_json(gaps: &crate::fab::hinge::HingeGaps, mesh: &Mesh) -> serde_json::Value {
+    let folds: Vec<serde_json::Value> = gaps
+        .folds
+        .iter()
+        .map(|&(e, rho, g)| {
+            serde_json::json!({
+                "edge": e,
+                "vertices": mesh.edges()[e].vertices,
+                "fold_deg": rho.to_degrees(),
+                "gap_mm": g,
+            })
+        })
+        .collect();
+    serde_json::json!({
+        "formula": "gap = 2 * thickness * tan(fold / 2) at every valley (panels on the front, membrane under them); mountains take none",
+        "thickness_mm": gaps.thickness,
+        "largest_gap_fold_deg": crate::fab::hinge::MAX_GAP_FOLD.to_degrees(),
+        "panels": gaps.panels.len(),
+        "folds": folds,
+        "too_far": gaps.too_far,
+    })
+}
+
+/// The warning for valleys folded past the largest fold a gap is laid out for.
+fn too_far_warning(gaps: &crate::fab::hinge::HingeGaps) -> Option<String> {
+    (!gaps.too_far.is_empty()).then(|| {
+        format!(
+            "{} valley(s) fold past {:.0}°, beyond what a hinge gap in {} mm sheet allows without a gap over four times the thickness: they got that gap; fold them on a second hinge or use thinner sheet (report.json: hinge.too_far)",
+            gaps.too_far.len(),
+            crate::fab::hinge::MAX_GAP_FOLD.to_degrees(),
+            gaps.thickness
+        )
     })
 }
 
@@ -545,8 +639,10 @@ fn cutter_jobs(
 }
 
 /// Every file a fabrication run can write, and the journals `plot` keeps beside the jobs.
-pub const OUTPUT_FILES: [&str; 18] = [
+pub const OUTPUT_FILES: [&str; 20] = [
     "sheet.svg",
+    "panels.svg",
+    "panels.dxf",
     "sheet.png",
     "design.png",
     "sheet.hpgl",

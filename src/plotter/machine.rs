@@ -92,6 +92,10 @@ pub struct Machine {
     /// profile key.
     #[serde(skip)]
     pub material: Option<String>,
+    /// The thickness (mm) of a material laid over the profile whose panels take hinge
+    /// gaps ([`crate::fab::hinge`]); not a profile key.
+    #[serde(skip)]
+    pub hinge_thickness_mm: Option<f64>,
 }
 
 fn serial() -> String {

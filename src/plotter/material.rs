@@ -25,6 +25,10 @@ pub struct Material {
     /// Perforation per fold kind, `[cut, gap]` mm (replaces the profile's where it
     /// perforates; a continuous score line stays continuous).
     pub dash: MaterialDashes,
+    /// Thick enough that its panels are cut apart with a hinge gap at every valley
+    /// ([`crate::fab::hinge`]): `fab` writes panels.svg and panels.dxf.
+    #[serde(default)]
+    pub hinge_gap: bool,
 }
 
 /// Dash codes of a material.
@@ -133,6 +137,7 @@ impl Machine {
             tool.speed_mm_s = tool.speed_mm_s.map(|v| v * material.speed_scale);
         }
         m.material = Some(material.name.clone());
+        m.hinge_thickness_mm = material.hinge_gap.then_some(material.thickness_mm);
         m
     }
 }
