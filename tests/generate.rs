@@ -259,3 +259,67 @@ fn bad_parameters_are_refused_with_a_reason() {
     p.fold = Some(1.5);
     assert!(generate(&p).is_err());
 }
+
+#[test]
+fn the_arc_is_the_mirror_construction_to_1e_9() {
+    // `generate arc`: inside its crease every vertex lies on one circular cone about the
+    // z axis with its apex at the origin, at its flat distance from the apex, generators
+    // turned by the step that keeps their flat angle; outside, on that cone reflected
+    // through the crease's plane. β is read off
+    // one vertex; every other vertex is checked against the closed form with it, to 1e-9
+    // mm. Each chord of the crease folds by the same angle, quads stay planar (their
+    // diagonals at 0) and the design verifies.
+    for fold in [0.2, 0.5, 1.0] {
+        let mut p = Params::defaults(PatternKind::Arc);
+        p.fold = Some(fold);
+        let m = generate(&p).unwrap();
+        let flat = m.flat().unwrap().to_vec();
+        let crease = flat.iter().map(|q| q.norm()).fold(0.0, f64::max) - (p.ny / 2) as f64 * p.size;
+        let x = m.positions();
+        // β from a vertex inside the crease: z = r cos β.
+        let inner = (0..x.len())
+            .find(|&v| flat[v].norm() < crease - 1.0)
+            .unwrap();
+        let beta = (x[inner].z / flat[inner].norm()).acos();
+        let (s, c) = beta.sin_cos();
+        // Neighbouring generators keep their flat angle: cos² β + sin² β cos Δψ = cos Δφ.
+        let dphi = PI / 2.0 / p.nx as f64;
+        let dpsi = ((dphi.cos() - c * c) / (s * s)).acos();
+        for v in 0..x.len() {
+            let r = flat[v].norm();
+            let phi = flat[v].y.atan2(flat[v].x);
+            let psi = phi / dphi * dpsi;
+            let z = if r > crease + 1e-9 {
+                2.0 * crease - r
+            } else {
+                r
+            } * c;
+            let want = [r * s * psi.cos(), r * s * psi.sin(), z];
+            let got = [x[v].x, x[v].y, x[v].z];
+            let err = (0..3).map(|k| (want[k] - got[k]).abs()).fold(0.0, f64::max);
+            assert!(
+                err < 1e-9,
+                "fold {fold}: vertex {v} is {err:e} mm off the cone"
+            );
+        }
+        let angles = crease::geometry::fold_angles(&m);
+        let chords: Vec<f64> = m
+            .edges()
+            .iter()
+            .zip(&angles)
+            .filter(|(e, _)| matches!(e.assignment, Assignment::Mountain | Assignment::Valley))
+            .map(|(_, &a)| a)
+            .collect();
+        assert_eq!(chords.len(), p.nx);
+        assert!(chords.iter().all(|a| (a - chords[0]).abs() < 1e-9));
+        for (e, a) in m.edges().iter().zip(&angles) {
+            if e.assignment == Assignment::Flat {
+                assert!(a.abs() < 1e-9, "fold {fold}: a flat crease folds {a:e}");
+            }
+        }
+        assert!(
+            crease::fab::verify(&m, None, Default::default()).pass(),
+            "fold {fold}"
+        );
+    }
+}

@@ -21,7 +21,18 @@ fn the_binary_serves_the_page_and_the_api_on_loopback() {
     assert_eq!(s["vertices"], 81, "without a file: the generated Miura-ori");
     let (status, meta) = studio.json("GET", "/api/meta", "");
     assert_eq!(status, 200);
-    assert_eq!(meta["patterns"].as_array().unwrap().len(), 6);
+    // The paper's six starting patterns and the curved-crease arc.
+    let names: Vec<&str> = meta["patterns"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names.len(), 7, "{names:?}");
+    assert!(
+        names.contains(&"arc") && names.contains(&"curved"),
+        "{names:?}"
+    );
     assert!(meta["machines"]
         .as_array()
         .unwrap()

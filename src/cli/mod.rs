@@ -17,12 +17,13 @@ use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
 pub struct GenerateArgs {
-    /// Pattern: miura, waterbomb, yoshimura, resch, plane, curved.
+    /// Pattern: miura, waterbomb, yoshimura, resch, plane, curved, arc (one curved
+    /// crease, folded exactly by the mirror construction).
     pattern: String,
-    /// Cells across.
+    /// Cells across (arc: chords along its crease, a quarter turn).
     #[arg(long, default_value_t = 8)]
     nx: usize,
-    /// Cells along.
+    /// Cells along (arc: strips across, an even number, half inside the crease).
     #[arg(long, default_value_t = 8)]
     ny: usize,
     /// Cell edge length in mm.
@@ -32,9 +33,10 @@ pub struct GenerateArgs {
     #[arg(long, default_value_t = 60.0)]
     angle: f64,
     /// Fold amount in [0, 1] for the closed-form 3D state (Miura, Yoshimura, plane,
-    /// curved): the creases reach this fraction of their target angles on average, as
-    /// with `fold --amount` (the plane: this fraction of a half turn of bending). Default
-    /// 0.3 Miura, 0.065 Yoshimura, 0.5 plane and curved. Resch: only 1, fully folded
+    /// curved, arc): the creases reach this fraction of their target angles on average,
+    /// as with `fold --amount` (the plane: this fraction of a half turn of bending; an
+    /// arc's target is 0.8 π, since a curved crease never folds flat). Default 0.3 Miura,
+    /// 0.065 Yoshimura, 0.5 plane, curved and arc. Resch: only 1, fully folded
     /// (tucks closed); waterbomb: flat only (fold it with `crease fold`).
     #[arg(long)]
     fold: Option<f64>,

@@ -1,9 +1,13 @@
-//! Parametric generators for the paper's six starting patterns (§6). Each writes the exact
-//! crease pattern; Miura-ori, Yoshimura, plane and curved strip also write an exact
-//! partially folded 3D state (closed form) for a fold amount in [0, 1].
+//! Parametric generators for the paper's six starting patterns (§6) and the curved-crease
+//! patterns of its future work (§6.6, §7). Each writes the exact crease pattern; Miura-ori,
+//! Yoshimura, plane, curved strip and arc also write an exact partially folded 3D state
+//! (closed form) for a fold amount in [0, 1].
 
+mod arc;
 mod lattice;
 mod resch;
+
+pub use arc::ARC_TARGET;
 
 use crate::mesh::{Assignment, Mesh, MeshError, MeshParts, Vec2, Vec3};
 use lattice::{build, rows_zipper};
@@ -24,17 +28,21 @@ pub enum PatternKind {
     Plane,
     /// Curved-fold strip (§6.6): a rectangular grid of planar-quad strips.
     Curved,
+    /// One curved crease (§6.6, §7): a circular arc across an annular strip, folded by
+    /// the mirror construction, rulings along the folded cones' generators.
+    Arc,
 }
 
 impl PatternKind {
     /// Every kind, in the order of the paper.
-    pub const ALL: [PatternKind; 6] = [
+    pub const ALL: [PatternKind; 7] = [
         PatternKind::Waterbomb,
         PatternKind::Miura,
         PatternKind::Yoshimura,
         PatternKind::Resch,
         PatternKind::Plane,
         PatternKind::Curved,
+        PatternKind::Arc,
     ];
 
     /// The name used on the command line and for files in `patterns/`.
@@ -46,6 +54,7 @@ impl PatternKind {
             PatternKind::Resch => "resch",
             PatternKind::Plane => "plane",
             PatternKind::Curved => "curved",
+            PatternKind::Arc => "arc",
         }
     }
 
@@ -148,6 +157,7 @@ pub fn generate(p: &Params) -> Result<Mesh, GenerateError> {
         PatternKind::Resch => resch::resch(p)?,
         PatternKind::Plane => plane(p)?,
         PatternKind::Curved => curved(p)?,
+        PatternKind::Arc => arc::arc(p)?,
     };
     mesh.title = format!("{} {}x{}", p.kind.name(), p.nx, p.ny);
     mesh.lock_topology = p.kind == PatternKind::Resch;
@@ -178,7 +188,10 @@ fn check_ranges(p: &Params) -> Result<(), GenerateError> {
 
 /// Sign of the fold angle decides mountain or valley for patterns with a closed form: the
 /// assignment is read off the geometry at a mid fold, so it cannot disagree with it.
-fn assign_by_fold(parts: &mut MeshParts, folded_mid: Vec<Vec3>) -> Result<(), GenerateError> {
+pub(crate) fn assign_by_fold(
+    parts: &mut MeshParts,
+    folded_mid: Vec<Vec3>,
+) -> Result<(), GenerateError> {
     let probe = Mesh::new(MeshParts {
         positions: Some(folded_mid),
         ..parts.clone()
@@ -260,7 +273,7 @@ fn miura(p: &Params) -> Result<Mesh, GenerateError> {
 
 /// Flat and, when asked, folded parts; interior edges get mountain, valley or flat from
 /// the sign of their fold angle at t = 0.5.
-fn finish(
+pub(crate) fn finish(
     p: &Params,
     flat: Vec<Vec2>,
     faces: Vec<[usize; 3]>,
@@ -302,7 +315,7 @@ fn finish_with(
 /// `crease fold --amount` aims for, so a fold amount means one thing everywhere. The
 /// mean rises monotonically with u in every closed form, so bisection finds it; a
 /// pattern without targets (the plane) takes u = `fraction` itself.
-fn parameter_for_fraction(
+pub(crate) fn parameter_for_fraction(
     mesh: &mut Mesh,
     fraction: f64,
     folded_at: &impl Fn(f64) -> Result<Vec<Vec3>, GenerateError>,

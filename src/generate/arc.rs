@@ -1,0 +1,166 @@
+//! One curved crease folded exactly, by the mirror construction (paper §6.6 and its future
+//! work, §7; Mitani's reflected developables).
+//!
+//! The sheet is an annular sector: polar coordinates (r, φ) about an apex, φ across a
+//! quarter turn, r across `ny` strips of width `size`, and the crease is the circular arc
+//! r = R at its middle. Folded, the sheet inside the arc is a polyhedral cone: the flat
+//! fan of generators φ_i, Δφ apart, bent equally at each, so every generator lies on a
+//! circular cone with its apex at the origin and half-angle β about the z axis,
+//!
+//! ```text
+//!     X(r, φ_i) = r · (sin β cos ψ_i, sin β sin ψ_i, cos β),    ψ_i = (φ_i / Δφ) · Δψ,
+//!     cos Δψ = (cos Δφ − cos² β) / sin² β,
+//! ```
+//!
+//! the azimuth step Δψ chosen so that neighbouring generators keep their flat angle Δφ
+//! (every strip between them is a rigid flat piece; on the smooth cone ψ = φ / sin β,
+//! the limit as Δφ → 0). The sheet outside the arc is the same cone reflected through the
+//! plane z = R cos β of the crease circle, z ↦ 2R cos β − z. Reflection is an isometry,
+//! so both sides develop back onto the sector and every chord of the crease folds by the
+//! same angle (π − 2β in the smooth limit). The mesh runs along the cones' generators
+//! (the rulings): every quad between two generators of one cone lies in a plane through
+//! its apex, so quads are exactly planar, their diagonals and the arcs across a strip are
+//! flat creases (target 0, twist α from the parameters, 0 by default), the generators
+//! bend freely (unassigned) and the arc's chords are the fold.
+
+use super::{assign_by_fold, lattice::build, parameter_for_fraction, GenerateError, Params};
+use crate::mesh::{Assignment, Mesh, Vec2, Vec3};
+use std::f64::consts::PI;
+
+/// The flat sector's angle: a quarter turn.
+const SECTOR: f64 = PI / 2.0;
+
+/// The smallest sin β the closed form goes to: the folded sector then wraps 95% of the
+/// way round its cone (ψ = φ / sin β), so it never overlaps itself.
+const SMALLEST_SIN_BETA: f64 = SECTOR / (2.0 * PI) / 0.95;
+
+/// The arc's chords' target fold, as a fraction of π (fold amount 1 reaches it): a curved
+/// crease cannot fold flat (its cones would wrap round without end), and the closed
+/// form's tightest cone folds the chords past 0.8 · π.
+pub const ARC_TARGET: f64 = 0.8;
+
+/// Half-angle β of the inner cone at closed-form parameter `u` (0 flat, 1 the tightest).
+fn beta_at(u: f64) -> f64 {
+    let tightest = SMALLEST_SIN_BETA.asin();
+    PI / 2.0 - u * (PI / 2.0 - tightest)
+}
+
+/// The azimuth step Δψ between generators `dphi` apart in the flat, on a cone of
+/// half-angle β: the angle between unit generators, cos² β + sin² β cos Δψ, is cos Δφ.
+pub fn azimuth_step(dphi: f64, beta: f64) -> f64 {
+    let (s, c) = beta.sin_cos();
+    ((dphi.cos() - c * c) / (s * s)).clamp(-1.0, 1.0).acos()
+}
+
+/// A point of the folded sheet: flat polar (r, φ) with φ = k·Δφ on the cone of
+/// half-angle β (azimuth ψ = k·Δψ), reflected through the crease's plane where r >
+/// `crease`.
+pub fn folded_point(r: f64, phi: f64, dphi: f64, crease: f64, beta: f64) -> Vec3 {
+    let (s, c) = beta.sin_cos();
+    let psi = phi / dphi * azimuth_step(dphi, beta);
+    let z = if r > crease { 2.0 * crease - r } else { r } * c;
+    Vec3::new(r * s * psi.cos(), r * s * psi.sin(), z)
+}
+
+/// The arc pattern: `nx` chords along the crease, `ny` strips across (an even number,
+/// half inside the crease), `size` mm apart, folded by the fold amount.
+pub fn arc(p: &Params) -> Result<Mesh, GenerateError> {
+    let bad = |m: String| GenerateError::BadParameter(m);
+    if !p.ny.is_multiple_of(2) || p.ny < 2 {
+        return Err(bad(format!(
+            "ny {}: an arc takes an even number of strips, half on each side of its crease",
+            p.ny
+        )));
+    }
+    let (n, rows, half) = (p.nx, p.ny, p.ny / 2);
+    // Chords about `size` long along the crease.
+    let crease = n as f64 * p.size / SECTOR;
+    if half as f64 * p.size >= crease {
+        return Err(bad(format!(
+            "ny {rows} × size {}: the inner strips would pass the arc's centre ({:.1} mm from the crease); use more chords (nx) or fewer strips (ny)",
+            p.size, crease
+        )));
+    }
+    let radius = |j: usize| crease + (j as f64 - half as f64) * p.size;
+    let angle = |i: usize| -SECTOR / 2.0 + i as f64 * SECTOR / n as f64;
+    let idx = |i: usize, j: usize| j * (n + 1) + i;
+    let mut polar = Vec::new();
+    for j in 0..=rows {
+        for i in 0..=n {
+            polar.push((radius(j), angle(i)));
+        }
+    }
+    let flat: Vec<Vec2> = polar
+        .iter()
+        .map(|&(r, phi)| Vec2::new(r * phi.cos(), r * phi.sin()))
+        .collect();
+    let mut faces = Vec::new();
+    for j in 0..rows {
+        for i in 0..n {
+            // Counter-clockwise: out along a generator, across, back in.
+            let (a, b, c, d) = (idx(i, j), idx(i, j + 1), idx(i + 1, j + 1), idx(i + 1, j));
+            faces.push([a, b, c]);
+            faces.push([a, c, d]);
+        }
+    }
+    let dphi = SECTOR / n as f64;
+    let folded_at = move |u: f64| -> Result<Vec<Vec3>, GenerateError> {
+        let beta = beta_at(u);
+        Ok(polar
+            .iter()
+            .map(|&(r, phi)| folded_point(r, phi, dphi, crease, beta))
+            .collect())
+    };
+    let on_crease = |a: Vec2, b: Vec2| {
+        (a.norm() - crease).abs() < 1e-9 * crease && (b.norm() - crease).abs() < 1e-9 * crease
+    };
+    let along_generator = |a: Vec2, b: Vec2| a.perp(&b).abs() < 1e-9 * a.norm() * b.norm();
+    // The chords of the arc fold (their sign read off the fold); everything else across a
+    // strip is a flat crease, and generators bend freely.
+    let mut parts = build(
+        flat,
+        faces,
+        |a, b| {
+            if on_crease(a, b) {
+                Assignment::Unassigned
+            } else {
+                Assignment::Flat
+            }
+        },
+        p.alpha,
+    );
+    let flat_points = parts.flat.clone().expect("flat");
+    for e in &mut parts.edges {
+        let [a, b] = e.vertices.map(|v| flat_points[v]);
+        if e.assignment == Assignment::Flat && along_generator(a, b) {
+            e.assignment = Assignment::Unassigned;
+        }
+    }
+    let generators: Vec<bool> = parts
+        .edges
+        .iter()
+        .map(|e| {
+            let [a, b] = e.vertices.map(|v| flat_points[v]);
+            e.assignment == Assignment::Unassigned && !on_crease(a, b)
+        })
+        .collect();
+    assign_by_fold(&mut parts, folded_at(0.5)?)?;
+    for (e, generator) in parts.edges.iter_mut().zip(generators) {
+        if generator {
+            e.assignment = Assignment::Unassigned;
+            e.target = 0.0;
+            e.fold_angle = 0.0;
+        } else if matches!(e.assignment, Assignment::Mountain | Assignment::Valley) {
+            // The fold the arc can reach, not a flat fold: a curved crease is not held to
+            // Kawasaki's flat-foldability.
+            e.target = e.target.signum() * ARC_TARGET * PI;
+            e.fold_angle = e.target;
+        }
+    }
+    let mut mesh = Mesh::new(parts)?;
+    if let Some(t) = p.fold {
+        let u = parameter_for_fraction(&mut mesh, t, &folded_at)?;
+        mesh.set_positions(folded_at(u)?);
+    }
+    Ok(mesh)
+}
