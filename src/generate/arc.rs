@@ -24,7 +24,7 @@
 //! bend freely (unassigned) and the arc's chords are the fold.
 
 use super::{assign_by_fold, lattice::build, parameter_for_fraction, GenerateError, Params};
-use crate::mesh::{Assignment, Mesh, Vec2, Vec3};
+use crate::mesh::{Assignment, Mesh, MeshParts, Vec2, Vec3};
 use std::f64::consts::PI;
 
 /// The flat sector's angle: a quarter turn.
@@ -111,12 +111,30 @@ pub fn arc(p: &Params) -> Result<Mesh, GenerateError> {
             .map(|&(r, phi)| folded_point(r, phi, dphi, crease, beta))
             .collect())
     };
+    let parts = arc_parts(flat, faces, crease, p.alpha, folded_at(0.5)?)?;
+    let mut mesh = Mesh::new(parts)?;
+    if let Some(t) = p.fold {
+        let u = parameter_for_fraction(&mut mesh, t, &folded_at)?;
+        mesh.set_positions(folded_at(u)?);
+    }
+    Ok(mesh)
+}
+
+/// The arc's edges: its chords fold (mountain or valley, read off `folded_mid`, targeted
+/// at [`ARC_TARGET`] of π), the generators bend freely (unassigned, target 0), and
+/// everything else across a strip is a flat crease of twist `alpha`.
+fn arc_parts(
+    flat: Vec<Vec2>,
+    faces: Vec<[usize; 3]>,
+    crease: f64,
+    alpha: f64,
+    folded_mid: Vec<Vec3>,
+) -> Result<MeshParts, GenerateError> {
     let on_crease = |a: Vec2, b: Vec2| {
         (a.norm() - crease).abs() < 1e-9 * crease && (b.norm() - crease).abs() < 1e-9 * crease
     };
     let along_generator = |a: Vec2, b: Vec2| a.perp(&b).abs() < 1e-9 * a.norm() * b.norm();
-    // The chords of the arc fold (their sign read off the fold); everything else across a
-    // strip is a flat crease, and generators bend freely.
+    let points = flat.clone();
     let mut parts = build(
         flat,
         faces,
@@ -127,24 +145,18 @@ pub fn arc(p: &Params) -> Result<Mesh, GenerateError> {
                 Assignment::Flat
             }
         },
-        p.alpha,
+        alpha,
     );
-    let flat_points = parts.flat.clone().expect("flat");
-    for e in &mut parts.edges {
-        let [a, b] = e.vertices.map(|v| flat_points[v]);
-        if e.assignment == Assignment::Flat && along_generator(a, b) {
-            e.assignment = Assignment::Unassigned;
-        }
-    }
     let generators: Vec<bool> = parts
         .edges
         .iter()
         .map(|e| {
-            let [a, b] = e.vertices.map(|v| flat_points[v]);
-            e.assignment == Assignment::Unassigned && !on_crease(a, b)
+            let [a, b] = e.vertices.map(|v| points[v]);
+            e.assignment == Assignment::Flat && along_generator(a, b)
         })
         .collect();
-    assign_by_fold(&mut parts, folded_at(0.5)?)?;
+    // Only the chords are unassigned here, so only they take a fold's sign.
+    assign_by_fold(&mut parts, folded_mid)?;
     for (e, generator) in parts.edges.iter_mut().zip(generators) {
         if generator {
             e.assignment = Assignment::Unassigned;
@@ -157,10 +169,5 @@ pub fn arc(p: &Params) -> Result<Mesh, GenerateError> {
             e.fold_angle = e.target;
         }
     }
-    let mut mesh = Mesh::new(parts)?;
-    if let Some(t) = p.fold {
-        let u = parameter_for_fraction(&mut mesh, t, &folded_at)?;
-        mesh.set_positions(folded_at(u)?);
-    }
-    Ok(mesh)
+    Ok(parts)
 }

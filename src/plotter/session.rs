@@ -136,18 +136,9 @@ impl Session<'_> {
         }
     }
 
-    fn mark_search_in(&self, bytes: &[u8]) -> bool {
-        let search = crate::output::gpgl::SEARCH_MARKS.as_bytes();
-        bytes.windows(search.len()).any(|w| w == search)
-    }
-
     /// The end of a registration mark search (`TB123…`) in `job[from..to]`, if there is one.
     fn mark_search_end(&self, from: usize, to: usize) -> Option<usize> {
-        let search = crate::output::gpgl::SEARCH_MARKS.as_bytes();
-        let at = self.job[from..to]
-            .windows(search.len())
-            .position(|w| w == search)?
-            + from;
+        let at = mark_search_at(&self.job[from..to])? + from;
         let etx = self.job[at..].iter().position(|&b| b == 0x03)? + at;
         Some(etx + 1)
     }
@@ -297,7 +288,7 @@ impl Session<'_> {
         let received = self.journal.received;
         self.link
             .send(&point.preamble, received, self.interrupted)?;
-        if self.mark_search_in(&point.preamble) {
+        if mark_search_at(&point.preamble).is_some() {
             self.await_marks_found()?;
         }
         Ok((point.start, point.note))
@@ -433,4 +424,10 @@ fn hpgl_error_meaning(code: u32) -> &'static str {
         16 => "input buffer overflow: bytes were lost",
         _ => "see the plotter's manual",
     }
+}
+
+/// Where a registration mark search (GP-GL `TB123`) starts in `bytes`, if it does.
+fn mark_search_at(bytes: &[u8]) -> Option<usize> {
+    let search = crate::output::gpgl::SEARCH_MARKS.as_bytes();
+    bytes.windows(search.len()).position(|w| w == search)
 }

@@ -276,17 +276,15 @@ pub(super) fn as_cut_page(path: &Toolpath, paper: &Paper) -> PdfPage {
     let (w, h) = (paper.width, paper.height);
     let mut ops = vec![Op::SetOutlineThickness { pt: Pt(0.4) }];
     solid_black(&mut ops);
-    let (mut lo, mut hi) = (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY));
     for kind in LineKind::ALL {
         let (col, _) = style(kind);
         ops.push(Op::SetOutlineColor { col });
         for s in path.strokes.iter().filter(|s| s.kind == kind) {
             let (a, b) = (s.from + paper.shift, s.to + paper.shift);
-            lo = lo.inf(&a.inf(&b));
-            hi = hi.sup(&a.sup(&b));
             ops.push(line((a.x, a.y), (b.x, b.y)));
         }
     }
+    let (lo, hi) = stroke_bounds(path, paper.shift);
     if let Some(y) = as_cut_title_at(lo, hi, h) {
         text(&mut ops, PRINTABLE_MARGIN_MM, y, 9.0, AS_CUT_TITLE);
     }
@@ -308,14 +306,18 @@ fn as_cut_title_at(lo: Vec2, hi: Vec2, h: f64) -> Option<f64> {
 
 /// Whether the as-cut page of `path` on `paper` has room for its title.
 fn as_cut_titled(path: &Toolpath, paper: &Paper) -> bool {
-    let (mut lo, mut hi) = (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY));
-    for s in &path.strokes {
-        for p in [s.from + paper.shift, s.to + paper.shift] {
-            lo = lo.inf(&p);
-            hi = hi.sup(&p);
-        }
-    }
+    let (lo, hi) = stroke_bounds(path, paper.shift);
     as_cut_title_at(lo, hi, paper.height).is_some()
+}
+
+/// The box of the toolpath's strokes moved by `shift`.
+fn stroke_bounds(path: &Toolpath, shift: Vec2) -> (Vec2, Vec2) {
+    let ends: Vec<Vec2> = path
+        .strokes
+        .iter()
+        .flat_map(|s| [s.from + shift, s.to + shift])
+        .collect();
+    crate::mesh::bounds(&ends)
 }
 
 /// The template as PDF bytes, on [`paper_for`] the sheet: the page to fold by (flat
