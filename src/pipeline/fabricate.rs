@@ -98,16 +98,7 @@ pub fn fabricate_verified(
     check_cuttable(&sheet, machine)?;
     let settings = machine.score_settings();
     let (strokes, unscored) = score_lines(&sheet, &settings);
-    if crate::limits::STROKES
-        .check_count("strokes", strokes.len() as u64)
-        .is_err()
-    {
-        return Err(FabError::Input(format!(
-            "the sheet would need {} strokes, more than {} a job may have: use a smaller --width or --media, or a longer dash in the machine's profile",
-            crate::limits::short(strokes.len() as f64),
-            crate::limits::STROKES.max
-        )));
-    }
+    check_stroke_count(strokes.len())?;
     let tools = machine.hpgl_settings().tools;
     // Two-sided jobs register by crosses, unless tiled (no machine takes the sheet).
     let registered = options.mountains_from_back && !tiled;
@@ -120,24 +111,16 @@ pub fn fabricate_verified(
         cutter_jobs(machine, &toolpath, back.as_ref(), frame)?
     };
     let steps = two_sided_steps(registered, &jobs_written);
-    // A machine driven by its design software (Cricut) takes sheet.svg as its job,
-    // layered by operation; the others get a layer per line kind.
-    let layers = if machine.protocol == "svg" {
-        crate::output::svg::Layers::ByOperation
-    } else {
-        crate::output::svg::Layers::ByKind
-    };
-    let mut files = sheet_files(&toolpath, back.as_ref(), &jobs_written, layers);
-    if let (Some(p), Some(svg)) = (&print, files.first_mut()) {
-        if p.family == crate::fab::print_and_cut::MarkFamily::Cricut {
-            svg.1 = crate::output::svg::print_then_cut_to_string(
-                &toolpath,
-                &sheet,
-                mesh.faces(),
-                options.print_fill,
-            )
-            .into_bytes();
-        }
+    let mut files = sheet_files(&toolpath, back.as_ref(), &jobs_written, svg_layers(machine));
+    if print.as_ref().map(|p| p.family) == Some(crate::fab::print_and_cut::MarkFamily::Cricut) {
+        // Design Space's print-then-cut file: the image to print with the cut and scores.
+        files[0].1 = crate::output::svg::print_then_cut_to_string(
+            &toolpath,
+            &sheet,
+            mesh.faces(),
+            options.print_fill,
+        )
+        .into_bytes();
     }
     files.extend(pattern_files(mesh, &sheet)?);
     let run = Run {
@@ -157,13 +140,7 @@ pub fn fabricate_verified(
     files.extend(pictures);
     let figures = run.figures();
     let next_steps = next_steps_of(print.as_ref(), machine, &jobs_written);
-    let hinge = match machine.hinge_thickness_mm {
-        Some(h) if !tiled => Some(
-            crate::fab::hinge::hinge_gaps(mesh, &sheet, h)
-                .map_err(|e| FabError::Rejected(Rejected(e)))?,
-        ),
-        _ => None,
-    };
+    let hinge = hinge_of(mesh, &sheet, machine, tiled)?;
     if let Some(gaps) = &hinge {
         files.extend(panel_files(gaps, &sheet.media));
     }
@@ -185,15 +162,7 @@ pub fn fabricate_verified(
         mesh.title.as_str()
     };
     let pdf = match &print {
-        Some(p) => {
-            let page = crate::output::pdf::PrintPage {
-                frame: p.frame.as_ref(),
-                faces: mesh.faces(),
-                fill: options.print_fill,
-                caption: p.family.caption(),
-            };
-            crate::output::pdf::to_bytes_print(&sheet, title, &page, &toolpath)
-        }
+        Some(p) => print_pdf(p, mesh, &sheet, &toolpath, title, options),
         None => run.pdf(&page, title, &summary),
     };
     files.push(("sheet.pdf".to_string(), pdf));
@@ -214,6 +183,67 @@ pub fn fabricate_verified(
         back,
         isometry_error,
     })
+}
+
+/// The sheet would need `count` strokes: more than a job may have is refused, saying
+/// what to change.
+fn check_stroke_count(count: usize) -> Result<(), FabError> {
+    if crate::limits::STROKES
+        .check_count("strokes", count as u64)
+        .is_err()
+    {
+        return Err(FabError::Input(format!(
+            "the sheet would need {} strokes, more than {} a job may have: use a smaller --width or --media, or a longer dash in the machine's profile",
+            crate::limits::short(count as f64),
+            crate::limits::STROKES.max
+        )));
+    }
+    Ok(())
+}
+
+/// A machine driven by its design software (Cricut) takes sheet.svg as its job, layered
+/// by operation; the others get a layer per line kind.
+fn svg_layers(machine: &crate::plotter::Machine) -> crate::output::svg::Layers {
+    if machine.protocol == "svg" {
+        crate::output::svg::Layers::ByOperation
+    } else {
+        crate::output::svg::Layers::ByKind
+    }
+}
+
+/// The hinge gaps of a material that takes them ([`crate::fab::hinge`]); none on a tiled
+/// sheet, which no machine cuts.
+fn hinge_of(
+    mesh: &Mesh,
+    sheet: &crate::fab::Sheet,
+    machine: &crate::plotter::Machine,
+    tiled: bool,
+) -> Result<Option<crate::fab::hinge::HingeGaps>, FabError> {
+    match machine.hinge_thickness_mm {
+        Some(h) if !tiled => crate::fab::hinge::hinge_gaps(mesh, sheet, h)
+            .map(Some)
+            .map_err(|e| FabError::Rejected(Rejected(e))),
+        _ => Ok(None),
+    }
+}
+
+/// The print-and-cut sheet.pdf: the page to print with the family's marks and caption,
+/// then the page as cut.
+fn print_pdf(
+    print: &crate::fab::print_and_cut::PrintLayout,
+    mesh: &Mesh,
+    sheet: &crate::fab::Sheet,
+    toolpath: &crate::fab::Toolpath,
+    title: &str,
+    options: &FabOptions,
+) -> Vec<u8> {
+    let page = crate::output::pdf::PrintPage {
+        frame: print.frame.as_ref(),
+        faces: mesh.faces(),
+        fill: options.print_fill,
+        caption: print.family.caption(),
+    };
+    crate::output::pdf::to_bytes_print(sheet, title, &page, toolpath)
 }
 
 /// What the maker does next in the machine's software (the profile's `steps`), or for a
