@@ -885,19 +885,7 @@ fn every_file_gives_each_operation_the_same_colour_and_name() {
         }
     }
     // The legend names every kind of line the page draws (flat lines were drawn, unnamed).
-    let texts: Vec<String> = pdf.pages[0]
-        .ops
-        .iter()
-        .filter_map(|op| match op {
-            printpdf::Op::ShowText { items } => Some(items),
-            _ => None,
-        })
-        .flatten()
-        .filter_map(|item| match item {
-            printpdf::TextItem::Text(t) => Some(t.clone()),
-            _ => None,
-        })
-        .collect();
+    let texts = common::fabbing::pdf_texts(&pdf.pages[0]);
     let drawn: std::collections::BTreeSet<LineKind> =
         out.sheet.lines.iter().map(|l| l.kind).collect();
     assert!(drawn.contains(&LineKind::Flat), "miura-bent has flat lines");

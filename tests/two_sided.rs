@@ -2,6 +2,8 @@
 //! with the first through crosses both jobs cut, the outline cut last, and the order and
 //! the turn printed for the maker.
 
+mod common;
+
 use crease::fab::{LineKind, Stroke};
 use crease::mesh::Vec2;
 use crease::pipeline::{fabricate, FabError, FabOptions};
@@ -228,19 +230,7 @@ fn assert_crosses_meet_when_turned_left_to_right(
 
 /// The text a PDF page shows, its pieces joined by spaces.
 fn pdf_page_text(page: &printpdf::PdfPage) -> String {
-    page.ops
-        .iter()
-        .filter_map(|op| match op {
-            printpdf::Op::ShowText { items } => Some(items),
-            _ => None,
-        })
-        .flatten()
-        .filter_map(|item| match item {
-            printpdf::TextItem::Text(t) => Some(t.as_str()),
-            _ => None,
-        })
-        .collect::<Vec<_>>()
-        .join(" ")
+    common::fabbing::pdf_texts(page).join(" ")
 }
 
 /// A sheet that fits one-sided but not with the registration band is refused, saying why.

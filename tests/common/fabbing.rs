@@ -103,3 +103,19 @@ pub fn near_pairs(strokes: &[Stroke], reach: f64) -> std::collections::HashSet<(
     }
     near
 }
+
+/// The text runs a PDF page shows, in drawing order.
+pub fn pdf_texts(page: &printpdf::PdfPage) -> Vec<String> {
+    page.ops
+        .iter()
+        .filter_map(|op| match op {
+            printpdf::Op::ShowText { items } => Some(items),
+            _ => None,
+        })
+        .flatten()
+        .filter_map(|item| match item {
+            printpdf::TextItem::Text(t) => Some(t.clone()),
+            _ => None,
+        })
+        .collect()
+}
