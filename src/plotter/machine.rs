@@ -290,51 +290,7 @@ impl Machine {
                 self.protocol
             ));
         }
-        match self.connection.as_str() {
-            "serial" => {
-                let missing: Vec<&str> = [
-                    ("baud", self.baud.is_none()),
-                    ("flow_control", self.flow_control.is_none()),
-                    ("buffer_bytes", self.buffer_bytes.is_none()),
-                ]
-                .iter()
-                .filter(|(_, absent)| *absent)
-                .map(|(k, _)| *k)
-                .collect();
-                if !missing.is_empty() {
-                    return Err(format!(
-                        "connection = \"serial\" needs {} (or connection = \"file\" for a machine crease does not stream to)",
-                        missing.join(", ")
-                    ));
-                }
-                if ["dxf", "svg"].contains(&self.protocol.as_str()) {
-                    return Err(format!(
-                        "protocol \"{}\" is a file for the machine's own software: use connection = \"file\"",
-                        self.protocol
-                    ));
-                }
-            }
-            "usb" => {
-                if !["hpgl", "gpgl"].contains(&self.protocol.as_str()) {
-                    return Err(format!(
-                        "connection = \"usb\" streams a cutter job; protocol \"{}\" is a file for the machine's own software",
-                        self.protocol
-                    ));
-                }
-                if self.buffer_bytes.is_none() {
-                    return Err("connection = \"usb\" needs buffer_bytes (how much of the job to send between status checks)".into());
-                }
-                if self.baud.is_some() || self.flow_control.is_some() {
-                    return Err("connection = \"usb\" is a device node with no baud or flow_control: leave them out".into());
-                }
-            }
-            "file" => {}
-            other => {
-                return Err(format!(
-                    "connection \"{other}\" is not one of serial, usb, file"
-                ))
-            }
-        }
+        self.check_connection()?;
         if let Some(flow) = &self.flow_control {
             if !["xonxoff", "rtscts", "query", "none"].contains(&flow.as_str()) {
                 return Err(format!(
@@ -408,6 +364,58 @@ impl Machine {
             tools: self.hpgl_settings().tools,
             registration: None,
         }
+    }
+
+    /// The connection and the line settings it needs: a serial port its baud, flow
+    /// control and buffer; a USB device node its buffer and no line settings; a file
+    /// nothing. Each refusal names its key.
+    fn check_connection(&self) -> Result<(), String> {
+        match self.connection.as_str() {
+            "serial" => {
+                let missing: Vec<&str> = [
+                    ("baud", self.baud.is_none()),
+                    ("flow_control", self.flow_control.is_none()),
+                    ("buffer_bytes", self.buffer_bytes.is_none()),
+                ]
+                .iter()
+                .filter(|(_, absent)| *absent)
+                .map(|(k, _)| *k)
+                .collect();
+                if !missing.is_empty() {
+                    return Err(format!(
+                        "connection = \"serial\" needs {} (or connection = \"file\" for a machine crease does not stream to)",
+                        missing.join(", ")
+                    ));
+                }
+                if ["dxf", "svg"].contains(&self.protocol.as_str()) {
+                    return Err(format!(
+                        "protocol \"{}\" is a file for the machine's own software: use connection = \"file\"",
+                        self.protocol
+                    ));
+                }
+            }
+            "usb" => {
+                if !["hpgl", "gpgl"].contains(&self.protocol.as_str()) {
+                    return Err(format!(
+                        "connection = \"usb\" streams a cutter job; protocol \"{}\" is a file for the machine's own software",
+                        self.protocol
+                    ));
+                }
+                if self.buffer_bytes.is_none() {
+                    return Err("connection = \"usb\" needs buffer_bytes (how much of the job to send between status checks)".into());
+                }
+                if self.baud.is_some() || self.flow_control.is_some() {
+                    return Err("connection = \"usb\" is a device node with no baud or flow_control: leave them out".into());
+                }
+            }
+            "file" => {}
+            other => {
+                return Err(format!(
+                    "connection \"{other}\" is not one of serial, usb, file"
+                ))
+            }
+        }
+        Ok(())
     }
 
     /// The print-and-cut marks the machine finds, if its profile names them.
