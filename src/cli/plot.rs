@@ -282,30 +282,17 @@ pub fn plot(args: PlotArgs) -> Result<u8, String> {
             j.job_len
         ));
     }
-    if args.dry_run && line.device {
-        out(&format!(
-            "{}: {} bytes, {} pen-down segments; would {} to the USB device {} in chunks checked by ESC ENQ, settings from {}\n",
-            job_path.display(),
-            text.len(),
-            path.segments.len(),
-            if args.resume { "resume" } else { "send" },
-            args.port.display(),
-            line.source
-        ));
-        return Ok(0);
-    }
     if args.dry_run {
-        out(&format!(
-            "{}: {} bytes, {} pen-down segments; {:.0} s on the line at {baud} baud; would {} to {} with {flow:?} flow control and a {}-byte buffer, settings from {}\n",
-            job_path.display(),
-            text.len(),
-            path.segments.len(),
-            text.len() as f64 * 10.0 / baud as f64,
-            if args.resume { "resume" } else { "send" },
-            args.port.display(),
-            line.buffer,
-            line.source
-        ));
+        let plan = Plan {
+            job: &job_path,
+            bytes: text.len(),
+            segments: path.segments.len(),
+            baud,
+            flow,
+            port: &args.port,
+            resume: args.resume,
+        };
+        out(&dry_run_summary(&plan, &line));
         return Ok(0);
     }
     if args.restart {
@@ -343,6 +330,45 @@ pub fn plot(args: PlotArgs) -> Result<u8, String> {
         }
     }
     Ok(code)
+}
+
+/// The job `plot` is about to send, as `--dry-run` describes it.
+struct Plan<'a> {
+    job: &'a Path,
+    bytes: usize,
+    segments: usize,
+    baud: u32,
+    flow: crease::plotter::FlowMode,
+    port: &'a Path,
+    resume: bool,
+}
+
+/// What `--dry-run` says: the job's size and how it would go to the port.
+fn dry_run_summary(plan: &Plan, line: &LineSettings) -> String {
+    let verb = if plan.resume { "resume" } else { "send" };
+    if line.device {
+        format!(
+            "{}: {} bytes, {} pen-down segments; would {verb} to the USB device {} in chunks checked by ESC ENQ, settings from {}\n",
+            plan.job.display(),
+            plan.bytes,
+            plan.segments,
+            plan.port.display(),
+            line.source
+        )
+    } else {
+        format!(
+            "{}: {} bytes, {} pen-down segments; {:.0} s on the line at {} baud; would {verb} to {} with {:?} flow control and a {}-byte buffer, settings from {}\n",
+            plan.job.display(),
+            plan.bytes,
+            plan.segments,
+            plan.bytes as f64 * 10.0 / plan.baud as f64,
+            plan.baud,
+            plan.port.display(),
+            plan.flow,
+            line.buffer,
+            line.source
+        )
+    }
 }
 
 /// After the front job of a two-sided `fab` folder, what the maker does next: turn the
