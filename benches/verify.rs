@@ -73,4 +73,17 @@ fn main() {
         5,
     );
     println!("layer order: BoxPleatPyramid, {pairs} overlapping pairs ordered in {time:.1?}");
+    // Layer order of a flat 16 × 16 waterbomb: 1,056 faces stacked deep, the largest
+    // problem the issue sets (under 20 s and 2 GB). Run once: it is the slow one.
+    let p = crease::generate::Params::square(crease::generate::PatternKind::Waterbomb, 16, 20.0);
+    let mesh = crease::generate::generate(&p).expect("a 16 × 16 waterbomb generates");
+    let t = Instant::now();
+    let pairs = match crease::fab::layer_order(&mesh) {
+        Ok(crease::fab::LayerOrder::Found(o)) => o.len(),
+        other => panic!("the flat waterbomb has an order: {other:?}"),
+    };
+    println!(
+        "layer order: waterbomb 16 × 16 flat, {pairs} overlapping pairs ordered in {:.1?}",
+        t.elapsed()
+    );
 }

@@ -9,8 +9,14 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// Layer-order constraints a problem may hold. Each takes about 72 bytes plus its
-/// watch lists (about 100 bytes in all), so the cap bounds the solver near 0.6 GB.
-pub const MAX_LAYER_CONSTRAINTS: usize = 6_000_000;
+/// watch lists (about 100 bytes in all), and a transitivity triple, stored in twelve,
+/// counts as [`TRIPLES_PER_CONSTRAINT`]th of one, so the cap bounds the solver near
+/// 1.2 GB: a flat 16 × 16 waterbomb (79 million triples) fits.
+pub const MAX_LAYER_CONSTRAINTS: usize = 12_000_000;
+
+/// Transitivity triples that count as one constraint against the cap (by memory: twelve
+/// bytes against about a hundred).
+pub const TRIPLES_PER_CONSTRAINT: usize = 8;
 
 /// A bound on an analysis's time and memory.
 #[derive(Clone, Debug)]

@@ -73,80 +73,136 @@ pub(super) fn collinear_overlap(p: Vec2, q: Vec2, r: Vec2, s: Vec2, eps: f64) ->
     b.min(len) - a.max(0.0) > eps
 }
 
-/// Three triangles share a region of positive area.
-pub(super) fn common_overlap(a: &[Vec2; 3], b: &[Vec2; 3], c: &[Vec2; 3], eps: f64) -> bool {
-    let mut poly = Polygon::from(a);
-    poly.clip(b);
-    poly.clip(c);
-    poly.area() > eps * eps
-}
-
-/// A convex polygon of at most twelve corners, on the stack: a triangle clipped by two
-/// triangles has at most nine, and this runs once per candidate triple. Two buffers, read
-/// from one and written to the other, so a clip copies nothing.
-struct Polygon {
-    buffers: [[Vec2; 12]; 2],
-    current: usize,
+/// The region two triangles share (a convex polygon, possibly empty): computed once per
+/// overlapping pair and then clipped by each candidate third face, the loop that finds the
+/// transitivity triples.
+pub(super) struct PairOverlap {
+    corners: [Vec2; 6],
     len: usize,
 }
 
-impl Polygon {
-    fn from(t: &[Vec2; 3]) -> Polygon {
-        let mut buffers = [[Vec2::zeros(); 12]; 2];
-        buffers[0][..3].copy_from_slice(t);
-        Polygon {
-            buffers,
-            current: 0,
-            len: 3,
-        }
+impl PairOverlap {
+    /// The part of `a` inside `b` (two triangles share at most a hexagon).
+    pub(super) fn new(a: &[Vec2; 3], b: &[Vec2; 3]) -> PairOverlap {
+        let mut buffers = [[Vec2::zeros(); MAX_CORNERS]; 2];
+        let (k, len) = clip_by_triangle(a, b, &mut buffers);
+        let mut corners = [Vec2::zeros(); 6];
+        let len = len.min(6);
+        corners[..len].copy_from_slice(&buffers[k][..len]);
+        PairOverlap { corners, len }
     }
 
-    /// Sutherland–Hodgman: keeps the part inside triangle `t`.
-    fn clip(&mut self, t: &[Vec2; 3]) {
-        let orient = (t[1] - t[0]).perp(&(t[2] - t[0])).signum();
-        for k in 0..3 {
-            if self.len == 0 {
-                return;
-            }
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            let side = |x: Vec2| (b - a).perp(&(x - a)) * orient;
-            let (n, from) = (self.len, self.current);
-            let [first, second] = &mut self.buffers;
-            let (input, output) = if from == 0 {
-                (&*first, second)
-            } else {
-                (&*second, first)
-            };
-            let mut len = 0;
-            let mut push = |p: Vec2| {
-                // Convex clipping adds at most one corner per cut; a degenerate input must
-                // still not write past the end.
-                if len < output.len() {
-                    output[len] = p;
-                    len += 1;
-                }
-            };
-            for i in 0..n {
-                let (p, q) = (input[i], input[(i + 1) % n]);
-                let (sp, sq) = (side(p), side(q));
-                if sp >= 0.0 {
-                    push(p);
-                }
-                if (sp >= 0.0) != (sq >= 0.0) {
-                    push(p + (q - p) * (sp / (sp - sq)));
-                }
-            }
-            self.len = len;
-            self.current = 1 - from;
-        }
-    }
-
+    /// The shared region's area (mm²).
+    #[cfg(test)]
     fn area(&self) -> f64 {
-        let c = &self.buffers[self.current][..self.len];
-        (0..c.len())
-            .map(|i| c[i].perp(&c[(i + 1) % c.len()]))
-            .sum::<f64>()
-            .abs()
-            / 2.0
+        area(&self.corners[..self.len])
+    }
+
+    /// The shared region and triangle `c` have a common area above `eps`² (`scratch`
+    /// is the clip's working space, kept by the caller: filling it afresh for every
+    /// candidate cost more than the clip).
+    pub(super) fn shares_with(&self, c: &[Vec2; 3], eps: f64, scratch: &mut ClipScratch) -> bool {
+        if self.len < 3 {
+            return false;
+        }
+        let (k, len) = clip_by_triangle(&self.corners[..self.len], c, &mut scratch.0);
+        area(&scratch.0[k][..len]) > eps * eps
+    }
+}
+
+/// Working space for clipping: two polygons of up to [`MAX_CORNERS`] corners.
+pub(super) struct ClipScratch([[Vec2; MAX_CORNERS]; 2]);
+
+impl Default for ClipScratch {
+    fn default() -> Self {
+        ClipScratch([[Vec2::zeros(); MAX_CORNERS]; 2])
+    }
+}
+
+/// Corners a clip may hold: a hexagon clipped by a triangle has at most nine.
+const MAX_CORNERS: usize = 12;
+
+/// Sutherland–Hodgman: the part of convex polygon `input` inside triangle `t`, left in
+/// one of two stack buffers (returned: which, and its corner count). The first cut reads
+/// `input`, then each reads one buffer and writes the other, so nothing is copied per
+/// clip (this runs once per candidate triple).
+fn clip_by_triangle(
+    input: &[Vec2],
+    t: &[Vec2; 3],
+    buffers: &mut [[Vec2; MAX_CORNERS]; 2],
+) -> (usize, usize) {
+    let orient = (t[1] - t[0]).perp(&(t[2] - t[0])).signum();
+    let [first, second] = buffers;
+    let mut n = cut(input, t[0], t[1], orient, first);
+    n = cut(&first[..n], t[1], t[2], orient, second);
+    n = cut(&second[..n], t[2], t[0], orient, first);
+    (0, n)
+}
+
+/// The part of convex polygon `from` on the inner side of line a→b (`orient` = the
+/// triangle's orientation), written to `to`; returns its corner count.
+fn cut(from: &[Vec2], a: Vec2, b: Vec2, orient: f64, to: &mut [Vec2; MAX_CORNERS]) -> usize {
+    let side = |x: Vec2| (b - a).perp(&(x - a)) * orient;
+    let n = from.len();
+    let mut len = 0;
+    for i in 0..n {
+        let (p, q) = (from[i], from[(i + 1) % n]);
+        let (sp, sq) = (side(p), side(q));
+        // Convex clipping adds at most one corner per cut; a degenerate input must
+        // still not write past the end.
+        if sp >= 0.0 && len < MAX_CORNERS {
+            to[len] = p;
+            len += 1;
+        }
+        if (sp >= 0.0) != (sq >= 0.0) && len < MAX_CORNERS {
+            to[len] = p + (q - p) * (sp / (sp - sq));
+            len += 1;
+        }
+    }
+    len
+}
+
+/// The area of a simple polygon.
+fn area(c: &[Vec2]) -> f64 {
+    (0..c.len())
+        .map(|i| c[i].perp(&c[(i + 1) % c.len()]))
+        .sum::<f64>()
+        .abs()
+        / 2.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tri(p: [[f64; 2]; 3]) -> [Vec2; 3] {
+        p.map(|[x, y]| Vec2::new(x, y))
+    }
+
+    /// The shared region of two triangles against its closed form, and the third-face
+    /// test on each side of its threshold.
+    #[test]
+    fn pair_overlap_matches_closed_forms() {
+        // a = (0,0),(2,0),(0,2) and b = (0,0),(2,0),(2,2) share (0,0),(2,0),(1,1):
+        // area 1.
+        let a = tri([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]]);
+        let b = tri([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0]]);
+        let shared = PairOverlap::new(&a, &b);
+        assert!((shared.area() - 1.0).abs() < 1e-12, "{}", shared.area());
+        // Clockwise order changes nothing.
+        let b_cw = tri([[0.0, 0.0], [2.0, 2.0], [2.0, 0.0]]);
+        assert!((PairOverlap::new(&a, &b_cw).area() - 1.0).abs() < 1e-12);
+        // A third face over the apex (1,1): its sides y = 1 − h + 2|x − 1| meet the
+        // apex's y = 1 − |x − 1| at |x − 1| = h/3, leaving a common area of h²/3. It
+        // shares when eps² is below that, not when above.
+        let h = 0.1;
+        let c = tri([[1.0 - h, 1.0 + h], [1.0 + h, 1.0 + h], [1.0, 1.0 - h]]);
+        let mut scratch = ClipScratch::default();
+        assert!(shared.shares_with(&c, 0.5 * h, &mut scratch));
+        assert!(!shared.shares_with(&c, h, &mut scratch));
+        // Disjoint triangles share nothing.
+        let far = tri([[5.0, 5.0], [6.0, 5.0], [5.0, 6.0]]);
+        assert_eq!(PairOverlap::new(&a, &far).area(), 0.0);
+        assert!(!shared.shares_with(&far, 1e-9, &mut scratch));
     }
 }

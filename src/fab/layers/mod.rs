@@ -20,11 +20,11 @@ mod crimp;
 mod geometry;
 mod search;
 
-use super::budget::{Budget, OverBudget};
+use super::budget::{Budget, OverBudget, TRIPLES_PER_CONSTRAINT};
 use super::flat_fold::{folds_flat, FlatFolded};
 use crate::mesh::bounds;
 use crate::mesh::{Assignment, Mesh, UnionFind, Vec2};
-use geometry::{collinear_overlap, common_overlap, crosses, overlap_depth};
+use geometry::{collinear_overlap, crosses, overlap_depth, ClipScratch, PairOverlap};
 use search::Search;
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
@@ -33,6 +33,48 @@ use std::hash::{BuildHasherDefault, Hasher};
 /// hashed by one multiply per word (FxHash's) instead of SipHash, which is built against
 /// hostile keys these are not and cost a third of the search.
 type PairMap<V> = HashMap<(usize, usize), V, BuildHasherDefault<PairHasher>>;
+
+/// The variable of each overlapping pair of pieces (lower piece first), looked up for
+/// every triple the search visits. A table of every pair when the pieces are few enough
+/// for it to cost no more than a few times the hashed map (one load per lookup, where
+/// hashing and probing cost a third of the search on a deep stack), else hashed.
+enum PairIndex {
+    /// `var[a * n + b]`, `u32::MAX` where a and b do not overlap.
+    Table {
+        n: usize,
+        var: Vec<u32>,
+    },
+    Hashed(PairMap<usize>),
+}
+
+impl PairIndex {
+    /// Pieces up to which the table is always used (4 million entries, 16 MB).
+    const SMALL: usize = 1 << 22;
+
+    fn new(pieces: usize, pairs: &[(usize, usize)]) -> PairIndex {
+        let cells = pieces.saturating_mul(pieces);
+        if cells <= Self::SMALL.max(32 * pairs.len()) && pairs.len() < u32::MAX as usize {
+            let mut var = vec![u32::MAX; cells];
+            for (i, &(a, b)) in pairs.iter().enumerate() {
+                var[a * pieces + b] = i as u32;
+            }
+            PairIndex::Table { n: pieces, var }
+        } else {
+            PairIndex::Hashed(pairs.iter().enumerate().map(|(i, &p)| (p, i)).collect())
+        }
+    }
+
+    /// The variable of pieces a < b, if they overlap.
+    fn get(&self, a: usize, b: usize) -> Option<usize> {
+        match self {
+            PairIndex::Table { n, var } => match var[a * n + b] {
+                u32::MAX => None,
+                v => Some(v as usize),
+            },
+            PairIndex::Hashed(map) => map.get(&(a, b)).copied(),
+        }
+    }
+}
 
 /// FxHash (rustc's): rotate, xor, multiply by a large odd constant.
 #[derive(Default)]
@@ -265,7 +307,7 @@ pub(super) struct Problem {
     /// Overlapping pairs of faces in different pieces, with their overlap depth (mm).
     face_pairs: Vec<(usize, usize, f64)>,
     pub(super) pairs: Vec<(usize, usize)>,
-    index: PairMap<usize>,
+    index: PairIndex,
     /// Values the creases force: (variable, value).
     fixed: Vec<(usize, bool)>,
     pub(super) constraints: Vec<Constraint>,
@@ -315,8 +357,9 @@ struct Hinge {
 impl Problem {
     /// The literal "piece a lies above piece b" (a ≠ b, the pair overlapping).
     pub(super) fn above(&self, a: usize, b: usize) -> Option<Lit> {
-        let key = (a.min(b), a.max(b));
-        self.index.get(&key).map(|&var| Lit { var, value: a < b })
+        self.index
+            .get(a.min(b), a.max(b))
+            .map(|var| Lit { var, value: a < b })
     }
 
     fn build(mesh: &Mesh, folded: &FlatFolded, budget: &Budget) -> Result<Problem, OverBudget> {
@@ -336,7 +379,7 @@ impl Problem {
             .collect();
         pairs.sort_unstable();
         pairs.dedup();
-        let index: PairMap<usize> = pairs.iter().enumerate().map(|(i, &p)| (p, i)).collect();
+        let index = PairIndex::new(members.len(), &pairs);
         let cp = mesh
             .flat()
             .expect("a flat-folded state has a crease pattern");
@@ -501,16 +544,25 @@ impl Problem {
         let mut touching: Vec<Vec<(usize, usize)>> = vec![Vec::new(); self.pairs.len()];
         for &(f, g, _) in &self.face_pairs {
             let (p, q) = (self.piece_of[f], self.piece_of[g]);
-            let var = self.index[&(p.min(q), p.max(q))];
+            let var = self
+                .index
+                .get(p.min(q), p.max(q))
+                .expect("a pair of overlapping faces is a variable");
             touching[var].push(if p < q { (f, g) } else { (g, f) });
         }
         let mut thirds: Vec<Vec<u32>> = vec![Vec::new(); self.pairs.len()];
         let mut triples = 0usize;
+        let mut scratch = ClipScratch::default();
         for (ab, &(a, b)) in self.pairs.iter().enumerate() {
             if ab.is_multiple_of(256) {
                 budget.check()?;
             }
             let (la, lb) = (&overlapping[a], &overlapping[b]);
+            // What a and b share, clipped once here and by each candidate c below.
+            let shared: Vec<(usize, PairOverlap)> = touching[ab]
+                .iter()
+                .map(|&(fa, fb)| (fa, PairOverlap::new(&tri[fa], &tri[fb])))
+                .collect();
             // Only pieces c > b: each triple once, from its two lowest pieces.
             let (mut i, mut j) = (
                 la.partition_point(|x| x.0 <= b),
@@ -531,9 +583,9 @@ impl Problem {
                 }
                 i += 1;
                 j += 1;
-                let shares = touching[ab].iter().any(|&(fa, fb)| {
+                let shares = shared.iter().any(|(fa, region)| {
                     touching[ac].iter().any(|&(fa2, fc)| {
-                        fa2 == fa && common_overlap(&tri[fa], &tri[fb], &tri[fc], self.eps)
+                        fa2 == *fa && region.shares_with(&tri[fc], self.eps, &mut scratch)
                     })
                 });
                 if !shares {
@@ -543,10 +595,10 @@ impl Problem {
                 thirds[ac].push(b as u32);
                 thirds[bc].push(a as u32);
                 triples += 1;
-                // Each triple counts as one constraint against the cap: it is twelve bytes
-                // here, but it costs a clipping to find and a check at every decision.
+                // Triples count against the cap by their memory; their time (a clipping
+                // to find, a check at every decision) is the deadline's to bound.
                 if triples.is_multiple_of(4096) {
-                    budget.check_size(self.constraints.len() + triples)?;
+                    budget.check_size(self.constraints.len() + triples / TRIPLES_PER_CONSTRAINT)?;
                 }
             }
         }
@@ -583,7 +635,8 @@ impl Problem {
             for &c in thirds {
                 let c = c as usize;
                 if only.is_none_or(|keep| keep[a] && keep[b] && keep[c]) {
-                    group.union(v, self.index[&(a.min(c), a.max(c))]);
+                    let ac = self.index.get(a.min(c), a.max(c));
+                    group.union(v, ac.expect("a triple's pairs overlap"));
                 }
             }
         }

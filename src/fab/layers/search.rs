@@ -82,22 +82,24 @@ impl Search<'_> {
     }
 
     /// The "no cycle" constraints of the triples through variable `x` (both of each:
-    /// not a above b above c above a, nor the reverse), pushing what they force.
+    /// not a above b above c above a, nor the reverse), pushing what they force. `x` is
+    /// the pair a < b, so "a above b" is `x` itself; the other two pairs are looked up.
     fn transitive(&self, x: usize, queue: &mut Vec<(usize, bool)>) -> bool {
         let p = self.problem;
         let (a, b) = p.pairs[x];
+        let ab = Lit {
+            var: x,
+            value: true,
+        };
         for &c in &p.thirds[x] {
             let c = c as usize;
             if self.only.is_some_and(|keep| !keep[c]) {
                 continue;
             }
-            let mut t = [a, b, c];
-            t.sort_unstable();
-            let [u, v, w] = t;
             let lits = [
-                p.above(u, v).expect("a triple's pairs overlap"),
-                p.above(v, w).expect("a triple's pairs overlap"),
-                p.above(w, u).expect("a triple's pairs overlap"),
+                ab,
+                p.above(b, c).expect("a triple's pairs overlap"),
+                p.above(c, a).expect("a triple's pairs overlap"),
             ];
             for negate in [false, true] {
                 let l = lits.map(|l| Lit {
