@@ -192,7 +192,12 @@ fn run(cli: Cli) -> Result<u8, String> {
                     out(&format!("{p}\n"));
                 }
             }
-            Ok(if report.pass() && !collides { 0 } else { 1 })
+            let decided = report.undecided().is_none();
+            Ok(if report.pass() && decided && !collides {
+                0
+            } else {
+                1
+            })
         }
         Command::Fold(args) => cli::fold::fold(args),
         Command::Deform(args) => cli::deform::deform(args),

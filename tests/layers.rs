@@ -369,10 +369,30 @@ fn a_budget_bounds_the_layer_problem_and_says_what_ran_out() {
     };
     // 1,200 faces on one point that crimp flat: past the default cap instead of
     // gigabytes.
+    let big_fan = fan(1200, true);
     assert!(matches!(
-        exceeded(&fan(1200, true), &Budget::default()),
+        exceeded(&big_fan, &Budget::default()),
         Exceeded::Size { .. }
     ));
+    // `verify` says so and exits 1: nothing was shown about the layers, so the design is
+    // not passed, though every condition it judged holds.
+    let dir = std::env::temp_dir().join(format!("crease-budget-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("fan.fold");
+    crease::io::write(&big_fan, &file).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_crease"))
+        .arg("verify")
+        .arg(&file)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{text}");
+    assert!(
+        text.contains("verdict: NOT JUDGED — layer-order: too large")
+            && text.contains("every condition judged passes"),
+        "{text}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let pyramid =
         crease::io::read(&root.join("tests/data/origamisimulator/BoxPleatPyramid.fold")).unwrap();
@@ -393,6 +413,15 @@ fn a_budget_bounds_the_layer_problem_and_says_what_ran_out() {
         ..Budget::default()
     };
     assert_eq!(exceeded(&pyramid, &small), Exceeded::Size { limit: 1000 });
+    // Verified within it: passed on what was judged, the layer order undecided.
+    let report =
+        crease::fab::verify_within(&pyramid, None, crease::fab::Tolerances::default(), &small);
+    assert!(report.pass(), "{report}");
+    assert_eq!(report.undecided().map(|f| f.name), Some("layer-order"));
+    assert_eq!(
+        report.to_json()["undecided"],
+        serde_json::json!(["layer-order"])
+    );
     // Within a generous budget the answer is the unlimited one.
     let roomy = Budget::live(Duration::from_secs(600), Arc::default(), "");
     assert_eq!(layer_order_within(&pyramid, &roomy).unwrap(), unlimited);

@@ -73,6 +73,9 @@ pub struct FamilyReport {
     pub gating: bool,
     /// The elements above tolerance, largest first (at most [`LISTED_VIOLATIONS`]).
     pub violators: Vec<String>,
+    /// Why a family that would decide the verdict was not judged (its analysis ran out
+    /// of budget): the design is neither passed nor failed on it.
+    pub undecided: Option<String>,
 }
 
 /// How many violating elements a report lists per family.
@@ -106,6 +109,12 @@ impl Report {
             .all(FamilyReport::pass)
     }
 
+    /// The first family that would decide the verdict but was not judged (its budget
+    /// ran out): `verify` exits 1 on it, as on a failure, since nothing was shown.
+    pub fn undecided(&self) -> Option<&FamilyReport> {
+        self.families.iter().find(|f| f.undecided.is_some())
+    }
+
     /// The first failing family, for messages.
     pub fn first_failure(&self) -> Option<&FamilyReport> {
         self.families.iter().find(|f| f.gating && !f.pass())
@@ -122,11 +131,17 @@ impl Report {
                     json!({"max": f.max, "rms": f.rms, "worst": f.worst, "violations": f.violations,
                            "tolerance": f.tolerance, "rounding_allowance": f.allowance,
                            "tolerance_basis": f.basis, "rows": f.rows, "judged": f.gating,
-                           "violators": f.violators}),
+                           "violators": f.violators, "not_judged_because": f.undecided}),
                 )
             })
             .collect();
-        json!({"pass": self.pass(), "families": families, "coordinate_precision_mm": self.precision,
+        let undecided: Vec<&str> = self
+            .families
+            .iter()
+            .filter(|f| f.undecided.is_some())
+            .map(|f| f.name)
+            .collect();
+        json!({"pass": self.pass(), "undecided": undecided, "families": families, "coordinate_precision_mm": self.precision,
                "notes": self.notes})
     }
 }
@@ -164,9 +179,15 @@ impl fmt::Display for Report {
         for (basis, names) in bases {
             writeln!(f, "tolerance ({}): {basis}", names.join(", "))?;
         }
-        match self.first_failure() {
-            None => writeln!(f, "verdict: PASS"),
-            Some(r) => {
+        match (self.first_failure(), self.undecided()) {
+            (None, None) => writeln!(f, "verdict: PASS"),
+            (None, Some(r)) => writeln!(
+                f,
+                "verdict: NOT JUDGED — {}: {}; every condition judged passes",
+                r.name,
+                r.undecided.as_deref().unwrap_or("")
+            ),
+            (Some(r), _) => {
                 writeln!(
                     f,
                     "verdict: FAIL — {} at {} ({:.3e} > {:.1e})",
@@ -251,6 +272,7 @@ fn summarise_with(
         worst_tolerance,
         rows: values.len(),
         gating: true,
+        undecided: None,
     }
 }
 
@@ -479,6 +501,7 @@ fn layer_order_report(
         Err(LayerError::OverBudget(e)) => FamilyReport {
             gating: false,
             basis: format!("not judged: {e}"),
+            undecided: (!only_reported).then(|| e.to_string()),
             ..summarise("layer-order", &[], 0.0)
         },
         Err(e) => FamilyReport {
