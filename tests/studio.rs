@@ -756,3 +756,62 @@ fn a_page_that_knew_another_session_gets_everything_at_once() {
     }
     hub.stop();
 }
+
+/// Issue 29: with `layer-order` among the conditions, a pointer drag that would lose the
+/// flat-folded state's layer order is held, as a scripted drag's step is refused: the
+/// waterbomb at 15%, dragged as `waterbomb-curved.toml` does, stops where its crease
+/// pattern still has an order and says why; without the condition the same drag goes on
+/// into a design with none.
+#[test]
+fn a_pointer_drag_that_would_lose_the_layer_order_is_held_when_it_is_kept() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mesh = crease::io::read(&root.join("patterns/waterbomb-folded.fold")).unwrap();
+    let conditions = json!({"conditions": ["developability", "flat-foldability",
+        "angular-inequality", "fold-angle-range", "twist-range", "layer-order"]});
+    let with_order = crease::constraints::ConstraintSet::parse("layer-order").unwrap();
+    let dir = std::env::temp_dir().join(format!("crease-studio-order-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // The design on screen, saved and judged on its crease pattern's layer order.
+    let layer_rows = |hub: &Hub, name: &str| {
+        let saved = call(hub, "GET", "/api/design.fold", b"");
+        assert_eq!(saved.status, 200);
+        let file = dir.join(name);
+        std::fs::write(&file, &saved.body).unwrap();
+        let mesh = crease::io::read(&file).unwrap();
+        let report = crease::fab::verify(&mesh, Some(&with_order), Default::default());
+        let layer = report
+            .families
+            .iter()
+            .find(|f| f.name == "layer-order")
+            .unwrap();
+        (layer.violations, layer.rows)
+    };
+    let hub = Hub::start(mesh.clone(), "waterbomb");
+    let (status, r) = json_call(&hub, "POST", "/api/settings", conditions);
+    assert_eq!(status, 200, "{r}");
+    let start = position(&state(&hub), 80);
+    drag_to(&hub, 80, [80.0, 80.0, -30.0]);
+    let held = state(&hub);
+    let message = held["message"].as_str().unwrap();
+    assert!(
+        message.contains("vertex 80 is held: the layer order would be lost"),
+        "{message}"
+    );
+    assert_eq!(held["blocked"], held["message"]);
+    let (violations, rows) = layer_rows(&hub, "held.fold");
+    assert!(violations == 0 && rows > 0, "{violations} {rows}");
+    let held_at = position(&held, 80);
+    hub.stop();
+    // Without it the pointer drags the vertex on, past where the order is lost.
+    let hub = Hub::start(mesh, "waterbomb");
+    drag_to(&hub, 80, [80.0, 80.0, -30.0]);
+    let free_at = position(&state(&hub), 80);
+    assert!(
+        distance(free_at, start) > distance(held_at, start) + 1.0,
+        "held {held_at:?}, free {free_at:?}"
+    );
+    let (violations, _) = layer_rows(&hub, "free.fold");
+    assert_eq!(violations, 1);
+    hub.stop();
+    std::fs::remove_dir_all(&dir).ok();
+}

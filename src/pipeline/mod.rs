@@ -392,32 +392,55 @@ fn drag_phase(
 }
 
 /// Time one step's layer-order check may take before the step is let through undecided.
-const STEP_ORDER_TIME: std::time::Duration = std::time::Duration::from_secs(5);
+pub const STEP_ORDER_TIME: std::time::Duration = std::time::Duration::from_secs(5);
 
-/// Why the solver's state has lost its layer order (`layer-order` among the conditions):
-/// its crease pattern, unfolded afresh (a design-mode step changes it), folded flat has
-/// none, or no longer closes, or it cannot be confirmed within [`STEP_ORDER_TIME`] and
-/// the default cap (a step is kept only when its order is known: proving that none
-/// exists can take the search far longer than finding one). `None` while it keeps one.
+/// Why the solver's state has lost its layer order (`layer-order` among the conditions),
+/// for a scripted drag: lost, or not confirmed within [`STEP_ORDER_TIME`] and the default
+/// cap (a step is kept only when its order is known: proving that none exists can take
+/// the search far longer than finding one). `None` while it keeps one.
 fn lost_layer_order(solver: &Solver) -> Option<String> {
+    match layer_order_of_step(solver, STEP_ORDER_TIME) {
+        StepOrder::Kept => None,
+        StepOrder::Lost(why) | StepOrder::Undecided(why) => Some(why),
+    }
+}
+
+/// What a drag step did to the layer order of its flat-folded crease pattern.
+#[derive(Clone, Debug, PartialEq)]
+pub enum StepOrder {
+    /// It still has one.
+    Kept,
+    /// It has none, or no longer folds flat: why.
+    Lost(String),
+    /// Not decided within the time given: why.
+    Undecided(String),
+}
+
+/// The layer order of the solver's state (`layer-order` among the conditions): its
+/// crease pattern, unfolded afresh (a design-mode step changes it), folded flat, judged
+/// within `time` and the default cap. Scripted drags ([`drag_phase`]) and the studio's
+/// pointer drags both hold their steps to it.
+pub fn layer_order_of_step(solver: &Solver, time: std::time::Duration) -> StepOrder {
     use crate::fab::{budget::Budget, layer_conflict, LayerError};
     let mut now = solver.mesh().clone();
     now.set_positions(solver.positions().to_vec());
     if now.has_3d() {
-        let flat = unfold(&now).ok()?;
+        let Ok(flat) = unfold(&now) else {
+            return StepOrder::Kept;
+        };
         now.set_flat(flat);
     }
     let budget = Budget {
-        deadline: Some((std::time::Instant::now() + STEP_ORDER_TIME, STEP_ORDER_TIME)),
+        deadline: Some((std::time::Instant::now() + time, time)),
         ..Budget::default()
     };
     match layer_conflict(&now, &budget) {
-        Ok(Some(c)) => Some(format!("the layer order would be lost: {c}")),
-        Ok(None) => None,
+        Ok(Some(c)) => StepOrder::Lost(format!("the layer order would be lost: {c}")),
+        Ok(None) => StepOrder::Kept,
         Err(e @ LayerError::Open { .. }) => {
-            Some(format!("the crease pattern would stop folding flat: {e}"))
+            StepOrder::Lost(format!("the crease pattern would stop folding flat: {e}"))
         }
-        Err(e) => Some(format!("its layer order could not be confirmed: {e}")),
+        Err(e) => StepOrder::Undecided(format!("its layer order could not be confirmed: {e}")),
     }
 }
 

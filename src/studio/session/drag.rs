@@ -3,9 +3,16 @@
 
 use super::requests::{Refusal, Reply};
 use super::{ok, Session};
+use crate::constraints::Family;
 use crate::mesh::Vec3;
 use crate::pipeline;
+use crate::pipeline::StepOrder;
 use crate::solver::{pointer_step, Mode, Options, PointerStep, Solver};
+
+/// Time a pointer drag's step may spend confirming the layer order (`layer-order` among
+/// the conditions) before it is let through and left to the analysis: long enough for a
+/// few hundred faces, short enough to keep the drag live.
+const LIVE_ORDER_TIME: std::time::Duration = std::time::Duration::from_millis(250);
 use std::collections::BTreeSet;
 
 pub(super) struct DragState {
@@ -14,6 +21,11 @@ pub(super) struct DragState {
     /// The solver cannot go on toward this target (a step failed, or no progress).
     pub(super) stuck: bool,
     pub(super) moved: bool,
+    /// With `layer-order` among the conditions: the positions of the last step whose
+    /// layer order was confirmed, and whether a step since went unconfirmed (its check
+    /// ran out of time). A lost order goes back to them; so does a release whose full
+    /// check does not confirm the unconfirmed steps.
+    pub(super) confirmed: Option<(Vec<Vec3>, bool)>,
 }
 
 impl Session {
@@ -100,11 +112,15 @@ impl Session {
                     return Err(Refusal::failed(m));
                 }
                 self.blocked = None;
+                let confirmed = self
+                    .keeps_order()
+                    .then(|| (self.positions().to_vec(), false));
                 self.drag = Some(DragState {
                     vertex,
                     target: t,
                     stuck: false,
                     moved: false,
+                    confirmed,
                 });
                 self.message = format!("dragging vertex {vertex}");
             }
@@ -112,7 +128,85 @@ impl Session {
         Ok(ok())
     }
 
+    /// Whether drags hold the layer order (`layer-order` among design mode's conditions).
+    fn keeps_order(&self) -> bool {
+        self.design.mode == Mode::Design
+            && self
+                .solver
+                .as_ref()
+                .is_some_and(|s| s.conditions().families.contains(&Family::LayerOrder))
+    }
+
+    /// Undoes the drag's steps back to its last confirmed layer order, saying why.
+    fn back_to_confirmed(&mut self, why: String) {
+        let (Some(drag), Some(solver)) = (self.drag.as_mut(), self.solver.as_mut()) else {
+            return;
+        };
+        drag.stuck = true;
+        if let Some((confirmed, unconfirmed)) = drag.confirmed.as_mut() {
+            // A remesh renumbers the vertices: then the last step is all there is to undo.
+            if confirmed.len() == solver.positions().len() {
+                solver.restore(confirmed.clone());
+                *unconfirmed = false;
+            }
+        }
+        let m = format!("vertex {} is held: {why}", drag.vertex);
+        self.message = m.clone();
+        self.blocked = Some(m);
+        self.versions.positions += 1;
+    }
+
+    /// After a step: its layer order checked within [`LIVE_ORDER_TIME`]. Kept moves the
+    /// confirmed state on; lost goes back to it; undecided (too slow to check live) lets
+    /// the step stand until the release checks it in full.
+    fn hold_order_after_step(&mut self, before: Vec<Vec3>) {
+        let Some(solver) = self.solver.as_ref() else {
+            return;
+        };
+        match pipeline::layer_order_of_step(solver, LIVE_ORDER_TIME) {
+            StepOrder::Kept => {
+                let now = solver.positions().to_vec();
+                if let Some(d) = self.drag.as_mut() {
+                    d.confirmed = Some((now, false));
+                }
+            }
+            StepOrder::Lost(why) => {
+                if let Some((confirmed, _)) = self.drag.as_mut().and_then(|d| d.confirmed.as_mut())
+                {
+                    if confirmed.len() != before.len() {
+                        *confirmed = before;
+                    }
+                }
+                self.back_to_confirmed(why);
+            }
+            StepOrder::Undecided(why) => {
+                if let Some((_, unconfirmed)) =
+                    self.drag.as_mut().and_then(|d| d.confirmed.as_mut())
+                {
+                    *unconfirmed = true;
+                }
+                self.message = format!(
+                    "the layer order is too slow to check while dragging ({why}); it is checked when the drag is released"
+                );
+            }
+        }
+    }
+
     pub(super) fn release(&mut self) {
+        let unconfirmed = self
+            .drag
+            .as_ref()
+            .and_then(|d| d.confirmed.as_ref())
+            .is_some_and(|c| c.1);
+        if unconfirmed {
+            let solver = self.solver.as_ref().expect("a drag has a solver");
+            match pipeline::layer_order_of_step(solver, pipeline::STEP_ORDER_TIME) {
+                StepOrder::Kept => {}
+                StepOrder::Lost(why) | StepOrder::Undecided(why) => {
+                    self.back_to_confirmed(format!("released: {why}"));
+                }
+            }
+        }
         if let Some(d) = self.drag.take() {
             if !d.moved {
                 self.history.pop();
@@ -132,7 +226,18 @@ impl Session {
         let Some(solver) = self.solver.as_mut() else {
             return;
         };
-        match pointer_step(solver, v, target) {
+        // With `layer-order` among the conditions a step that would lose the order is
+        // undone, as a scripted drag's is; the positions before it are kept for that.
+        let keeps_order = self.drag.as_ref().is_some_and(|d| d.confirmed.is_some());
+        let before = keeps_order.then(|| solver.positions().to_vec());
+        let outcome = pointer_step(solver, v, target);
+        if let (Ok(PointerStep::Moved | PointerStep::Held), Some(before)) = (&outcome, before) {
+            self.hold_order_after_step(before);
+            if self.drag.as_ref().is_some_and(|d| d.stuck) {
+                return;
+            }
+        }
+        match outcome {
             Ok(PointerStep::Arrived) => self.drag.as_mut().expect("dragging").stuck = true,
             Ok(step) => {
                 self.meter.tick();
