@@ -54,7 +54,9 @@ enum Command {
         /// Comma-separated conditions: developability, boundary-angle, boundary-length,
         /// convexity, flat-foldability, angular-inequality, fold-angle-range, twist-range,
         /// edge-length, coincidence, layer-order (the flat-folded state's, failing for a
-        /// freeform design too). Default: what the design's assignment calls for.
+        /// freeform design too), smoothness (curved creases drawn as chords turn smoothly:
+        /// second differences at most 0.5°). Default: what the design's assignment calls
+        /// for, smoothness where a crease chain curves.
         #[arg(long)]
         conditions: Option<String>,
         /// Also fold the crease pattern from flat to the design's own angles in

@@ -93,6 +93,8 @@ fn jacobians_match_finite_differences() {
         // Coincidence groups: the tucks' corners, jittered apart.
         (PatternKind::Resch, Some(1.0)),
         (PatternKind::Plane, Some(0.3)),
+        // A curved crease: the smoothness rows, jittered well past their bound.
+        (PatternKind::Arc, Some(0.5)),
     ];
     for (kind, fold) in cases {
         for family in Family::ALL {
@@ -274,9 +276,15 @@ fn verify_passes_bundled_patterns_and_flat_foldable_anchors() {
         assert_eq!(code, 0, "{f}: {out}");
         let v: serde_json::Value = serde_json::from_str(out.lines().next().unwrap()).unwrap();
         assert_eq!(v["pass"], true);
-        if f.ends_with("/arc.fold") {
-            // A curved crease never folds flat: Kawasaki is not asked of it.
+        if f.ends_with("/arc.fold") || f.ends_with("/concentric.fold") {
+            // A curved crease never folds flat: Kawasaki is not asked of it; its
+            // smoothness is, and holds.
             assert!(v["families"]["flat-foldability"].is_null(), "{f}");
+            assert_eq!(v["families"]["smoothness"]["violations"], 0, "{f}");
+            assert!(
+                v["families"]["smoothness"]["rows"].as_u64().unwrap() > 0,
+                "{f}"
+            );
         } else if !f.contains("plane") && !f.contains("resch") {
             assert!(
                 v["families"]["flat-foldability"]["violations"] == 0,
@@ -322,4 +330,51 @@ fn verify_rejects_bad_input_with_status_2() {
     ]);
     assert_eq!(code, 2);
     assert!(out.contains("unknown condition"), "{out}");
+}
+
+/// The smoothness family (issue 30) on a curved crease: the generator's chords of a
+/// circle pass (their turning is constant), the jittered crease fails in the crease
+/// pattern and in space, and the family is a curved-crease pattern's default only.
+#[test]
+fn smoothness_passes_a_circle_fails_a_jittered_crease_and_is_on_for_curved_creases() {
+    let (m, x) = perturbed(PatternKind::Arc, Some(0.5), 1);
+    let reference = Reference::new(&m);
+    assert!(reference.curved_creases);
+    assert_eq!(reference.chains.len(), 1, "{:?}", reference.chains);
+    // nx = 4 chords: five vertices, three turns, one second difference, two rows.
+    assert_eq!(reference.chains[0].vertices.len(), 5);
+    let set = ConstraintSet {
+        families: vec![Family::Smoothness],
+    };
+    let at_rest = set.evaluate(&m, &reference, m.positions());
+    assert_eq!(at_rest.residuals.len(), 2);
+    assert!(
+        at_rest.residuals.iter().all(|&r| r == 0.0),
+        "{:?}",
+        at_rest.residuals
+    );
+    let jittered = set.evaluate(&m, &reference, &x);
+    assert!(
+        jittered.residuals.iter().all(|&r| r > 0.0),
+        "both rows active: {:?}",
+        jittered.residuals
+    );
+    check_jacobian(&m, &x, Family::Smoothness, "jittered arc");
+    assert!(ConstraintSet::default_for(&reference)
+        .families
+        .contains(&Family::Smoothness));
+    for kind in [
+        PatternKind::Miura,
+        PatternKind::Waterbomb,
+        PatternKind::Curved,
+    ] {
+        let m = generate(&Params::defaults(kind)).unwrap();
+        let r = Reference::new(&m);
+        assert!(
+            !ConstraintSet::default_for(&r)
+                .families
+                .contains(&Family::Smoothness),
+            "{kind:?}"
+        );
+    }
 }

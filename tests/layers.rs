@@ -784,6 +784,8 @@ fn every_bundled_design_gets_its_layer_order_verdict() {
     let expected: &[(&str, Option<bool>)] = &[
         // A curved crease targets 0.8 π: it never folds flat.
         ("arc", None),
+        ("arc-pulled", None),
+        ("concentric", None),
         ("bird-base", Some(true)),
         ("curved", Some(true)),
         ("miura", Some(true)),

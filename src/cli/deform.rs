@@ -32,8 +32,9 @@ pub struct DeformArgs {
     /// Comma-separated conditions held in design mode: developability, boundary-angle,
     /// boundary-length, convexity, flat-foldability, angular-inequality, fold-angle-range,
     /// twist-range, edge-length, coincidence, layer-order (a step that would lose the
-    /// flat-folded state's layer order is halved, then refused). Default: the script's, or
-    /// what the design's assignment calls for (as verify).
+    /// flat-folded state's layer order is halved, then refused), smoothness (curved creases'
+    /// turning varies smoothly; on by default where a crease chain curves). Default: the
+    /// script's, or what the design's assignment calls for (as verify).
     #[arg(long)]
     conditions: Option<String>,
     /// Twist allowance α in [0, 1) of flat creases (paper §2.4); default: the script's,

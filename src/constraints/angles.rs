@@ -26,6 +26,16 @@ impl<'a> Corners<'a> {
         let angle = per_face(mesh, parallel, |f| [0, 1, 2].map(|k| sector_angle(x, f, k)));
         Corners { x, angle }
     }
+
+    /// The sector angle of `face` at its corner `v`.
+    pub fn angle_at(&self, mesh: &Mesh, v: usize, face: usize) -> f64 {
+        self.angle[face][corner(mesh, v, face)]
+    }
+
+    /// The positions the angles were computed at.
+    pub fn positions(&self) -> &'a [Vec3] {
+        self.x
+    }
 }
 
 /// Every face's unit normal at one set of positions, computed once per evaluation: a face

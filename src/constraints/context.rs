@@ -33,6 +33,12 @@ pub struct Reference {
     /// The mesh has coincidence groups (§6.4) and they are closed at its positions, so
     /// the default conditions keep them closed.
     pub closed_groups: bool,
+    /// The creases joined into chains (curved creases drawn as chords), for the
+    /// smoothness family.
+    pub chains: Vec<super::chains::CreaseChain>,
+    /// Some chain turns in the crease pattern: a curved-crease pattern, which gets the
+    /// smoothness family by default.
+    pub curved_creases: bool,
 }
 
 impl Reference {
@@ -64,9 +70,13 @@ impl Reference {
                 g.iter()
                     .all(|&v| (x[v] - x[g[0]]).norm() <= 1e-9 * mean_length)
             });
+        let chains = super::chains::crease_chains(mesh);
+        let curved_creases = super::chains::has_curved_crease(mesh, &chains, &reference);
         Reference {
             mean_length,
             closed_groups,
+            chains,
+            curved_creases,
             angle_sum,
             length,
             boundary_lines,

@@ -4,11 +4,15 @@
 //! conditions"). Inequalities `g ≤ 0` contribute `max(g, 0)` (§3).
 
 mod angles;
+mod chains;
 mod context;
 mod lengths;
+mod smoothness;
 
 pub use angles::{tracked_fold_angle, FoldAngles};
+pub use chains::{crease_chains, CreaseChain};
 pub use context::{flips, Reference};
+pub use smoothness::{largest_second_differences, MAX_SECOND_DIFFERENCE};
 
 use crate::mesh::{Mesh, Vec3};
 use sprs::CsMat;
@@ -53,11 +57,15 @@ pub enum Family {
     /// that would lose it is halved, then refused ([`crate::solver::run_stage`]), and
     /// verification judges it on the design's flat state.
     LayerOrder,
+    /// §6.6 and §7's future work (issue 30): along each curved crease, drawn as a chain of
+    /// straight creases, the turning angle varies smoothly in the crease pattern and in
+    /// space (second differences at most [`MAX_SECOND_DIFFERENCE`]).
+    Smoothness,
 }
 
 impl Family {
     /// Every family, in report order.
-    pub const ALL: [Family; 11] = [
+    pub const ALL: [Family; 12] = [
         Family::Developability,
         Family::BoundaryAngle,
         Family::BoundaryLength,
@@ -69,6 +77,7 @@ impl Family {
         Family::EdgeLength,
         Family::Coincidence,
         Family::LayerOrder,
+        Family::Smoothness,
     ];
 
     /// The name used on the command line and in reports.
@@ -85,6 +94,7 @@ impl Family {
             Family::EdgeLength => "edge-length",
             Family::Coincidence => "coincidence",
             Family::LayerOrder => "layer-order",
+            Family::Smoothness => "smoothness",
         }
     }
 
@@ -102,6 +112,7 @@ impl Family {
                 | Family::AngularInequality
                 | Family::FoldAngleRange
                 | Family::TwistRange
+                | Family::Smoothness
         )
     }
 
@@ -115,6 +126,7 @@ impl Family {
                 | Family::Convexity
                 | Family::FlatFoldability
                 | Family::AngularInequality
+                | Family::Smoothness
         )
     }
 
@@ -334,6 +346,9 @@ impl ConstraintSet {
         if reference.closed_groups {
             families.push(Family::Coincidence);
         }
+        if reference.curved_creases {
+            families.push(Family::Smoothness);
+        }
         ConstraintSet { families }
     }
 
@@ -402,6 +417,7 @@ impl ConstraintSet {
                 Family::BoundaryLength => lengths::boundary_length(mesh, reference, x, out),
                 Family::EdgeLength => lengths::edge_length(mesh, reference, x, out),
                 Family::Coincidence => lengths::coincidence(mesh, reference, x, out),
+                Family::Smoothness => smoothness::smoothness(mesh, reference, c(), x, out),
                 // Judged on the flat-folded state as a whole, never as rows.
                 Family::LayerOrder => {}
             }

@@ -53,13 +53,28 @@ pub fn azimuth_step(dphi: f64, beta: f64) -> f64 {
 }
 
 /// A point of the folded sheet: flat polar (r, φ) with φ = k·Δφ on the cone of
-/// half-angle β (azimuth ψ = k·Δψ), reflected through the crease's plane where r >
-/// `crease`.
-pub fn folded_point(r: f64, phi: f64, dphi: f64, crease: f64, beta: f64) -> Vec3 {
+/// half-angle β (azimuth ψ = k·Δψ), reflected through each crease's plane in turn, the
+/// creases at radii `creases` (ascending). Reflecting through the horizontal plane of
+/// a crease circle keeps x and y and turns the height's slope along a generator, so the
+/// height is cos β times a zigzag in r whose slope flips (±1) at every crease: each
+/// ring between two creases is a cone about the z axis with its own apex, generators
+/// still unit speed in r.
+pub fn folded_point(r: f64, phi: f64, dphi: f64, creases: &[f64], beta: f64) -> Vec3 {
     let (s, c) = beta.sin_cos();
     let psi = phi / dphi * azimuth_step(dphi, beta);
-    let z = if r > crease { 2.0 * crease - r } else { r } * c;
-    Vec3::new(r * s * psi.cos(), r * s * psi.sin(), z)
+    Vec3::new(r * s * psi.cos(), r * s * psi.sin(), zigzag(r, creases) * c)
+}
+
+/// The height along a generator, in units of cos β: r up to the first crease, then
+/// slope −1, +1, … after each crease it passes.
+fn zigzag(r: f64, creases: &[f64]) -> f64 {
+    let (mut height, mut at, mut slope) = (0.0, 0.0, 1.0);
+    for &k in creases.iter().filter(|&&k| k < r) {
+        height += slope * (k - at);
+        at = k;
+        slope = -slope;
+    }
+    height + slope * (r - at)
 }
 
 /// The arc pattern: `nx` chords along the crease, `ny` strips across (an even number,
@@ -72,16 +87,39 @@ pub fn arc(p: &Params) -> Result<Mesh, GenerateError> {
             p.ny
         )));
     }
-    let (n, rows, half) = (p.nx, p.ny, p.ny / 2);
+    let half = p.ny / 2;
     // Chords about `size` long along the crease.
-    let crease = n as f64 * p.size / SECTOR;
+    let crease = p.nx as f64 * p.size / SECTOR;
     if half as f64 * p.size >= crease {
         return Err(bad(format!(
-            "ny {rows} × size {}: the inner strips would pass the arc's centre ({:.1} mm from the crease); use more chords (nx) or fewer strips (ny)",
-            p.size, crease
+            "ny {} × size {}: the inner strips would pass the arc's centre ({:.1} mm from the crease); use more chords (nx) or fewer strips (ny)",
+            p.ny, p.size, crease
         )));
     }
-    let radius = |j: usize| crease + (j as f64 - half as f64) * p.size;
+    rings(p, crease - half as f64 * p.size, &[crease])
+}
+
+/// Concentric creases: `ny` strips `size` mm wide round an annular sector whose inner
+/// edge has `nx` chords about `size` long, every circle between two strips a crease,
+/// mountains and valleys alternating — the mirror construction repeated, each ring
+/// reflected through the plane of the crease before it.
+pub fn concentric(p: &Params) -> Result<Mesh, GenerateError> {
+    if p.ny < 3 {
+        return Err(GenerateError::BadParameter(format!(
+            "ny {}: concentric creases take at least three strips (two creases)",
+            p.ny
+        )));
+    }
+    let inner = p.nx as f64 * p.size / SECTOR;
+    let creases: Vec<f64> = (1..p.ny).map(|j| inner + j as f64 * p.size).collect();
+    rings(p, inner, &creases)
+}
+
+/// An annular sector from radius `inner` outward, `p.ny` strips of `p.size`, `p.nx`
+/// generators' gaps across a quarter turn, folded along the circles `creases`.
+fn rings(p: &Params, inner: f64, creases: &[f64]) -> Result<Mesh, GenerateError> {
+    let (n, rows) = (p.nx, p.ny);
+    let radius = |j: usize| inner + j as f64 * p.size;
     let angle = |i: usize| -SECTOR / 2.0 + i as f64 * SECTOR / n as f64;
     let idx = |i: usize, j: usize| j * (n + 1) + i;
     let mut polar = Vec::new();
@@ -104,14 +142,16 @@ pub fn arc(p: &Params) -> Result<Mesh, GenerateError> {
         }
     }
     let dphi = SECTOR / n as f64;
+    let creases = creases.to_vec();
+    let on_creases = creases.clone();
     let folded_at = move |u: f64| -> Result<Vec<Vec3>, GenerateError> {
         let beta = beta_at(u);
         Ok(polar
             .iter()
-            .map(|&(r, phi)| folded_point(r, phi, dphi, crease, beta))
+            .map(|&(r, phi)| folded_point(r, phi, dphi, &creases, beta))
             .collect())
     };
-    let parts = arc_parts(flat, faces, crease, p.alpha, folded_at(0.5)?)?;
+    let parts = arc_parts(flat, faces, &on_creases, p.alpha, folded_at(0.5)?)?;
     let mut mesh = Mesh::new(parts)?;
     if let Some(t) = p.fold {
         let u = parameter_for_fraction(&mut mesh, t, &folded_at)?;
@@ -120,18 +160,21 @@ pub fn arc(p: &Params) -> Result<Mesh, GenerateError> {
     Ok(mesh)
 }
 
-/// The arc's edges: its chords fold (mountain or valley, read off `folded_mid`, targeted
-/// at [`ARC_TARGET`] of π), the generators bend freely (unassigned, target 0), and
-/// everything else across a strip is a flat crease of twist `alpha`.
+/// The edges of an arc or of concentric rings: the chords of the crease circles fold
+/// (mountain or valley, read off `folded_mid`, targeted at [`ARC_TARGET`] of π), the
+/// generators bend freely (unassigned, target 0), and everything else across a strip is a
+/// flat crease of twist `alpha`.
 fn arc_parts(
     flat: Vec<Vec2>,
     faces: Vec<[usize; 3]>,
-    crease: f64,
+    creases: &[f64],
     alpha: f64,
     folded_mid: Vec<Vec3>,
 ) -> Result<MeshParts, GenerateError> {
     let on_crease = |a: Vec2, b: Vec2| {
-        (a.norm() - crease).abs() < 1e-9 * crease && (b.norm() - crease).abs() < 1e-9 * crease
+        creases
+            .iter()
+            .any(|&k| (a.norm() - k).abs() < 1e-9 * k && (b.norm() - k).abs() < 1e-9 * k)
     };
     let along_generator = |a: Vec2, b: Vec2| a.perp(&b).abs() < 1e-9 * a.norm() * b.norm();
     let points = flat.clone();

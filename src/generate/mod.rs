@@ -31,11 +31,14 @@ pub enum PatternKind {
     /// One curved crease (§6.6, §7): a circular arc across an annular strip, folded by
     /// the mirror construction, rulings along the folded cones' generators.
     Arc,
+    /// Concentric circular creases, mountains and valleys alternating: the mirror
+    /// construction repeated ring by ring.
+    Concentric,
 }
 
 impl PatternKind {
     /// Every kind, in the order of the paper.
-    pub const ALL: [PatternKind; 7] = [
+    pub const ALL: [PatternKind; 8] = [
         PatternKind::Waterbomb,
         PatternKind::Miura,
         PatternKind::Yoshimura,
@@ -43,6 +46,7 @@ impl PatternKind {
         PatternKind::Plane,
         PatternKind::Curved,
         PatternKind::Arc,
+        PatternKind::Concentric,
     ];
 
     /// The name used on the command line and for files in `patterns/`.
@@ -55,6 +59,7 @@ impl PatternKind {
             PatternKind::Plane => "plane",
             PatternKind::Curved => "curved",
             PatternKind::Arc => "arc",
+            PatternKind::Concentric => "concentric",
         }
     }
 
@@ -158,6 +163,7 @@ pub fn generate(p: &Params) -> Result<Mesh, GenerateError> {
         PatternKind::Plane => plane(p)?,
         PatternKind::Curved => curved(p)?,
         PatternKind::Arc => arc::arc(p)?,
+        PatternKind::Concentric => arc::concentric(p)?,
     };
     mesh.title = format!("{} {}x{}", p.kind.name(), p.nx, p.ny);
     mesh.lock_topology = p.kind == PatternKind::Resch;
