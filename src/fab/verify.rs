@@ -301,41 +301,12 @@ pub fn verify_within(
     let rows = set.evaluate_values(mesh, &reference, mesh.positions());
     let bounds = tol.rounding.then(|| RoundingBounds::new(mesh)).flatten();
     let precision = bounds.as_ref().map_or(0.0, |b| b.precision);
-    let mut families = Vec::new();
-    for &family in set.families.iter().filter(|&&f| f != Family::LayerOrder) {
-        let values: Vec<(f64, Element)> = rows
-            .residuals
-            .iter()
-            .zip(&rows.labels)
-            .filter(|(_, (f, _))| *f == family)
-            .map(|(r, (_, el))| (*r, *el))
-            .collect();
-        let (t, unit) = match family {
-            Family::Coincidence => (tol.length, "mm"),
-            f if f.is_length() => (tol.length, "relative"),
-            _ => (tol.angle, "rad"),
-        };
-        let mut report = summarise_with(family.name(), &values, t, |el| {
-            bounds
-                .as_ref()
-                .map_or(0.0, |b| b.allowance(mesh, family, el))
-        });
-        report.basis = if !tol.rounding {
-            format!("{t:.0e} {unit}, as given")
-        } else if bounds.is_some() {
-            let widest = if report.rows > 0 {
-                format!(", up to {:.1e}", report.allowance)
-            } else {
-                String::new()
-            };
-            format!(
-                "{t:.0e} {unit} plus each element's bound from the file's rounding (±{precision:.1e} mm){widest}"
-            )
-        } else {
-            format!("{t:.0e} {unit} (full-precision coordinates)")
-        };
-        families.push(report);
-    }
+    let mut families: Vec<FamilyReport> = set
+        .families
+        .iter()
+        .filter(|&&f| f != Family::LayerOrder)
+        .map(|&family| family_report(mesh, family, &rows, tol, bounds.as_ref()))
+        .collect();
     if set.families.contains(&Family::FlatFoldability) {
         families.extend(maekawa(mesh));
     }
@@ -419,6 +390,49 @@ fn lies_in_a_plane(mesh: &Mesh) -> bool {
     let (lo, hi) = mesh.bounding_box();
     let tolerance = 1e-6 * (hi - lo).norm() + 8.0 * mesh.coordinate_precision;
     x.iter().all(|p| (p - c).dot(&normal).abs() <= tolerance)
+}
+
+/// One family's rows summarised against its tolerance (radians, or relative or mm for
+/// lengths), each element's allowance for the file's rounding added when `bounds` has
+/// one, with the basis of the tolerance stated for the report.
+fn family_report(
+    mesh: &Mesh,
+    family: Family,
+    rows: &crate::constraints::Rows,
+    tol: Tolerances,
+    bounds: Option<&RoundingBounds>,
+) -> FamilyReport {
+    let values: Vec<(f64, Element)> = rows
+        .residuals
+        .iter()
+        .zip(&rows.labels)
+        .filter(|(_, (f, _))| *f == family)
+        .map(|(r, (_, el))| (*r, *el))
+        .collect();
+    let (t, unit) = match family {
+        Family::Coincidence => (tol.length, "mm"),
+        f if f.is_length() => (tol.length, "relative"),
+        _ => (tol.angle, "rad"),
+    };
+    let mut report = summarise_with(family.name(), &values, t, |el| {
+        bounds.map_or(0.0, |b| b.allowance(mesh, family, el))
+    });
+    report.basis = if !tol.rounding {
+        format!("{t:.0e} {unit}, as given")
+    } else if let Some(b) = bounds {
+        let widest = if report.rows > 0 {
+            format!(", up to {:.1e}", report.allowance)
+        } else {
+            String::new()
+        };
+        format!(
+            "{t:.0e} {unit} plus each element's bound from the file's rounding (±{:.1e} mm){widest}",
+            b.precision
+        )
+    } else {
+        format!("{t:.0e} {unit} (full-precision coordinates)")
+    };
+    report
 }
 
 /// The layer-order problem's cap (pairs and constraints) when only reported, for a
