@@ -412,3 +412,76 @@ fn concentric_rings_are_the_mirror_construction_repeated_to_1e_9() {
             .any(|f| f.name == "smoothness" && f.rows > 0));
     }
 }
+
+#[test]
+fn the_pleat_is_a_ruled_strip_reflected_crease_by_crease_to_1e_9() {
+    // `generate pleat`: the creases are v = A sin(k u) + j · pitch in the crease pattern
+    // (A a quarter cell, one wave across); folded, every edge keeps its flat length, the
+    // strips between rulings stay planar (their diagonals at 0), the paper before the
+    // first crease lies on a cylinder along y (y equals the pattern's v), each crease's
+    // chords fold alike in sign, neighbouring creases fold oppositely, and the design
+    // verifies with its smoothness rows.
+    for fold in [0.3, 0.8] {
+        let mut p = Params::defaults(PatternKind::Pleat);
+        p.fold = Some(fold);
+        let m = generate(&p).unwrap();
+        let flat = m.flat().unwrap().to_vec();
+        let x = m.positions();
+        let (amplitude, k) = (p.size / 4.0, 2.0 * PI / (p.nx as f64 * p.size));
+        let crease_of = |q: crease::mesh::Vec2| {
+            (1..p.ny)
+                .find(|&j| (q.y - (amplitude * (k * q.x).sin() + j as f64 * p.size)).abs() < 1e-9)
+        };
+        for e in m.edges() {
+            let [a, b] = e.vertices;
+            let (l3, l2) = ((x[a] - x[b]).norm(), (flat[a] - flat[b]).norm());
+            assert!(
+                (l3 - l2).abs() < 1e-9,
+                "fold {fold}: edge {a}-{b} {l3} vs {l2}"
+            );
+        }
+        for v in 0..x.len() {
+            let below_first = flat[v].y < amplitude * (k * flat[v].x).sin() + p.size + 1e-9;
+            if below_first {
+                assert!(
+                    (x[v].y - flat[v].y).abs() < 1e-9,
+                    "vertex {v} off the cylinder"
+                );
+            }
+        }
+        let angles = crease::geometry::fold_angles(&m);
+        let mut sign_of_crease = vec![0.0f64; p.ny];
+        for (e, &a) in m.edges().iter().zip(&angles) {
+            match e.assignment {
+                Assignment::Flat => {
+                    assert!(a.abs() < 1e-9, "fold {fold}: a flat crease folds {a:e}")
+                }
+                Assignment::Mountain | Assignment::Valley => {
+                    let [u, w] = e.vertices;
+                    let j = crease_of(flat[u]).expect("a chord lies on a crease");
+                    assert_eq!(crease_of(flat[w]), Some(j));
+                    assert!(a.abs() > 1e-3);
+                    if sign_of_crease[j] == 0.0 {
+                        sign_of_crease[j] = a.signum();
+                    }
+                    assert_eq!(a.signum(), sign_of_crease[j], "fold {fold}: crease {j}");
+                }
+                _ => {}
+            }
+        }
+        for j in 1..p.ny - 1 {
+            assert_eq!(
+                sign_of_crease[j],
+                -sign_of_crease[j + 1],
+                "creases {j} and {}",
+                j + 1
+            );
+        }
+        let report = crease::fab::verify(&m, None, Default::default());
+        assert!(report.pass(), "fold {fold}: {report}");
+        assert!(report
+            .families
+            .iter()
+            .any(|f| f.name == "smoothness" && f.rows > 0));
+    }
+}

@@ -786,6 +786,7 @@ fn every_bundled_design_gets_its_layer_order_verdict() {
         ("arc", None),
         ("arc-pulled", None),
         ("concentric", None),
+        ("pleat", None),
         ("bird-base", Some(true)),
         ("curved", Some(true)),
         ("miura", Some(true)),

@@ -28,9 +28,9 @@ fn the_binary_serves_the_page_and_the_api_on_loopback() {
         .iter()
         .map(|p| p["name"].as_str().unwrap())
         .collect();
-    assert_eq!(names.len(), 8, "{names:?}");
+    assert_eq!(names.len(), 9, "{names:?}");
     assert!(
-        names.contains(&"arc") && names.contains(&"concentric") && names.contains(&"curved"),
+        names.contains(&"arc") && names.contains(&"concentric") && names.contains(&"pleat"),
         "{names:?}"
     );
     assert!(meta["machines"]

@@ -19,13 +19,16 @@ use std::path::{Path, PathBuf};
 pub struct GenerateArgs {
     /// Pattern: miura, waterbomb, yoshimura, resch, plane, curved, arc (one curved
     /// crease, folded exactly by the mirror construction), concentric (circular creases
-    /// alternating mountain and valley, the construction repeated ring by ring).
+    /// alternating mountain and valley, the construction repeated ring by ring), pleat
+    /// (sinusoidal creases alternating, a ruled strip reflected crease by crease).
     pattern: String,
-    /// Cells across (arc, concentric: chords along each crease, a quarter turn).
+    /// Cells across (arc, concentric: chords along each crease, a quarter turn; pleat: one
+    /// wave across, four rulings a cell).
     #[arg(long, default_value_t = 8)]
     nx: usize,
     /// Cells along (arc: strips across, an even number, half inside the crease;
-    /// concentric: strips, a crease between each two, at least 3).
+    /// concentric: strips, a crease between each two, at least 3; pleat: strips, at
+    /// least 2).
     #[arg(long, default_value_t = 8)]
     ny: usize,
     /// Cell edge length in mm.
@@ -35,10 +38,11 @@ pub struct GenerateArgs {
     #[arg(long, default_value_t = 60.0)]
     angle: f64,
     /// Fold amount in [0, 1] for the closed-form 3D state (Miura, Yoshimura, plane,
-    /// curved, arc, concentric): the creases reach this fraction of their target angles on average,
-    /// as with `fold --amount` (the plane: this fraction of a half turn of bending; an
-    /// arc's and concentric's target is 0.8 π, since a curved crease never folds flat).
-    /// Default 0.3 Miura, 0.065 Yoshimura, 0.5 plane, curved, arc and concentric. Resch: only 1, fully folded
+    /// curved, arc, concentric, pleat): the creases reach this fraction of their target angles on average,
+    /// as with `fold --amount` (the plane: this fraction of a half turn of bending; the
+    /// target of arc, concentric and pleat is 0.8 π, since a curved crease never folds
+    /// flat). Default 0.3 Miura, 0.065 Yoshimura, 0.5 plane, curved, arc, concentric and
+    /// pleat. Resch: only 1, fully folded
     /// (tucks closed); waterbomb: flat only (fold it with `crease fold`).
     #[arg(long)]
     fold: Option<f64>,

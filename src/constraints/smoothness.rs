@@ -9,8 +9,12 @@
 //! - the crease pattern's turning angle is τ = π − L, L the sum of the sector angles on
 //!   the chain's left (intrinsic: the developed plane's geodesic turning, read from the
 //!   same sector angles as eq. 1);
-//! - the folded curve's turning angle is κ = π − ∠(u, v, w) in space (its discrete
-//!   curvature times the segment length).
+//! - the folded curve's turning angle in space is κ = π − ∠(u, v, w) (its discrete
+//!   curvature times the segment length), signed within each three turns compared by the
+//!   side their binormals t_in × t_out take against the sharpest one's: a curve through an
+//!   inflection turns smoothly through κ = 0, where the angle's size has a kink. (The
+//!   curvature *vector*'s second difference would not do: it rotates with the tangent, so
+//!   a circle's coarse chords would fail it.)
 //!
 //! Each row is `|Δ²| − B ≤ 0`, Δ² the second difference of τ (or κ) over three consecutive
 //! chain vertices and B = [`MAX_SECOND_DIFFERENCE`]: a circle's chords (τ constant) and any
@@ -58,24 +62,49 @@ fn add_pattern_turn_gradient(
 }
 
 /// κ = π − ∠(u, v, w) in space, with its gradient with respect to u, v, w (the corner
-/// angle's, eq. 12–14, negated). A straight run (κ = 0) has no defined gradient: it is
-/// left zero there, where κ, an angle's size, has a kink.
-fn space_turn(x: &[Vec3], [u, v, w]: [usize; 3]) -> (f64, [Vec3; 3]) {
+/// angle's, eq. 12–14, negated) and the binormal t_in × t_out that signs it. A straight
+/// run (κ = 0) has no defined gradient: it is left zero there.
+fn space_turn(x: &[Vec3], [u, v, w]: [usize; 3]) -> (f64, [Vec3; 3], Vec3) {
     let (a, b) = (x[u] - x[v], x[w] - x[v]);
     let cross = a.cross(&b);
     let corner = cross.norm().atan2(a.dot(&b));
     let kappa = PI - corner;
+    // t_in × t_out = (−a) × b / (|a||b|): the side the curve turns to.
+    let binormal = -cross / (a.norm() * b.norm());
     if cross.norm() <= 1e-12 * a.norm() * b.norm() {
-        return (kappa, [Vec3::zeros(); 3]);
+        return (kappa, [Vec3::zeros(); 3], binormal);
     }
     let n = cross.normalize();
     let ga = -n.cross(&a) / a.norm_squared();
     let gb = n.cross(&b) / b.norm_squared();
-    (kappa, [-ga, ga + gb, -gb])
+    (kappa, [-ga, ga + gb, -gb], binormal)
+}
+
+/// Three consecutive turns in space, each signed by the side its binormal takes against
+/// the sharpest turn's (see the module's notes): the values and their signs.
+fn signed_space_turns(x: &[Vec3], triple: [[usize; 3]; 3]) -> [(f64, [Vec3; 3], f64); 3] {
+    let turns = triple.map(|t| space_turn(x, t));
+    // Against the sharpest turn's binormal: the others' sides are told apart from it
+    // (a sum would vanish at a symmetric inflection, where the two sides cancel).
+    let reference = turns.iter().map(|t| t.2).fold(Vec3::zeros(), |best, b| {
+        if b.norm() > best.norm() {
+            b
+        } else {
+            best
+        }
+    });
+    turns.map(|(kappa, gradient, binormal)| {
+        let sign = if binormal.dot(&reference) < 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
+        (sign * kappa, gradient, sign)
+    })
 }
 
 /// The smoothness rows: for every chain and every three consecutive turns, the second
-/// difference of τ (crease pattern) and of κ (space), each as `|Δ²| − B ≤ 0`.
+/// difference of τ (crease pattern) and of the signed κ (space), each as `|Δ²| − B ≤ 0`.
 pub fn smoothness(mesh: &Mesh, reference: &Reference, c: &Corners, x: &[Vec3], rows: &mut Rows) {
     for chain in &reference.chains {
         for triple in chain.second_differences() {
@@ -94,14 +123,15 @@ pub fn smoothness(mesh: &Mesh, reference: &Reference, c: &Corners, x: &[Vec3], r
                 }
             }
             // In space.
-            let turns = triple.map(|t| space_turn(x, t));
+            let turns = signed_space_turns(x, triple);
             let d2: f64 = (0..3).map(|i| weights[i] * turns[i].0).sum();
             let g = d2.abs() - MAX_SECOND_DIFFERENCE;
             let row = rows.push(Family::Smoothness, element, g.max(0.0));
             if g > 0.0 {
                 for i in 0..3 {
+                    let scale = weights[i] * turns[i].2 * d2.signum();
                     for (j, &vertex) in triple[i].iter().enumerate() {
-                        rows.add_gradient(row, vertex, turns[i].1[j], weights[i] * d2.signum());
+                        rows.add_gradient(row, vertex, turns[i].1[j], scale);
                     }
                 }
             }
@@ -117,7 +147,7 @@ pub fn largest_second_differences(mesh: &Mesh, chains: &[CreaseChain], x: &[Vec3
     for chain in chains {
         for triple in chain.second_differences() {
             let tau = triple.map(|t| pattern_turn(mesh, &c, t));
-            let kappa = triple.map(|t| space_turn(x, t).0);
+            let kappa = signed_space_turns(x, triple).map(|t| t.0);
             pattern = pattern.max((tau[0] - 2.0 * tau[1] + tau[2]).abs());
             space = space.max((kappa[0] - 2.0 * kappa[1] + kappa[2]).abs());
         }

@@ -1,10 +1,11 @@
 //! Parametric generators for the paper's six starting patterns (§6) and the curved-crease
 //! patterns of its future work (§6.6, §7). Each writes the exact crease pattern; Miura-ori,
-//! Yoshimura, plane, curved strip and arc also write an exact partially folded 3D state
-//! (closed form) for a fold amount in [0, 1].
+//! Yoshimura, plane, curved strip, arc, concentric and pleat also write an exact partially
+//! folded 3D state (closed form) for a fold amount in [0, 1].
 
 mod arc;
 mod lattice;
+mod pleat;
 mod resch;
 
 pub use arc::ARC_TARGET;
@@ -34,11 +35,14 @@ pub enum PatternKind {
     /// Concentric circular creases, mountains and valleys alternating: the mirror
     /// construction repeated ring by ring.
     Concentric,
+    /// A curved pleat: parallel sinusoidal creases, mountains and valleys alternating, a
+    /// ruled strip reflected again and again.
+    Pleat,
 }
 
 impl PatternKind {
     /// Every kind, in the order of the paper.
-    pub const ALL: [PatternKind; 8] = [
+    pub const ALL: [PatternKind; 9] = [
         PatternKind::Waterbomb,
         PatternKind::Miura,
         PatternKind::Yoshimura,
@@ -47,6 +51,7 @@ impl PatternKind {
         PatternKind::Curved,
         PatternKind::Arc,
         PatternKind::Concentric,
+        PatternKind::Pleat,
     ];
 
     /// The name used on the command line and for files in `patterns/`.
@@ -60,6 +65,7 @@ impl PatternKind {
             PatternKind::Curved => "curved",
             PatternKind::Arc => "arc",
             PatternKind::Concentric => "concentric",
+            PatternKind::Pleat => "pleat",
         }
     }
 
@@ -164,6 +170,7 @@ pub fn generate(p: &Params) -> Result<Mesh, GenerateError> {
         PatternKind::Curved => curved(p)?,
         PatternKind::Arc => arc::arc(p)?,
         PatternKind::Concentric => arc::concentric(p)?,
+        PatternKind::Pleat => pleat::pleat(p)?,
     };
     mesh.title = format!("{} {}x{}", p.kind.name(), p.nx, p.ny);
     mesh.lock_topology = p.kind == PatternKind::Resch;
