@@ -95,6 +95,8 @@ fn jacobians_match_finite_differences() {
         (PatternKind::Plane, Some(0.3)),
         // A curved crease: the smoothness rows, jittered well past their bound.
         (PatternKind::Arc, Some(0.5)),
+        // Sinusoidal creases: the space turning signed through inflections.
+        (PatternKind::Pleat, Some(0.5)),
     ];
     for (kind, fold) in cases {
         for family in Family::ALL {
