@@ -16,8 +16,8 @@ use std::path::Path;
 /// Vertices where three or more scored creases or cuts meet, on the sheet.
 fn junctions(mesh: &Mesh, placed: &[Vec2]) -> Vec<Vec2> {
     let mut degree = vec![0; placed.len()];
-    for e in mesh.edges() {
-        if LineKind::of_edge(e) != LineKind::Flat {
+    for (e, kind) in mesh.edges().iter().zip(LineKind::of_mesh(mesh)) {
+        if kind != LineKind::Flat {
             degree[e.vertices[0]] += 1;
             degree[e.vertices[1]] += 1;
         }
@@ -150,6 +150,49 @@ fn unassigned_creases_a_design_folds_are_scored_by_the_way_they_fold() {
         );
     }
     assert!(folded > 20, "only {folded} unassigned creases fold");
+}
+
+#[test]
+fn the_rulings_of_a_curved_crease_design_bend_and_are_not_scored() {
+    // arc-pulled's rulings (unassigned) bend by degrees in the polyhedral model, as
+    // Resch's tuck sides do, but they are a smooth developable's rulings: the sheet
+    // scores the curved crease's chords alone.
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/arc-pulled.fold");
+    let mesh = crease::io::read(&path).unwrap();
+    let bent = mesh
+        .edges()
+        .iter()
+        .zip(crease::geometry::fold_angles(&mesh))
+        .filter(|(e, a)| {
+            e.assignment == crease::mesh::Assignment::Unassigned && a.abs() > 1f64.to_radians()
+        })
+        .count();
+    assert!(bent > 20, "only {bent} rulings bend");
+    let machine = Machine::load("generic-hpgl").unwrap();
+    let out = fabricate(&mesh, &machine, &a3()).unwrap();
+    let scored: Vec<&crease::fab::CreaseLine> = out
+        .sheet
+        .lines
+        .iter()
+        .filter(|l| matches!(l.kind, LineKind::Mountain | LineKind::Valley))
+        .collect();
+    let chords = mesh
+        .edges()
+        .iter()
+        .filter(|e| e.assignment.is_folded())
+        .count();
+    assert_eq!(scored.len(), chords, "one scored line per chord, no ruling");
+    // Every scored line joins two vertices of the crease (the chain).
+    let chain = &crease::constraints::crease_chains(&mesh)[0].vertices;
+    let placed = &out.sheet.vertices;
+    for l in scored {
+        for end in [l.a, l.b] {
+            assert!(
+                chain.iter().any(|&v| (placed[v] - end).norm() < 1e-6),
+                "{l:?}"
+            );
+        }
+    }
 }
 
 #[test]

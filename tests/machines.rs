@@ -410,8 +410,9 @@ fn thick_board_is_cut_as_panels_set_back_from_each_valley_by_half_its_gap() {
         n.normalize()
     };
     let (mut valleys, mut mountains, mut exact, mut reached) = (0, 0, 0, 0);
+    let kinds = LineKind::of_mesh(&mesh);
     for (e, edge) in mesh.edges().iter().enumerate() {
-        let kind = LineKind::of_edge(edge);
+        let kind = kinds[e];
         let [Some(l), Some(r)] = topology.edge_faces[e] else {
             continue;
         };

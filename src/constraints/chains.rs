@@ -150,3 +150,14 @@ pub fn has_curved_crease(mesh: &Mesh, chains: &[CreaseChain], flat: &[Vec3]) -> 
         (PI - left).abs() > 1e-6
     })
 }
+
+/// Whether `mesh` has a curved crease ([`has_curved_crease`] over its own chains, judged
+/// on its crease pattern, or its 3D form when it has none): its unassigned edges are then
+/// the rulings of the developable surface between the creases.
+pub fn has_curved_creases(mesh: &Mesh) -> bool {
+    let reference: Vec<Vec3> = match mesh.flat() {
+        Some(f) => f.iter().map(|p| Vec3::new(p.x, p.y, 0.0)).collect(),
+        None => mesh.positions().to_vec(),
+    };
+    has_curved_crease(mesh, &crease_chains(mesh), &reference)
+}

@@ -10,7 +10,7 @@ mod lengths;
 mod smoothness;
 
 pub use angles::{tracked_fold_angle, FoldAngles};
-pub use chains::{crease_chains, CreaseChain};
+pub use chains::{crease_chains, has_curved_creases, CreaseChain};
 pub use context::{flips, Reference};
 pub use smoothness::{largest_second_differences, MAX_SECOND_DIFFERENCE};
 

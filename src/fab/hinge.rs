@@ -187,7 +187,7 @@ pub fn hinge_gaps(mesh: &Mesh, sheet: &Sheet, thickness: f64) -> Result<HingeGap
     } else {
         mesh.edges().iter().map(|e| e.fold_angle).collect()
     };
-    let kinds: Vec<LineKind> = mesh.edges().iter().map(LineKind::of_edge).collect();
+    let kinds = LineKind::of_mesh(mesh);
     let is_fold: Vec<bool> = kinds
         .iter()
         .map(|k| matches!(k, LineKind::Mountain | LineKind::Valley))

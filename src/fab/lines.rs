@@ -55,6 +55,25 @@ impl LineKind {
         }
     }
 
+    /// The kind each edge of `mesh` is scored as ([`LineKind::of_edge`]), except that in a
+    /// pattern with curved creases an unassigned edge is a ruling of the developable
+    /// surface between them: real paper bends smoothly there, so it is never scored,
+    /// however far the polyhedral model bends it (scoring the rulings of a curved-crease
+    /// model would fold it into facets).
+    pub fn of_mesh(mesh: &Mesh) -> Vec<LineKind> {
+        let curved = crate::constraints::has_curved_creases(mesh);
+        mesh.edges()
+            .iter()
+            .map(|e| {
+                if curved && e.assignment == Assignment::Unassigned {
+                    LineKind::Flat
+                } else {
+                    LineKind::of_edge(e)
+                }
+            })
+            .collect()
+    }
+
     /// Lower-case name, for layers and reports.
     pub fn name(self) -> &'static str {
         match self {
@@ -93,7 +112,7 @@ impl CreaseLine {
 /// Merges the mesh's edges, laid out at `flat`, into straight lines per kind.
 pub fn crease_lines(mesh: &Mesh, flat: &[Vec2]) -> Vec<CreaseLine> {
     let edges = mesh.edges();
-    let kinds: Vec<LineKind> = edges.iter().map(LineKind::of_edge).collect();
+    let kinds = LineKind::of_mesh(mesh);
     // Creases and cuts meeting at each vertex (flat lines are not scored, so they do not
     // weaken the paper and do not count).
     let mut degree = vec![0usize; flat.len()];

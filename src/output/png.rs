@@ -165,6 +165,7 @@ pub fn design(mesh: &Mesh) -> Result<Vec<u8>, String> {
         ..Stroke::default()
     };
     let edges = mesh.edges();
+    let kinds = LineKind::of_mesh(mesh);
     for f in order {
         let [a, b, c] = faces[f];
         let n = (x[b] - x[a]).cross(&(x[c] - x[a]));
@@ -195,7 +196,7 @@ pub fn design(mesh: &Mesh) -> Result<Vec<u8>, String> {
             );
         }
         for &e in &topo.face_edges[f] {
-            let kind = LineKind::of_edge(&edges[e]);
+            let kind = kinds[e];
             if kind == LineKind::Flat {
                 continue;
             }

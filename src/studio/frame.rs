@@ -124,13 +124,8 @@ pub fn topology_json(mesh: &Mesh) -> String {
     let edges: Vec<Value> = mesh
         .edges()
         .iter()
-        .map(|e| {
-            json!([
-                e.vertices[0],
-                e.vertices[1],
-                kind_name(LineKind::of_edge(e))
-            ])
-        })
+        .zip(LineKind::of_mesh(mesh))
+        .map(|(e, kind)| json!([e.vertices[0], e.vertices[1], kind_name(kind)]))
         .collect();
     json!({"vertices": mesh.vertex_count(), "faces": faces, "edges": edges, "title": mesh.title})
         .to_string()
