@@ -85,9 +85,11 @@ pub fn paper_for(sheet: &Sheet) -> Paper {
     as_media
 }
 
-/// Helvetica's average advance, mm per character at `size` points (about half an em).
+/// Helvetica's advance as text is wrapped and placed, mm per character at `size` points:
+/// 0.6 em, above its digits' 0.556 em and its lower-case mean (about half an em), so a
+/// line of figures (a list of short folds' lengths) still ends inside the page.
 fn char_mm(size: f32) -> f64 {
-    f64::from(size) * 0.55 * 25.4 / 72.0
+    f64::from(size) * 0.6 * 25.4 / 72.0
 }
 
 /// The sheet's lines shifted by `shift` and clipped to `window` (page mm), each kind in
