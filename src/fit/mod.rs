@@ -232,6 +232,8 @@ pub struct Fitter {
     /// The best state since the mesh last changed: (largest distance, positions).
     best: Option<(f64, Vec<Vec3>)>,
     stop: Option<Stop>,
+    /// Why the last step a check refused was undone ([`Fitter::step_checked`]).
+    pub held_back: Option<String>,
 }
 
 impl Fitter {
@@ -253,6 +255,7 @@ impl Fitter {
             consecutive_failures: 0,
             best: None,
             stop: None,
+            held_back: None,
         };
         fitter.regroup(solver);
         let m = fitter.measure(solver);
@@ -481,14 +484,48 @@ impl Fitter {
     }
 
     /// Steps until the fit stops; `progress` sees each step's distances.
+    /// One step held to `check` (a drag's [`crate::solver::StepCheck`]: the layer order,
+    /// with `layer-order` among the conditions): a step it refuses is undone — the
+    /// positions, the best state and the history as before it — and counts as a failed
+    /// step, so the next is shorter and a run of them ends the fit as blocked.
+    pub fn step_checked(
+        &mut self,
+        solver: &mut Solver,
+        check: crate::solver::StepCheck,
+    ) -> Result<Measure, SolverError> {
+        let before = solver.positions().to_vec();
+        let (best, history, cap) = (self.best.clone(), self.history.len(), self.cap);
+        let m = self.step(solver)?;
+        // Unmoved (a failed or final step) or remeshed (nothing to go back to): kept.
+        if solver.positions() == before.as_slice() || solver.positions().len() != before.len() {
+            return Ok(m);
+        }
+        let Some(why) = check(solver) else {
+            return Ok(m);
+        };
+        solver.restore(before);
+        self.best = best;
+        self.history.truncate(history);
+        self.last = None;
+        self.held_back = Some(why);
+        self.failures += 1;
+        self.consecutive_failures += 1;
+        self.cap = cap / 8.0;
+        self.stop =
+            (self.consecutive_failures >= MAX_CONSECUTIVE_FAILURES).then_some(Stop::Blocked);
+        Ok(self.measure(solver))
+    }
+
+    /// Steps ([`Fitter::step_checked`] with `check`) until the fit stops.
     pub fn run(
         &mut self,
         solver: &mut Solver,
+        check: crate::solver::StepCheck,
         progress: &mut dyn FnMut(usize, &Measure),
     ) -> Result<Stop, SolverError> {
         let mut k = 0;
         while self.stop.is_none() {
-            let m = self.step(solver)?;
+            let m = self.step_checked(solver, check)?;
             k += 1;
             progress(k, &m);
         }

@@ -3,7 +3,7 @@
 //! maker reads (`OUT.fit.json`), with every figure measured on the design as written.
 
 use super::PipelineError;
-use crate::constraints::{ConstraintSet, Reference};
+use crate::constraints::{ConstraintSet, Family, Reference};
 use crate::fit::{measure, place, FitOptions, Fitter, Placement, Stop, SurfaceChoice};
 use crate::mesh::{Mesh, Vec3};
 use crate::solver::{Resistance, Solver};
@@ -47,6 +47,10 @@ pub struct FitReport {
     pub steps: usize,
     /// Steps that failed and were retried smaller.
     pub failed_steps: usize,
+    /// Why the last step the layer-order check refused was undone (`layer-order` among
+    /// the conditions), if one was.
+    #[serde(default)]
+    pub held_back: Option<String>,
     /// Newton iterations in all.
     pub newton_iterations: usize,
     /// Wall time of the fit (s).
@@ -149,6 +153,9 @@ impl FitReport {
                 self.self_intersections
             );
         }
+        if let Some(why) = &self.held_back {
+            s += &format!("\nheld back: a step was undone because {why}");
+        }
         if let Some(b) = &self.blocked_by {
             s += &format!(
                 "\nblocked by {} at {} ({:.0}% of the remaining pull is refused by the conditions)",
@@ -170,6 +177,8 @@ pub(super) struct FitPhase {
     placed: (f64, f64),
     history: Vec<(f64, f64)>,
     failures: usize,
+    /// Why the last step the layer-order check refused was undone.
+    held_back: Option<String>,
     stop: Stop,
     resistance: Option<Resistance>,
     goal: Option<f64>,
@@ -236,7 +245,9 @@ fn pull(
     let mut fitter = Fitter::new(solver, stage.target.clone(), stage.options.clone());
     let placed = fitter.history[0];
     let max = stage.options.max_steps;
-    let stop = fitter.run(solver, &mut |k, _| progress("fit", k, max))?;
+    let keep_order = solver.conditions().families.contains(&Family::LayerOrder);
+    let mut check = |s: &Solver| keep_order.then(|| super::lost_layer_order(s)).flatten();
+    let stop = fitter.run(solver, &mut check, &mut |k, _| progress("fit", k, max))?;
     progress("fit", max, max);
     fitter.settle_on_best(solver);
     let resistance = match stop {
@@ -252,6 +263,7 @@ fn pull(
         placed,
         history: fitter.history.clone(),
         failures: fitter.failures,
+        held_back: fitter.held_back.clone(),
         stop,
         resistance,
         goal: stage.options.goal,
@@ -315,6 +327,7 @@ pub(super) fn report(
         self_intersections: crate::fab::self_intersections(mesh).len(),
         steps: stats.steps,
         failed_steps: phase.failures,
+        held_back: phase.held_back,
         newton_iterations: stats.newton_iterations,
         seconds: phase.seconds,
         stopped: stopped.name().to_string(),

@@ -398,7 +398,7 @@ pub const STEP_ORDER_TIME: std::time::Duration = std::time::Duration::from_secs(
 /// for a scripted drag: lost, or not confirmed within [`STEP_ORDER_TIME`] and the default
 /// cap (a step is kept only when its order is known: proving that none exists can take
 /// the search far longer than finding one). `None` while it keeps one.
-fn lost_layer_order(solver: &Solver) -> Option<String> {
+pub(super) fn lost_layer_order(solver: &Solver) -> Option<String> {
     match layer_order_of_step(solver, STEP_ORDER_TIME) {
         StepOrder::Kept => None,
         StepOrder::Lost(why) | StepOrder::Undecided(why) => Some(why),

@@ -12,7 +12,7 @@ use crate::solver::{pointer_step, Mode, Options, PointerStep, Solver};
 /// Time a pointer drag's step may spend confirming the layer order (`layer-order` among
 /// the conditions) before it is let through and left to the analysis: long enough for a
 /// few hundred faces, short enough to keep the drag live.
-const LIVE_ORDER_TIME: std::time::Duration = std::time::Duration::from_millis(250);
+pub(super) const LIVE_ORDER_TIME: std::time::Duration = std::time::Duration::from_millis(250);
 use std::collections::BTreeSet;
 
 pub(super) struct DragState {

@@ -7,6 +7,7 @@
 
 use super::requests::{FitRequest, Refusal, Reply, TargetPlacement};
 use super::{ok, Session};
+use crate::constraints::Family;
 use crate::fit::{FitOptions, Fitter, SurfaceChoice};
 use crate::limits;
 use crate::mesh::Vec3;
@@ -275,7 +276,16 @@ impl Session {
         let (Some(run), Some(solver)) = (self.fit.as_mut(), self.solver.as_mut()) else {
             return;
         };
-        match run.fitter.step(solver) {
+        // With `layer-order` among the conditions a step that loses the order is undone,
+        // as a pointer drag's is (a step too slow to confirm live stands).
+        let keep_order = solver.conditions().families.contains(&Family::LayerOrder);
+        let mut check = |s: &Solver| match keep_order
+            .then(|| pipeline::layer_order_of_step(s, super::drag::LIVE_ORDER_TIME))
+        {
+            Some(pipeline::StepOrder::Lost(why)) => Some(why),
+            _ => None,
+        };
+        match run.fitter.step_checked(solver, &mut check) {
             Ok(m) => {
                 run.steps += 1;
                 run.last = (m.rms, m.largest);
