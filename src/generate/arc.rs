@@ -24,7 +24,7 @@
 //! bend freely (unassigned) and the arc's chords are the fold.
 
 use super::{assign_by_fold, lattice::build, parameter_for_fraction, GenerateError, Params};
-use crate::mesh::{Assignment, Mesh, MeshParts, Vec2, Vec3};
+use crate::mesh::{Assignment, Mesh, Vec2, Vec3};
 use std::f64::consts::PI;
 
 /// The flat sector's angle: a quarter turn.
@@ -151,32 +151,31 @@ fn rings(p: &Params, inner: f64, creases: &[f64]) -> Result<Mesh, GenerateError>
             .map(|&(r, phi)| folded_point(r, phi, dphi, &creases, beta))
             .collect())
     };
-    let parts = arc_parts(flat, faces, &on_creases, p.alpha, folded_at(0.5)?)?;
-    let mut mesh = Mesh::new(parts)?;
-    if let Some(t) = p.fold {
-        let u = parameter_for_fraction(&mut mesh, t, &folded_at)?;
-        mesh.set_positions(folded_at(u)?);
-    }
-    Ok(mesh)
-}
-
-/// The edges of an arc or of concentric rings: the chords of the crease circles fold
-/// (mountain or valley, read off `folded_mid`, targeted at [`ARC_TARGET`] of π), the
-/// generators bend freely (unassigned, target 0), and everything else across a strip is a
-/// flat crease of twist `alpha`.
-fn arc_parts(
-    flat: Vec<Vec2>,
-    faces: Vec<[usize; 3]>,
-    creases: &[f64],
-    alpha: f64,
-    folded_mid: Vec<Vec3>,
-) -> Result<MeshParts, GenerateError> {
     let on_crease = |a: Vec2, b: Vec2| {
-        creases
+        on_creases
             .iter()
             .any(|&k| (a.norm() - k).abs() < 1e-9 * k && (b.norm() - k).abs() < 1e-9 * k)
     };
     let along_generator = |a: Vec2, b: Vec2| a.perp(&b).abs() < 1e-9 * a.norm() * b.norm();
+    let lattice = (flat, faces);
+    curved_crease_mesh(lattice, p, on_crease, along_generator, &folded_at)
+}
+
+/// A curved-crease pattern from its lattice (points and faces of the flat sheet): the
+/// edges `on_crease` tells are the chords of its creases and fold (mountain or valley,
+/// read off the closed form at its middle, targeted at [`ARC_TARGET`] of π, since a curved
+/// crease is not held to Kawasaki's flat-foldability); the other edges `ruling` tells are
+/// the rulings of the developable between the creases and bend freely (unassigned, target
+/// 0); everything else across a strip is a flat crease of twist α. Folded by `folded_at`
+/// (closed-form parameter 0 flat, 1 the furthest) to the fold amount. Shared by the arc,
+/// the concentric rings and the pleat.
+pub(super) fn curved_crease_mesh(
+    (flat, faces): (Vec<Vec2>, Vec<[usize; 3]>),
+    p: &Params,
+    on_crease: impl Fn(Vec2, Vec2) -> bool,
+    ruling: impl Fn(Vec2, Vec2) -> bool,
+    folded_at: &impl Fn(f64) -> Result<Vec<Vec3>, GenerateError>,
+) -> Result<Mesh, GenerateError> {
     let points = flat.clone();
     let mut parts = build(
         flat,
@@ -188,29 +187,32 @@ fn arc_parts(
                 Assignment::Flat
             }
         },
-        alpha,
+        p.alpha,
     );
-    let generators: Vec<bool> = parts
+    let rulings: Vec<bool> = parts
         .edges
         .iter()
         .map(|e| {
             let [a, b] = e.vertices.map(|v| points[v]);
-            e.assignment == Assignment::Flat && along_generator(a, b)
+            e.assignment == Assignment::Flat && ruling(a, b)
         })
         .collect();
     // Only the chords are unassigned here, so only they take a fold's sign.
-    assign_by_fold(&mut parts, folded_mid)?;
-    for (e, generator) in parts.edges.iter_mut().zip(generators) {
-        if generator {
+    assign_by_fold(&mut parts, folded_at(0.5)?)?;
+    for (e, ruling) in parts.edges.iter_mut().zip(rulings) {
+        if ruling {
             e.assignment = Assignment::Unassigned;
             e.target = 0.0;
             e.fold_angle = 0.0;
         } else if matches!(e.assignment, Assignment::Mountain | Assignment::Valley) {
-            // The fold the arc can reach, not a flat fold: a curved crease is not held to
-            // Kawasaki's flat-foldability.
             e.target = e.target.signum() * ARC_TARGET * PI;
             e.fold_angle = e.target;
         }
     }
-    Ok(parts)
+    let mut mesh = Mesh::new(parts)?;
+    if let Some(t) = p.fold {
+        let u = parameter_for_fraction(&mut mesh, t, folded_at)?;
+        mesh.set_positions(folded_at(u)?);
+    }
+    Ok(mesh)
 }

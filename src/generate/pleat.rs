@@ -22,9 +22,9 @@
 //! Between two rulings a piece of one cylinder is a planar trapezoid (parallel rulings),
 //! so its diagonal is a flat crease; the rulings bend freely and the crease chords fold.
 
-use super::{assign_by_fold, lattice::build, parameter_for_fraction, GenerateError, Params};
-use crate::generate::ARC_TARGET;
-use crate::mesh::{Assignment, Mesh, Vec2, Vec3};
+use super::arc::curved_crease_mesh;
+use super::{GenerateError, Params};
+use crate::mesh::{Mesh, Vec2, Vec3};
 use std::f64::consts::PI;
 
 /// Rulings per cell along the wave: the creases turn smoothly enough between them for
@@ -95,45 +95,9 @@ pub fn pleat(p: &Params) -> Result<Mesh, GenerateError> {
         let i = (q.x / h).round() as usize;
         (1..=creases).find(|&r| (q.y - v_of(i, r)).abs() < 1e-9 * pitch)
     };
-    let mut parts = build(
-        flat,
-        faces,
-        |a, b| match (crease_row(a), crease_row(b)) {
-            (Some(x), Some(y)) if x == y && a.x != b.x => Assignment::Unassigned,
-            _ => Assignment::Flat,
-        },
-        p.alpha,
-    );
-    let flat_points = parts
-        .flat
-        .clone()
-        .expect("the lattice has a crease pattern");
-    let rulings: Vec<bool> = parts
-        .edges
-        .iter()
-        .map(|e| {
-            let [a, b] = e.vertices.map(|v| flat_points[v]);
-            e.assignment == Assignment::Flat && (a.x - b.x).abs() < 1e-12 * width
-        })
-        .collect();
-    assign_by_fold(&mut parts, folded_at(0.5)?)?;
-    for (e, ruling) in parts.edges.iter_mut().zip(rulings) {
-        if ruling {
-            e.assignment = Assignment::Unassigned;
-            e.target = 0.0;
-            e.fold_angle = 0.0;
-        } else if matches!(e.assignment, Assignment::Mountain | Assignment::Valley) {
-            // A curved crease does not fold flat; its target is the arc's.
-            e.target = e.target.signum() * ARC_TARGET * PI;
-            e.fold_angle = e.target;
-        }
-    }
-    let mut mesh = Mesh::new(parts)?;
-    if let Some(t) = p.fold {
-        let u = parameter_for_fraction(&mut mesh, t, &folded_at)?;
-        mesh.set_positions(folded_at(u)?);
-    }
-    Ok(mesh)
+    let on_crease = |a: Vec2, b: Vec2| matches!((crease_row(a), crease_row(b)), (Some(x), Some(y)) if x == y && a.x != b.x);
+    let ruling = |a: Vec2, b: Vec2| (a.x - b.x).abs() < 1e-12 * width;
+    curved_crease_mesh((flat, faces), p, on_crease, ruling, &folded_at)
 }
 
 /// The cross-section polygon: corners at heights `z(i)`, every side `h` long.
