@@ -484,15 +484,19 @@ impl Fitter {
     }
 
     /// Steps until the fit stops; `progress` sees each step's distances.
-    /// One step held to `check` (a drag's [`crate::solver::StepCheck`]: the layer order,
+    /// One step held to `check` (as a drag's [`crate::solver::StepCheck`]: the layer order,
     /// with `layer-order` among the conditions): a step it refuses is undone — the
     /// positions, the best state and the history as before it — and counts as a failed
-    /// step, so the next is shorter and a run of them ends the fit as blocked.
-    pub fn step_checked(
+    /// step, so the next is shorter and a run of them ends the fit as blocked. Without a
+    /// check it is [`Fitter::step`], with nothing kept to undo.
+    pub fn step_checked<F: FnMut(&Solver) -> Option<String> + ?Sized>(
         &mut self,
         solver: &mut Solver,
-        check: crate::solver::StepCheck,
+        check: Option<&mut F>,
     ) -> Result<Measure, SolverError> {
+        let Some(check) = check else {
+            return self.step(solver);
+        };
         let before = solver.positions().to_vec();
         let (best, history, cap) = (self.best.clone(), self.history.len(), self.cap);
         let m = self.step(solver)?;
@@ -517,15 +521,15 @@ impl Fitter {
     }
 
     /// Steps ([`Fitter::step_checked`] with `check`) until the fit stops.
-    pub fn run(
+    pub fn run<F: FnMut(&Solver) -> Option<String> + ?Sized>(
         &mut self,
         solver: &mut Solver,
-        check: crate::solver::StepCheck,
+        mut check: Option<&mut F>,
         progress: &mut dyn FnMut(usize, &Measure),
     ) -> Result<Stop, SolverError> {
         let mut k = 0;
         while self.stop.is_none() {
-            let m = self.step_checked(solver, check)?;
+            let m = self.step_checked(solver, check.as_deref_mut())?;
             k += 1;
             progress(k, &m);
         }

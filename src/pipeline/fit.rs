@@ -246,8 +246,9 @@ fn pull(
     let placed = fitter.history[0];
     let max = stage.options.max_steps;
     let keep_order = solver.conditions().families.contains(&Family::LayerOrder);
-    let mut check = |s: &Solver| keep_order.then(|| super::lost_layer_order(s)).flatten();
-    let stop = fitter.run(solver, &mut check, &mut |k, _| progress("fit", k, max))?;
+    let mut check = super::lost_layer_order;
+    let check = keep_order.then_some(&mut check);
+    let stop = fitter.run(solver, check, &mut |k, _| progress("fit", k, max))?;
     progress("fit", max, max);
     fitter.settle_on_best(solver);
     let resistance = match stop {

@@ -279,13 +279,13 @@ impl Session {
         // With `layer-order` among the conditions a step that loses the order is undone,
         // as a pointer drag's is (a step too slow to confirm live stands).
         let keep_order = solver.conditions().families.contains(&Family::LayerOrder);
-        let mut check = |s: &Solver| match keep_order
-            .then(|| pipeline::layer_order_of_step(s, super::drag::LIVE_ORDER_TIME))
-        {
-            Some(pipeline::StepOrder::Lost(why)) => Some(why),
-            _ => None,
-        };
-        match run.fitter.step_checked(solver, &mut check) {
+        let mut check =
+            |s: &Solver| match pipeline::layer_order_of_step(s, super::drag::LIVE_ORDER_TIME) {
+                pipeline::StepOrder::Lost(why) => Some(why),
+                _ => None,
+            };
+        let check = keep_order.then_some(&mut check);
+        match run.fitter.step_checked(solver, check) {
             Ok(m) => {
                 run.steps += 1;
                 run.last = (m.rms, m.largest);
