@@ -156,7 +156,7 @@ fn unassigned_creases_a_design_folds_are_scored_by_the_way_they_fold() {
 fn the_rulings_of_a_curved_crease_design_bend_and_are_not_scored() {
     // arc-pulled's rulings (unassigned) bend by degrees in the polyhedral model, as
     // Resch's tuck sides do, but they are a smooth developable's rulings: the sheet
-    // scores the curved crease's chords alone.
+    // scores the curved crease alone, as the smooth curve through its chords' ends.
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/arc-pulled.fold");
     let mesh = crease::io::read(&path).unwrap();
     let bent = mesh
@@ -176,22 +176,25 @@ fn the_rulings_of_a_curved_crease_design_bend_and_are_not_scored() {
         .iter()
         .filter(|l| matches!(l.kind, LineKind::Mountain | LineKind::Valley))
         .collect();
-    let chords = mesh
-        .edges()
-        .iter()
-        .filter(|e| e.assignment.is_folded())
-        .count();
-    assert_eq!(scored.len(), chords, "one scored line per chord, no ruling");
-    // Every scored line joins two vertices of the crease (the chain).
+    // One scored line, the curve through the chain's vertices in order: no ruling, and
+    // no chord on its own.
+    assert_eq!(scored.len(), 1, "one scored line, no ruling");
     let chain = &crease::constraints::crease_chains(&mesh)[0].vertices;
     let placed = &out.sheet.vertices;
-    for l in scored {
-        for end in [l.a, l.b] {
-            assert!(
-                chain.iter().any(|&v| (placed[v] - end).norm() < 1e-6),
-                "{l:?}"
-            );
-        }
+    let curve = scored[0]
+        .curve
+        .as_ref()
+        .expect("the crease leaves as a curve");
+    let through = curve.points();
+    assert_eq!(through.len(), chain.len());
+    let forward = (through[0] - placed[chain[0]]).norm() < 1e-9;
+    for (k, &v) in chain.iter().enumerate() {
+        let p = if forward {
+            through[k]
+        } else {
+            through[through.len() - 1 - k]
+        };
+        assert!((p - placed[v]).norm() < 1e-9, "vertex {v}");
     }
 }
 
@@ -398,6 +401,7 @@ fn routing_a_small_design_far_from_the_pen_keeps_every_stroke() {
             from: Vec2::new(x, y),
             to: Vec2::new(x + 0.5, y + 0.2),
             line: i,
+            bend: None,
         });
     }
     let tools = Machine::load("generic-hpgl").unwrap().hpgl_settings().tools;

@@ -233,6 +233,7 @@ fn silhouette_marks_print_where_stated_and_the_job_cuts_the_printed_outline() {
                 from: a,
                 to: b,
                 line: 0,
+                bend: None,
             })
             .collect();
         assert!(!outline.is_empty(), "{what}: the outline is printed");
@@ -372,6 +373,7 @@ fn a_cricut_print_then_cut_file_cuts_the_printed_outline_inside_design_spaces_im
             from: a,
             to: b,
             line: 0,
+            bend: None,
         })
         .collect();
     assert!(!printed_outline.is_empty());

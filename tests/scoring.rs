@@ -3,8 +3,11 @@
 
 mod common;
 
-use common::fabbing::{a3, designs_and_anchors, near_pairs, patterns, segment_distance};
+use common::fabbing::{
+    a3, designs_and_anchors, near_pairs, output, output_text, patterns, segment_distance,
+};
 use crease::fab::{LineKind, Stroke};
+use crease::mesh::Vec2;
 use crease::pipeline::{fabricate, FabOptions};
 use crease::plotter::Machine;
 use std::path::Path;
@@ -243,4 +246,206 @@ fn machine_code(kind: LineKind) -> f64 {
         .codes[&kind]
         .unwrap()
         .cut
+}
+
+/// The circle through three points, (centre, radius); `None` if they are in line.
+fn circle_through(a: Vec2, b: Vec2, c: Vec2) -> Option<(Vec2, f64)> {
+    let d = 2.0 * (a.x * (b.y - c.y) + b.x * (c.y - a.y) + c.x * (a.y - b.y));
+    if d.abs() < 1e-12 {
+        return None;
+    }
+    let n = |p: Vec2| p.norm_squared();
+    let centre = Vec2::new(
+        (n(a) * (b.y - c.y) + n(b) * (c.y - a.y) + n(c) * (a.y - b.y)) / d,
+        (n(a) * (c.x - b.x) + n(b) * (a.x - c.x) + n(c) * (b.x - a.x)) / d,
+    );
+    Some((centre, (a - centre).norm()))
+}
+
+/// How far `p` lies from the smooth curve a crease chain's vertices sample, judged
+/// independently of the crate's spline: from the circle through the three consecutive
+/// vertices around the chord nearest `p` (the nearer of the two such circles). Exact for a
+/// circular crease; for any smooth crease, what the curve is to second order.
+fn off_curve(p: Vec2, points: &[Vec2], closed: bool) -> f64 {
+    let n = points.len();
+    let chords = if closed { n } else { n - 1 };
+    let chord_distance = |k: usize| {
+        let (a, b) = (points[k], points[(k + 1) % n]);
+        let d = b - a;
+        let t = ((p - a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
+        (a + d * t - p).norm()
+    };
+    let k = (0..chords)
+        .min_by(|&i, &j| chord_distance(i).total_cmp(&chord_distance(j)))
+        .unwrap();
+    // The triples (k-1, k, k+1) and (k, k+1, k+2) where they exist.
+    let triples: Vec<[usize; 3]> = [k as isize - 1, k as isize]
+        .into_iter()
+        .filter(|&s| closed || (s >= 0 && s as usize + 2 < n))
+        .map(|s| [0, 1, 2].map(|i| (s + i).rem_euclid(n as isize) as usize))
+        .collect();
+    triples
+        .iter()
+        .map(
+            |t| match circle_through(points[t[0]], points[t[1]], points[t[2]]) {
+                Some((c, r)) => ((p - c).norm() - r).abs(),
+                None => chord_distance(k),
+            },
+        )
+        .fold(f64::INFINITY, f64::min)
+}
+
+#[test]
+fn curved_creases_leave_as_curves_and_every_file_puts_their_dashes_on_the_curve() {
+    // A curved crease used to leave as its chords, each scored on its own, straight. Now
+    // sheet.svg carries cubic Béziers, and sheet.svg, sheet.hpgl (as the plotter draws
+    // it, in its units) and sheet.dxf (read by the dxf crate) all lie within 0.05 mm of
+    // the curve, judged against circles through the chain's vertices (for `arc` and
+    // `concentric`, the circles the generator laid the creases on). Dashes keep the
+    // machine's code measured along the curve.
+    let machine = Machine::load("generic-hpgl").unwrap();
+    let settings = machine.score_settings();
+    let u = machine.units_per_mm;
+    for name in ["arc", "concentric", "pleat", "arc-pulled"] {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("patterns/{name}.fold"));
+        let mesh = crease::io::read(&path).unwrap();
+        let out = fabricate(&mesh, &machine, &a3()).unwrap();
+        let chains: Vec<(Vec<Vec2>, bool)> = crease::constraints::crease_chains(&mesh)
+            .iter()
+            .map(|c| {
+                let points = c.vertices.iter().map(|&v| out.sheet.vertices[v]).collect();
+                (points, c.closed)
+            })
+            .collect();
+        let off = |p: Vec2| {
+            chains
+                .iter()
+                .map(|(points, closed)| off_curve(p, points, *closed))
+                .fold(f64::INFINITY, f64::min)
+        };
+        let mut worst = [0.0f64; 3];
+        // sheet.svg: each crease one path of cubics.
+        let text = output_text(&out, "sheet.svg");
+        let h = out.toolpath.media.height;
+        let mut layer = String::new();
+        let mut dashes: Vec<(String, Vec<[Vec2; 4]>)> = Vec::new();
+        for event in svg::read(text).unwrap() {
+            use svg::node::element::path::{Command, Data, Position};
+            use svg::node::element::tag::Type;
+            use svg::parser::Event;
+            match event {
+                Event::Tag("g", Type::Start, a) => {
+                    layer = a.get("inkscape:label").unwrap().to_string();
+                }
+                Event::Tag("path", _, a) if layer == "mountain" || layer == "valley" => {
+                    let data = Data::parse(&a.get("d").unwrap().to_string()).unwrap();
+                    let up = |x: f32, y: f32| Vec2::new(x as f64, h - y as f64);
+                    let (mut at, mut cubics) = (Vec2::zeros(), Vec::new());
+                    for command in data.iter() {
+                        match command {
+                            Command::Move(Position::Absolute, p) => at = up(p[0], p[1]),
+                            Command::CubicCurve(Position::Absolute, p) => {
+                                let c = [at, up(p[0], p[1]), up(p[2], p[3]), up(p[4], p[5])];
+                                at = c[3];
+                                cubics.push(c);
+                            }
+                            other => panic!("{name}: a crease's path has {other:?}"),
+                        }
+                    }
+                    dashes.push((layer.clone(), cubics));
+                }
+                _ => {}
+            }
+        }
+        assert!(!dashes.is_empty(), "{name}: no crease in sheet.svg");
+        let bezier = |c: &[Vec2; 4], t: f64| {
+            let s = 1.0 - t;
+            c[0] * (s * s * s)
+                + c[1] * (3.0 * s * s * t)
+                + c[2] * (3.0 * s * t * t)
+                + c[3] * (t * t * t)
+        };
+        let length = |c: &[Vec2; 4]| {
+            (0..200)
+                .map(|i| (bezier(c, (i + 1) as f64 / 200.0) - bezier(c, i as f64 / 200.0)).norm())
+                .sum::<f64>()
+        };
+        let (mut full, mut total, mut even_gaps, mut gaps) = (0, 0, 0, 0);
+        for (kind, cubics) in &dashes {
+            let kind_is = if kind == "mountain" {
+                LineKind::Mountain
+            } else {
+                LineKind::Valley
+            };
+            let code = settings.codes[&kind_is].unwrap();
+            for c in cubics {
+                for k in 0..=16 {
+                    worst[0] = worst[0].max(off(bezier(c, k as f64 / 16.0)));
+                }
+                let len = length(c);
+                assert!(len <= code.cut + 0.01, "{name}: a {len:.3} mm {kind} dash");
+                total += 1;
+                full += usize::from((len - code.cut).abs() < 0.01);
+            }
+            for w in cubics.windows(2) {
+                let gap = (w[1][0] - w[0][3]).norm();
+                gaps += 1;
+                even_gaps += usize::from((gap - code.gap).abs() < 0.01);
+            }
+        }
+        // Most dashes and gaps are whole (the rest are trimmed at junctions and the cut).
+        assert!(
+            full * 10 >= total * 8,
+            "{name}: {full} of {total} dashes whole"
+        );
+        assert!(
+            even_gaps * 10 >= gaps * 8,
+            "{name}: {even_gaps} of {gaps} gaps even"
+        );
+        // sheet.hpgl as the plotter draws it: every crease segment, at five points.
+        let drawn = crease::output::hpgl::interpret(output_text(&out, "sheet.hpgl")).unwrap();
+        let crease_pens = [machine.tools["mountain"].pen, machine.tools["valley"].pen];
+        for (pen, a, b) in &drawn.segments {
+            if !crease_pens.contains(pen) {
+                continue;
+            }
+            let (a, b) = (
+                Vec2::new(a[0] as f64, a[1] as f64) / u,
+                Vec2::new(b[0] as f64, b[1] as f64) / u,
+            );
+            for k in 0..=4 {
+                worst[1] = worst[1].max(off(a + (b - a) * (k as f64 / 4.0)));
+            }
+        }
+        // sheet.dxf read by the dxf crate: every crease polyline's chords.
+        let bytes = output(&out, "sheet.dxf");
+        let drawing = dxf::Drawing::load(&mut &bytes[..]).unwrap();
+        let mut polylines = 0;
+        for e in drawing.entities() {
+            let creased = matches!(e.common.layer.as_str(), "MOUNTAIN" | "VALLEY");
+            match &e.specific {
+                dxf::entities::EntityType::Polyline(p) if creased => {
+                    polylines += 1;
+                    let v: Vec<Vec2> = p
+                        .vertices()
+                        .map(|v| Vec2::new(v.location.x, v.location.y))
+                        .collect();
+                    for w in v.windows(2) {
+                        for k in 0..=4 {
+                            worst[2] = worst[2].max(off(w[0] + (w[1] - w[0]) * (k as f64 / 4.0)));
+                        }
+                    }
+                }
+                dxf::entities::EntityType::Line(_) => {
+                    assert!(!creased, "{name}: a crease as a straight LINE in sheet.dxf")
+                }
+                _ => {}
+            }
+        }
+        assert!(polylines > 0, "{name}: no crease polyline in sheet.dxf");
+        for (what, w) in ["sheet.svg", "sheet.hpgl", "sheet.dxf"].iter().zip(worst) {
+            assert!(w <= 0.05, "{name}: {what} strays {w:.4} mm from the curve");
+        }
+        eprintln!("{name}: worst distance from the curve svg/hpgl/dxf {worst:.4?} mm, {full} of {total} dashes whole");
+    }
 }

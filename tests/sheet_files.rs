@@ -4,7 +4,8 @@
 mod common;
 
 use common::fabbing::{
-    a3, designs_and_anchors, near_pairs, output, output_text, patterns, segment_distance,
+    a3, designs_and_anchors, job_pieces, near_pairs, output, output_text, patterns,
+    segment_distance,
 };
 use crease::fab::{verify, Report, Tolerances};
 use crease::fab::{LineKind, Stroke};
@@ -16,8 +17,8 @@ use std::path::Path;
 
 #[test]
 fn sheet_dxf_read_by_an_independent_parser_carries_exactly_the_toolpath() {
-    // The dxf crate (ixmilia) reads sheet.dxf back: one LINE per stroke, on the layer of
-    // its operation, ends within a micrometre of the toolpath's (whose y grows upward, as
+    // The dxf crate (ixmilia) reads sheet.dxf back: one LINE per stroke (a POLYLINE per
+    // bent one), on the layer of its operation, ends within a micrometre of the toolpath's (whose y grows upward, as
     // DXF's), in millimetres.
     let machine = Machine::load("generic-hpgl").unwrap();
     for path in patterns() {
@@ -27,18 +28,27 @@ fn sheet_dxf_read_by_an_independent_parser_carries_exactly_the_toolpath() {
         let drawing = dxf::Drawing::load(&mut &bytes[..])
             .unwrap_or_else(|e| panic!("{}: sheet.dxf does not parse: {e}", path.display()));
         assert_eq!(drawing.header.version, dxf::enums::AcadVersion::R12);
-        let lines: Vec<(String, [f64; 4])> = drawing
+        let lines: Vec<(String, Vec<Vec2>, bool)> = drawing
             .entities()
             .map(|e| match &e.specific {
-                dxf::entities::EntityType::Line(l) => {
-                    (e.common.layer.clone(), [l.p1.x, l.p1.y, l.p2.x, l.p2.y])
-                }
+                dxf::entities::EntityType::Line(l) => (
+                    e.common.layer.clone(),
+                    vec![Vec2::new(l.p1.x, l.p1.y), Vec2::new(l.p2.x, l.p2.y)],
+                    false,
+                ),
+                dxf::entities::EntityType::Polyline(p) => (
+                    e.common.layer.clone(),
+                    p.vertices()
+                        .map(|v| Vec2::new(v.location.x, v.location.y))
+                        .collect(),
+                    true,
+                ),
                 other => panic!("{}: unexpected entity {other:?}", path.display()),
             })
             .collect();
         let strokes = &out.toolpath.strokes;
         assert_eq!(lines.len(), strokes.len(), "{}", path.display());
-        for ((layer, [x1, y1, x2, y2]), s) in lines.iter().zip(strokes) {
+        for ((layer, points, polyline), s) in lines.iter().zip(strokes) {
             let expected = match s.kind {
                 LineKind::Cut => "CUT",
                 LineKind::Mountain => "MOUNTAIN",
@@ -46,14 +56,14 @@ fn sheet_dxf_read_by_an_independent_parser_carries_exactly_the_toolpath() {
                 LineKind::Flat => "FLAT",
             };
             assert_eq!(layer, expected);
-            for (got, want) in [
-                (*x1, s.from.x),
-                (*y1, s.from.y),
-                (*x2, s.to.x),
-                (*y2, s.to.y),
-            ] {
+            // A straight stroke is a LINE between its ends; a bent one a POLYLINE through
+            // its chords (whose fidelity to the curve tests/scoring.rs measures).
+            let want = s.polyline();
+            assert_eq!(points.len(), want.len(), "{}", path.display());
+            assert_eq!(*polyline, s.bend.is_some());
+            for (got, want) in points.iter().zip(&want) {
                 assert!(
-                    (got - want).abs() <= 1e-4,
+                    (got - want).abs().max() <= 1e-4,
                     "{}: {got} vs {want}",
                     path.display()
                 );
@@ -65,7 +75,7 @@ fn sheet_dxf_read_by_an_independent_parser_carries_exactly_the_toolpath() {
         unique.sort();
         unique.dedup();
         let used: std::collections::BTreeSet<&str> =
-            lines.iter().map(|(layer, _)| layer.as_str()).collect();
+            lines.iter().map(|(layer, ..)| layer.as_str()).collect();
         let declared: std::collections::BTreeSet<&str> =
             drawing.layers().map(|l| l.name.as_str()).collect();
         assert_eq!(declared, used, "{}", path.display());
@@ -102,8 +112,8 @@ fn read_gpgl(job: &str) -> Vec<(u32, [i64; 2], [i64; 2])> {
 #[test]
 fn sheet_gpgl_read_by_an_independent_reader_carries_exactly_the_toolpath() {
     // Graphtec profile: 20 steps per mm, media feed (the sheet's y) first. Every stroke
-    // of the toolpath is one cut segment with the kind's tool holder, its ends on the
-    // nearest step to the stroke's.
+    // of the toolpath (every chord of a bent one) is one cut segment with the kind's tool
+    // holder, its ends on the nearest step to the stroke's.
     let machine = Machine::load("graphtec-ce").unwrap();
     let units = machine.units_per_mm;
     for path in patterns() {
@@ -120,12 +130,8 @@ fn sheet_gpgl_read_by_an_independent_reader_carries_exactly_the_toolpath() {
                 (p.x * units).round() as i64,
             ]
         };
-        let strokes: Vec<_> = out
-            .toolpath
-            .strokes
-            .iter()
-            .filter(|s| step(s.from) != step(s.to))
-            .collect();
+        let pieces = job_pieces(&out.toolpath.strokes, step);
+        let strokes: Vec<&Stroke> = pieces.iter().map(|(s, _)| s).collect();
         assert_eq!(segments.len(), strokes.len(), "{}", path.display());
         for ((tool, from, to), s) in segments.iter().zip(&strokes) {
             assert_eq!(*tool, machine.tools[s.kind.name()].pen);
@@ -198,7 +204,7 @@ fn every_output_shows_the_sheet_the_same_way_round() {
     let svg = output_text(&out, "sheet.svg");
     let from_svg: Vec<Segment> = svg_segments(svg)
         .into_iter()
-        .map(|(_, a, b)| (a, b))
+        .map(|(_, a, b, _)| (a, b))
         .collect();
     // The DXF, turned to y down.
     let from_dxf = dxf_lines_y_down(output_text(&out, "sheet.dxf"), h);
@@ -275,9 +281,12 @@ fn dxf_lines_y_down(dxf: &str, h: f64) -> Vec<Segment> {
         .collect()
 }
 
-/// The segments of a sheet.svg's paths: (layer, from, to) as drawn (y down), closing
-/// segments of `Z` included.
-fn svg_segments(svg: &str) -> Vec<(String, [f64; 2], [f64; 2])> {
+/// A sheet.svg path's segment: (layer, from, to, a cubic's two control points if it is one).
+type SvgSegment = (String, [f64; 2], [f64; 2], Option<[[f64; 2]; 2]>);
+
+/// The segments of a sheet.svg's paths as drawn (y down), closing segments of `Z`
+/// included.
+fn svg_segments(svg: &str) -> Vec<SvgSegment> {
     let mut out = Vec::new();
     for layer in svg.split("<g ").skip(1) {
         let name = layer
@@ -294,16 +303,32 @@ fn svg_segments(svg: &str) -> Vec<(String, [f64; 2], [f64; 2])> {
             while let Some(t) = tokens.next() {
                 let (op, x) = t.split_at(1);
                 if op == "Z" {
-                    out.push((name.to_string(), at, start));
+                    out.push((name.to_string(), at, start, None));
                     at = start;
                     continue;
                 }
-                let p = [x.parse().unwrap(), tokens.next().unwrap().parse().unwrap()];
-                match op {
-                    "M" => start = p,
-                    "L" => out.push((name.to_string(), at, p)),
+                let mut numbers = std::iter::once(x).chain(tokens.by_ref());
+                let mut next = || -> [f64; 2] {
+                    let mut n = || numbers.next().unwrap().parse::<f64>().unwrap();
+                    [n(), n()]
+                };
+                let p = next();
+                let p = match op {
+                    "M" => {
+                        start = p;
+                        p
+                    }
+                    "L" => {
+                        out.push((name.to_string(), at, p, None));
+                        p
+                    }
+                    "C" => {
+                        let (c2, end) = (next(), next());
+                        out.push((name.to_string(), at, end, Some([p, c2])));
+                        end
+                    }
                     other => panic!("unexpected path command {other}"),
-                }
+                };
                 at = p;
             }
         }
@@ -370,9 +395,18 @@ fn sheet_svg_holds_only_what_is_cut_or_scored_one_path_per_line() {
         let drawn = svg_segments(svg);
         assert_eq!(drawn.len(), strokes.len(), "{name}");
         let near = |a: [f64; 2], b: Vec2| (a[0] - b.x).hypot(a[1] - (h - b.y)) < 1e-3;
+        // A bent stroke is a cubic with its control points, either way round.
+        let controls = |c: &Option<[[f64; 2]; 2]>, s: &Stroke| match (c, s.bend) {
+            (None, None) => true,
+            (Some([c1, c2]), Some([b1, b2])) => {
+                (near(*c1, b1) && near(*c2, b2)) || (near(*c1, b2) && near(*c2, b1))
+            }
+            _ => false,
+        };
         for s in strokes {
             assert!(
-                drawn.iter().any(|(layer, a, b)| layer == s.kind.name()
+                drawn.iter().any(|(layer, a, b, c)| layer == s.kind.name()
+                    && controls(c, s)
                     && ((near(*a, s.from) && near(*b, s.to))
                         || (near(*a, s.to) && near(*b, s.from)))),
                 "{name}: stroke {s:?} missing from sheet.svg"
@@ -639,12 +673,10 @@ fn check_job(
         }
     };
     let nearest = |p: Vec2| exact(p).map(|v| v.round() as i64);
-    let strokes: Vec<_> = out
-        .toolpath
-        .strokes
-        .iter()
-        .filter(|s| nearest(s.from) != nearest(s.to))
-        .collect();
+    // Each stroke as the segments the writer sends: itself, or a bent stroke's chords;
+    // those shorter than a step go. Each remembers its stroke.
+    let pieces = job_pieces(&out.toolpath.strokes, nearest);
+    let strokes: Vec<&Stroke> = pieces.iter().map(|(s, _)| s).collect();
     assert_eq!(job.segments.len(), strokes.len(), "{what}");
     // Every end within half a step of the toolpath's, on each axis.
     for ((from, to), s) in job.segments.iter().zip(&strokes) {
@@ -694,16 +726,23 @@ fn check_job(
             Vec2::new(p[0] as f64 / u, p[1] as f64 / u)
         }
     };
-    let cut_job: Vec<Stroke> = job
-        .segments
-        .iter()
-        .zip(&strokes)
-        .map(|((a, b), s)| Stroke {
-            from: to_mm(*a),
-            to: to_mm(*b),
-            ..**s
-        })
-        .collect();
+    // Each stroke as cut: from where its first segment starts to where its last ends
+    // (a bent one keeps its curve between).
+    let mut cut_job: Vec<Stroke> = Vec::new();
+    let mut of_stroke: Option<usize> = None;
+    for ((a, b), (_, k)) in job.segments.iter().zip(&pieces) {
+        if of_stroke == Some(*k) {
+            let last = cut_job.len() - 1;
+            cut_job[last].to = to_mm(*b);
+        } else {
+            cut_job.push(Stroke {
+                from: to_mm(*a),
+                to: to_mm(*b),
+                ..out.toolpath.strokes[*k]
+            });
+            of_stroke = Some(*k);
+        }
+    }
     let settings = machine.score_settings();
     let dashed = |s: &Stroke| matches!(settings.codes.get(&s.kind), Some(Some(_)));
     // No dash within the clearance of the cut, a solid line or another crease's dash.
@@ -1062,7 +1101,7 @@ fn the_pdf_page_as_cut_draws_exactly_the_dashes_of_sheet_svg() {
     let mut from_svg: Vec<(String, [f64; 2], [f64; 2])> =
         svg_segments(output_text(&out, "sheet.svg"))
             .into_iter()
-            .map(|(kind, a, b)| (kind, [a[0], h - a[1]], [b[0], h - b[1]]))
+            .map(|(kind, a, b, _)| (kind, [a[0], h - a[1]], [b[0], h - b[1]]))
             .collect();
     assert!(from_svg.len() > 100);
     let doc = printpdf::PdfDocument::parse(

@@ -1,36 +1,14 @@
-//! Crease chains: curved creases as they are drawn, straight creases joined end to end
-//! through vertices where exactly two creases meet (issue 30). What the smoothness
-//! conditions walk along; found once per design ([`super::Reference`]).
+//! What the smoothness conditions need of crease chains (found by
+//! [`crate::mesh::crease_chains`], once per design in [`super::Reference`]): the triples
+//! of turns whose second difference is bounded, the faces on a chain's left, and whether
+//! a pattern has curved creases at all.
 
 use crate::geometry::sector_angle;
+pub use crate::mesh::{crease_chains, CreaseChain};
 use crate::mesh::{Mesh, Vec3};
 use std::f64::consts::PI;
 
-/// One crease chain: creases (mountain or valley) joined end to end through interior
-/// vertices where exactly two creases meet, which is how a curved crease is drawn.
-#[derive(Clone, Debug, PartialEq)]
-pub struct CreaseChain {
-    /// Its vertices in order (a closed chain does not repeat its first).
-    pub vertices: Vec<usize>,
-    /// Whether it closes on itself (a circle drawn inside the sheet).
-    pub closed: bool,
-}
-
 impl CreaseChain {
-    /// The chain's vertices at which it turns, each with the one before and after:
-    /// every vertex of a closed chain, the inner ones of an open chain.
-    pub fn turns(&self) -> Vec<[usize; 3]> {
-        let v = &self.vertices;
-        let n = v.len();
-        if self.closed {
-            (0..n)
-                .map(|i| [v[(i + n - 1) % n], v[i], v[(i + 1) % n]])
-                .collect()
-        } else {
-            v.windows(3).map(|w| [w[0], w[1], w[2]]).collect()
-        }
-    }
-
     /// Consecutive triples of [`CreaseChain::turns`] whose second difference is taken.
     pub(super) fn second_differences(&self) -> Vec<[[usize; 3]; 3]> {
         let t = self.turns();
@@ -43,76 +21,6 @@ impl CreaseChain {
             t.windows(3).map(|w| [w[0], w[1], w[2]]).collect()
         }
     }
-}
-
-/// The creases of `mesh` joined into chains: maximal runs of mountain and valley edges
-/// through interior vertices with exactly two of them. Chains of one edge are left out
-/// (nothing turns there).
-pub fn crease_chains(mesh: &Mesh) -> Vec<CreaseChain> {
-    let topo = mesh.topology();
-    let folded = |e: usize| mesh.edges()[e].assignment.is_folded();
-    // Per vertex, its folded spokes; a vertex passes a chain on when it is interior and
-    // has exactly two.
-    let creases_at: Vec<Vec<usize>> = topo
-        .fans
-        .iter()
-        .map(|fan| fan.spokes.iter().copied().filter(|&e| folded(e)).collect())
-        .collect();
-    let passes = |v: usize| !topo.fans[v].boundary && creases_at[v].len() == 2;
-    let other_end = |e: usize, v: usize| {
-        let [a, b] = mesh.edges()[e].vertices;
-        if a == v {
-            b
-        } else {
-            a
-        }
-    };
-    let mut used = vec![false; mesh.edges().len()];
-    let mut chains = Vec::new();
-    // Walks from `start` along crease `e` while the vertices pass the chain on.
-    let walk = |start: usize, first: usize, used: &mut Vec<bool>| {
-        let mut vertices = vec![start];
-        let (mut v, mut e) = (start, first);
-        loop {
-            used[e] = true;
-            v = other_end(e, v);
-            if v == start {
-                return CreaseChain {
-                    vertices,
-                    closed: true,
-                };
-            }
-            vertices.push(v);
-            if !passes(v) {
-                break;
-            }
-            let [a, b] = [creases_at[v][0], creases_at[v][1]];
-            e = if a == e { b } else { a };
-            if used[e] {
-                break;
-            }
-        }
-        CreaseChain {
-            vertices,
-            closed: false,
-        }
-    };
-    // Open chains from their ends, then what is left: closed loops.
-    for v in (0..mesh.vertex_count()).filter(|&v| !passes(v)) {
-        for &e in &creases_at[v] {
-            if !used[e] {
-                chains.push(walk(v, e, &mut used));
-            }
-        }
-    }
-    for v in (0..mesh.vertex_count()).filter(|&v| passes(v)) {
-        let e = creases_at[v][0];
-        if !used[e] {
-            chains.push(walk(v, e, &mut used));
-        }
-    }
-    chains.retain(|c| c.vertices.len() >= 3);
-    chains
 }
 
 /// The faces of `v`'s fan on the left of a chain arriving from `u` and leaving to `w`:

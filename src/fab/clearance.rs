@@ -1,6 +1,7 @@
 //! Clearance in the plane: no dash within the clearance of the cut, of a solid line or of
 //! another crease's dash, where the slit between them would be a sliver that tears.
 
+use super::curve::FLATTEN_MM;
 use super::layout::Sheet;
 use super::toolpath::{short_marks, ScoreSettings, Stroke};
 use crate::mesh::Vec2;
@@ -71,7 +72,6 @@ fn free_pieces(mut blocked: Vec<(f64, f64)>, len: f64, min_dash: f64) -> Vec<(f6
 /// pieces close together read as the longer-dashed kind's pair.
 fn read_as_kind(d: &Stroke, mut pieces: Vec<(f64, f64)>, settings: &ScoreSettings) -> Vec<Stroke> {
     let len = d.length();
-    let u = (d.to - d.from) / len;
     let code = settings.codes[&d.kind].expect("a dash has a code");
     let floor = settings.lone_dash_floor(d.kind);
     if floor.is_none() && pieces.len() > 1 {
@@ -90,11 +90,7 @@ fn read_as_kind(d: &Stroke, mut pieces: Vec<(f64, f64)>, settings: &ScoreSetting
             }
             _ => vec![(0.0, b - a)],
         };
-        out.extend(marks.into_iter().map(|(s, e)| Stroke {
-            from: d.from + u * (a + s),
-            to: d.from + u * (a + e),
-            ..*d
-        }));
+        out.extend(marks.into_iter().map(|(s, e)| d.piece(a + s, a + e)));
     }
     out
 }
@@ -123,16 +119,10 @@ fn pair_lone_marks(marks: Vec<Stroke>, settings: &ScoreSettings) -> Vec<Stroke> 
             out.push(*m);
             continue;
         }
-        let len = m.length();
-        let u = (m.to - m.from) / len;
         out.extend(
-            short_marks(len, floor, settings.min_dash)
+            short_marks(m.length(), floor, settings.min_dash)
                 .into_iter()
-                .map(|(s, e)| Stroke {
-                    from: m.from + u * s,
-                    to: m.from + u * e,
-                    ..*m
-                }),
+                .map(|(s, e)| m.piece(s, e)),
         );
     }
     out
@@ -141,76 +131,137 @@ fn pair_lone_marks(marks: Vec<Stroke>, settings: &ScoreSettings) -> Vec<Stroke> 
 /// Trims every dash so it keeps `clearance` from the cut, from solid creases and from the
 /// dashes of other creases, in the plane. Cuts and solid lines are never trimmed; among
 /// dashes the longer crease keeps its dashes and the shorter gives way, and what is left
-/// of a dash shorter than `min_dash` goes.
+/// of a dash shorter than `min_dash` goes. A bent stroke is measured by its chords
+/// ([`Stroke::polyline`]), which the clearance allows for: they are what line-only jobs
+/// send, and a Bézier file's curve is within [`FLATTEN_MM`] of them.
 pub fn keep_clear(strokes: Vec<Stroke>, sheet: &Sheet, settings: &ScoreSettings) -> Vec<Stroke> {
     if settings.clearance <= 0.0 || strokes.is_empty() {
         return strokes;
     }
-    let c = settings.clearance + settings.rounding_slack();
-    if c <= 0.0 || strokes.is_empty() {
-        return strokes;
-    }
+    let bent = if strokes.iter().any(|s| s.bend.is_some()) {
+        FLATTEN_MM
+    } else {
+        0.0
+    };
+    let c = settings.clearance + settings.rounding_slack() + bent;
     let dashed = |s: &Stroke| matches!(settings.codes.get(&s.kind), Some(Some(_)));
     let (mut dashes, fixed): (Vec<Stroke>, Vec<Stroke>) = strokes.into_iter().partition(dashed);
+    let lengths: Vec<f64> = sheet.lines.iter().map(|l| l.length()).collect();
     dashes.sort_by(|a, b| {
-        let (la, lb) = (sheet.lines[a.line].length(), sheet.lines[b.line].length());
+        let (la, lb) = (lengths[a.line], lengths[b.line]);
         lb.total_cmp(&la).then(a.line.cmp(&b.line))
     });
-    // Kept strokes in a grid of cells a few clearances wide, each listed in every cell its
-    // box, grown by the clearance, touches. A tiny clearance would make the cells tiny and
-    // a long cut cover millions of them: no cell is narrower than 1/512 of the media.
-    let cell = (4.0 * c).max(sheet.media.width.max(sheet.media.height) / 512.0);
-    let key = |p: Vec2| ((p.x / cell).floor() as i64, (p.y / cell).floor() as i64);
-    let mut grid: std::collections::HashMap<(i64, i64), Vec<usize>> = Default::default();
-    let mut kept: Vec<Stroke> = Vec::with_capacity(fixed.len() + dashes.len());
-    let add = |s: Stroke, kept: &mut Vec<Stroke>, grid: &mut std::collections::HashMap<_, _>| {
-        let lo = key(s.from.inf(&s.to) - Vec2::repeat(c));
-        let hi = key(s.from.sup(&s.to) + Vec2::repeat(c));
-        for x in lo.0..=hi.0 {
-            for y in lo.1..=hi.1 {
-                grid.entry((x, y)).or_insert_with(Vec::new).push(kept.len());
-            }
-        }
-        kept.push(s);
-    };
+    let mut kept = Kept::new(c, &sheet.media);
     for s in fixed {
-        add(s, &mut kept, &mut grid);
+        kept.add(s);
     }
     // A line's dashes are trimmed together (they are neighbours in `dashes`), so a mark
     // left without its partner can be told from the rest of its line.
     for line in dashes.chunk_by(|a, b| a.line == b.line) {
         let mut marks = Vec::new();
         for d in line {
-            let len = d.length();
-            if len <= 0.0 {
+            if d.length() <= 0.0 {
                 continue;
             }
-            let u = (d.to - d.from) / len;
-            let (lo, hi) = (key(d.from.inf(&d.to)), key(d.from.sup(&d.to)));
-            let mut blocked: Vec<(f64, f64)> = Vec::new();
-            let mut seen = std::collections::HashSet::new();
-            for x in lo.0..=hi.0 {
-                for y in lo.1..=hi.1 {
-                    for &k in grid.get(&(x, y)).into_iter().flatten() {
-                        let o = kept[k];
-                        if o.line == d.line || !seen.insert(k) {
-                            continue;
-                        }
-                        blocked.extend(too_close(d.from, u, len, o.from, o.to, c));
-                    }
-                }
-            }
+            let blocked = kept.blocked(d);
             marks.extend(read_as_kind(
                 d,
-                free_pieces(blocked, len, settings.min_dash),
+                free_pieces(blocked, d.length(), settings.min_dash),
                 settings,
             ));
         }
         for piece in pair_lone_marks(marks, settings) {
-            add(piece, &mut kept, &mut grid);
+            kept.add(piece);
         }
     }
-    kept
+    kept.strokes
+}
+
+/// The strokes kept so far, their chords in a grid of cells a few clearances wide, each
+/// listed in every cell its box, grown by the clearance, touches. A tiny clearance would
+/// make the cells tiny and a long cut cover millions of them: no cell is narrower than
+/// 1/512 of the media.
+struct Kept {
+    clearance: f64,
+    cell: f64,
+    strokes: Vec<Stroke>,
+    /// Every kept stroke's chords, with the line each belongs to.
+    chords: Vec<(Vec2, Vec2, usize)>,
+    grid: std::collections::HashMap<(i64, i64), Vec<usize>>,
+}
+
+impl Kept {
+    fn new(clearance: f64, media: &super::layout::Media) -> Kept {
+        Kept {
+            clearance,
+            cell: (4.0 * clearance).max(media.width.max(media.height) / 512.0),
+            strokes: Vec::new(),
+            chords: Vec::new(),
+            grid: Default::default(),
+        }
+    }
+
+    fn key(&self, p: Vec2) -> (i64, i64) {
+        (
+            (p.x / self.cell).floor() as i64,
+            (p.y / self.cell).floor() as i64,
+        )
+    }
+
+    fn add(&mut self, s: Stroke) {
+        let grow = Vec2::repeat(self.clearance);
+        for w in s.polyline().windows(2) {
+            let lo = self.key(w[0].inf(&w[1]) - grow);
+            let hi = self.key(w[0].sup(&w[1]) + grow);
+            for x in lo.0..=hi.0 {
+                for y in lo.1..=hi.1 {
+                    self.grid.entry((x, y)).or_default().push(self.chords.len());
+                }
+            }
+            self.chords.push((w[0], w[1], s.line));
+        }
+        self.strokes.push(s);
+    }
+
+    /// The stretches of `d`, as lengths along it, closer than the clearance to a kept
+    /// stroke of another line.
+    fn blocked(&self, d: &Stroke) -> Vec<(f64, f64)> {
+        let points = d.polyline();
+        let chord_sum: f64 = points.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+        // Chord lengths measured along the chords, scaled to lengths along the stroke.
+        let scale = if chord_sum > 0.0 {
+            d.length() / chord_sum
+        } else {
+            1.0
+        };
+        let mut blocked = Vec::new();
+        let mut seen = std::collections::HashSet::new();
+        let mut start = 0.0;
+        for w in points.windows(2) {
+            let len = (w[1] - w[0]).norm();
+            if len <= 0.0 {
+                continue;
+            }
+            let u = (w[1] - w[0]) / len;
+            let (lo, hi) = (self.key(w[0].inf(&w[1])), self.key(w[0].sup(&w[1])));
+            seen.clear();
+            for x in lo.0..=hi.0 {
+                for y in lo.1..=hi.1 {
+                    for &k in self.grid.get(&(x, y)).into_iter().flatten() {
+                        let (q0, q1, line) = self.chords[k];
+                        if line == d.line || !seen.insert(k) {
+                            continue;
+                        }
+                        if let Some((a, b)) = too_close(w[0], u, len, q0, q1, self.clearance) {
+                            blocked.push(((start + a) * scale, (start + b) * scale));
+                        }
+                    }
+                }
+            }
+            start += len;
+        }
+        blocked
+    }
 }
 
 #[cfg(test)]

@@ -90,11 +90,7 @@ impl Sheet {
             lines: self
                 .lines
                 .into_iter()
-                .map(|l| CreaseLine {
-                    a: l.a + by,
-                    b: l.b + by,
-                    ..l
-                })
+                .map(|l| l.mapped(|p| p + by))
                 .collect(),
             vertices: self.vertices.into_iter().map(|p| p + by).collect(),
             ..self
@@ -296,14 +292,7 @@ fn place_sheet(
     let (tlo, _) = bounds(&turned);
     let offset = Vec2::new(media.width - size.x, media.height - size.y) / 2.0 - tlo;
     let place = |p: Vec2| rotate((p - lo) * scale, angle) + offset;
-    let placed_lines = lines
-        .iter()
-        .map(|l| CreaseLine {
-            a: place(l.a),
-            b: place(l.b),
-            ..l.clone()
-        })
-        .collect();
+    let placed_lines = lines.iter().map(|l| l.mapped(place)).collect();
     Sheet {
         media: media.clone(),
         margin,

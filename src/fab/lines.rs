@@ -2,7 +2,8 @@
 //! vertex are merged into one line, so a plotter draws each fold in one pass. Each line
 //! remembers the points along it where three or more creases meet, where dashes must stop.
 
-use crate::mesh::{Assignment, Edge, Mesh, Vec2};
+use super::curve::{SmoothCurve, FLATTEN_MM};
+use crate::mesh::{curve_runs, run_edges, Assignment, Edge, Mesh, Vec2};
 use std::collections::HashMap;
 
 /// What a line does to the paper.
@@ -88,7 +89,8 @@ impl LineKind {
 /// Fold angle (radians, 1°) beyond which an unassigned crease is scored.
 pub const UNASSIGNED_FOLDED: f64 = std::f64::consts::PI / 180.0;
 
-/// A straight crease line on the flat pattern.
+/// A crease line on the flat pattern: straight, or the smooth curve a chain of chords
+/// stands for.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CreaseLine {
     /// Start point (mm).
@@ -97,19 +99,53 @@ pub struct CreaseLine {
     pub b: Vec2,
     /// Fold type.
     pub kind: LineKind,
-    /// Positions along the line (0 = a, 1 = b) of vertices where three or more creases or
-    /// cuts meet, ends included when they qualify.
+    /// Positions along the line (0 = a, 1 = b, by length) of vertices where three or more
+    /// creases or cuts meet, ends included when they qualify.
     pub junctions: Vec<f64>,
+    /// The smooth curve from `a` to `b` (back to `a` if closed) that a curved crease's
+    /// chords stand for; `None` for a straight line.
+    pub curve: Option<SmoothCurve>,
 }
 
 impl CreaseLine {
-    /// Length in mm.
+    /// Length in mm (along the curve for a curved line).
     pub fn length(&self) -> f64 {
-        (self.b - self.a).norm()
+        match &self.curve {
+            Some(c) => c.length(),
+            None => (self.b - self.a).norm(),
+        }
+    }
+
+    /// The line with `f` applied to it (a similarity: the sheet's placement).
+    pub fn mapped(&self, f: impl Fn(Vec2) -> Vec2) -> CreaseLine {
+        CreaseLine {
+            a: f(self.a),
+            b: f(self.b),
+            curve: self.curve.as_ref().map(|c| c.mapped(&f)),
+            ..self.clone()
+        }
+    }
+
+    /// Points along it: its ends if straight, else chords within [`FLATTEN_MM`] of the
+    /// curve (for drawings that take only lines).
+    pub fn polyline(&self) -> Vec<Vec2> {
+        match &self.curve {
+            Some(c) => {
+                let mut points = vec![self.a];
+                for piece in c.pieces() {
+                    points.extend(piece.flatten(FLATTEN_MM).into_iter().skip(1));
+                }
+                points
+            }
+            None => vec![self.a, self.b],
+        }
     }
 }
 
-/// Merges the mesh's edges, laid out at `flat`, into straight lines per kind.
+/// Merges the mesh's edges, laid out at `flat`, into lines per kind: in a pattern with
+/// curved creases each curved crease chain is one smooth curve ([`curved_lines`]); every
+/// other run of edges of one kind that goes on straight through its vertices is one
+/// straight line.
 pub fn crease_lines(mesh: &Mesh, flat: &[Vec2]) -> Vec<CreaseLine> {
     let edges = mesh.edges();
     let kinds = LineKind::of_mesh(mesh);
@@ -122,6 +158,8 @@ pub fn crease_lines(mesh: &Mesh, flat: &[Vec2]) -> Vec<CreaseLine> {
             degree[e.vertices[1]] += 1;
         }
     }
+    let mut used = vec![false; edges.len()];
+    let mut lines = curved_lines(mesh, flat, &degree, &mut used);
     let mut by_vertex: HashMap<(usize, LineKind), Vec<usize>> = HashMap::new();
     for (i, e) in edges.iter().enumerate() {
         let k = kinds[i];
@@ -143,8 +181,6 @@ pub fn crease_lines(mesh: &Mesh, flat: &[Vec2]) -> Vec<CreaseLine> {
         let first = found.next();
         first.filter(|_| found.next().is_none())
     };
-    let mut used = vec![false; edges.len()];
-    let mut lines = Vec::new();
     for start in 0..edges.len() {
         if used[start] {
             continue;
@@ -185,9 +221,83 @@ pub fn crease_lines(mesh: &Mesh, flat: &[Vec2]) -> Vec<CreaseLine> {
             b,
             kind,
             junctions,
+            curve: None,
         });
     }
     drop_second_sides(lines)
+}
+
+/// One curved crease of a pattern: its edges in order along it and the smooth curve
+/// through its vertices (at the positions it was found at).
+#[derive(Clone, Debug)]
+pub struct SmoothCrease {
+    /// Its vertices in order (a closed one does not repeat its first).
+    pub vertices: Vec<usize>,
+    /// Its edges in order.
+    pub edges: Vec<usize>,
+    /// Its fold type.
+    pub kind: LineKind,
+    /// The curve.
+    pub curve: SmoothCurve,
+}
+
+/// The curved creases of a pattern that has them ([`crate::constraints::has_curved_creases`]),
+/// laid out at `flat`: crease chains broken at corners and changes of fold type
+/// ([`curve_runs`]), each with the smooth curve through its vertices. What `fab` scores
+/// as curves and the studio draws as curves.
+pub fn smooth_creases(mesh: &Mesh, flat: &[Vec2]) -> Vec<SmoothCrease> {
+    if !crate::constraints::has_curved_creases(mesh) {
+        return Vec::new();
+    }
+    curve_runs(mesh, flat)
+        .into_iter()
+        .map(|run| {
+            let edges = run_edges(mesh, &run);
+            let points = run.vertices.iter().map(|&i| flat[i]).collect();
+            SmoothCrease {
+                kind: LineKind::of_edge(&mesh.edges()[edges[0]]),
+                curve: SmoothCurve::through(points, run.closed),
+                vertices: run.vertices,
+                edges,
+            }
+        })
+        .collect()
+}
+
+/// The lines of [`smooth_creases`]; their edges are marked `used`.
+fn curved_lines(
+    mesh: &Mesh,
+    flat: &[Vec2],
+    degree: &[usize],
+    used: &mut [bool],
+) -> Vec<CreaseLine> {
+    smooth_creases(mesh, flat)
+        .into_iter()
+        .map(|crease| {
+            for &e in &crease.edges {
+                used[e] = true;
+            }
+            let v = &crease.vertices;
+            let len = crease.curve.length();
+            let junctions = v
+                .iter()
+                .zip(crease.curve.knots())
+                .filter(|(&i, _)| degree[i] >= 3)
+                .map(|(_, s)| s / len)
+                .collect();
+            CreaseLine {
+                a: flat[v[0]],
+                b: flat[if crease.curve.closed() {
+                    v[0]
+                } else {
+                    v[v.len() - 1]
+                }],
+                kind: crease.kind,
+                junctions,
+                curve: Some(crease.curve),
+            }
+        })
+        .collect()
 }
 
 /// Cut lines once: the two sides of a slit (kirigami) are two boundary chains laid on the

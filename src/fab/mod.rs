@@ -3,6 +3,7 @@
 
 pub mod budget;
 pub mod clearance;
+pub mod curve;
 pub mod flat_fold;
 pub mod hinge;
 pub mod intersect;
@@ -19,13 +20,14 @@ pub mod unfold;
 pub mod verify;
 
 pub use budget::{Budget, OverBudget};
+pub use curve::{Cubic, SmoothCurve};
 pub use flat_fold::{closure_tolerance, flat_folded, FlatFolded, NotFlatFoldable, PlaneMotion};
 pub use intersect::{self_intersections, Crossing};
 pub use layers::{
     layer_conflict, layer_order, layer_order_within, LayerConflict, LayerError, LayerOrder,
 };
 pub use layout::{layout, LayoutError, Media, Sheet, Sizing};
-pub use lines::{crease_lines, CreaseLine, LineKind};
+pub use lines::{crease_lines, smooth_creases, CreaseLine, LineKind, SmoothCrease};
 pub use route::route;
 
 pub use score::{score, score_lines};

@@ -57,12 +57,7 @@ pub fn cross_strokes(centres: &[Vec2]) -> Vec<Stroke> {
                 (c - Vec2::new(0.0, h), c + Vec2::new(0.0, h)),
             ]
         })
-        .map(|(from, to)| Stroke {
-            kind: LineKind::Cut,
-            from,
-            to,
-            line: MARK_LINE,
-        })
+        .map(|(from, to)| Stroke::straight(LineKind::Cut, from, to, MARK_LINE))
         .collect()
 }
 

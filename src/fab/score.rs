@@ -39,21 +39,14 @@ pub fn score_lines(sheet: &Sheet, settings: &ScoreSettings) -> (Vec<Stroke>, Vec
         if len <= 0.0 {
             continue;
         }
-        let (from, to) = match settings.short_folds {
+        match settings.short_folds {
             ShortFolds::Nothing => continue,
-            ShortFolds::Solid => (0.0, len),
+            ShortFolds::Solid => strokes.extend(stretch(sheet, i, 0.0, len)),
             ShortFolds::Dash => {
-                let dash = code.cut.min(len);
-                ((len - dash) / 2.0, (len + dash) / 2.0)
+                let cut = code.cut.min(len);
+                strokes.push(dash(sheet, i, (len - cut) / 2.0, (len + cut) / 2.0));
             }
-        };
-        let u = (line.b - line.a) / len;
-        strokes.push(Stroke {
-            kind: line.kind,
-            from: line.a + u * from,
-            to: line.a + u * to,
-            line: i,
-        });
+        }
     }
     (strokes, short)
 }
@@ -69,15 +62,8 @@ fn dash_lines(sheet: &Sheet, settings: &ScoreSettings) -> Vec<Stroke> {
         if len <= 0.0 {
             continue;
         }
-        let u = (line.b - line.a) / len;
-        let at = |s: f64| line.a + u * s;
         let Some(code) = code else {
-            strokes.push(Stroke {
-                kind: line.kind,
-                from: line.a,
-                to: line.b,
-                line: index,
-            });
+            strokes.extend(stretch(sheet, index, 0.0, len));
             continue;
         };
         // Spans between junctions, each shortened by the clearance at junction ends.
@@ -106,15 +92,42 @@ fn dash_lines(sheet: &Sheet, settings: &ScoreSettings) -> Vec<Stroke> {
                 Some(floor) if hi - lo < code.cut => short_marks(hi - lo, floor, settings.min_dash),
                 _ => dashes(hi - lo, *code, settings.min_dash),
             };
-            for (s, e) in marks {
-                strokes.push(Stroke {
-                    kind: line.kind,
-                    from: at(lo + s),
-                    to: at(lo + e),
-                    line: index,
-                });
-            }
+            strokes.extend(
+                marks
+                    .into_iter()
+                    .map(|(s, e)| dash(sheet, index, lo + s, lo + e)),
+            );
         }
     }
     strokes
+}
+
+/// The stretch of sheet line `index` between lengths `a` and `b` along it, cut whole: one
+/// straight stroke, or on a curve one exact stroke per chord's piece it crosses.
+fn stretch(sheet: &Sheet, index: usize, a: f64, b: f64) -> Vec<Stroke> {
+    let line = &sheet.lines[index];
+    match &line.curve {
+        Some(curve) => curve
+            .span(a, b)
+            .iter()
+            .map(|c| Stroke::along(line.kind, c, index))
+            .collect(),
+        None => vec![dash(sheet, index, a, b)],
+    }
+}
+
+/// One dash of sheet line `index` between lengths `a` and `b` along it: a straight
+/// stroke, or one cubic along the curve ([`SmoothCurve::cubic_between`]; a dash is one
+/// stroke, so it still reads as one mark when clearance trims it).
+///
+/// [`SmoothCurve::cubic_between`]: super::curve::SmoothCurve::cubic_between
+fn dash(sheet: &Sheet, index: usize, a: f64, b: f64) -> Stroke {
+    let line = &sheet.lines[index];
+    match &line.curve {
+        Some(curve) => Stroke::along(line.kind, &curve.cubic_between(a, b), index),
+        None => {
+            let u = (line.b - line.a) / line.length();
+            Stroke::straight(line.kind, line.a + u * a, line.a + u * b, index)
+        }
+    }
 }

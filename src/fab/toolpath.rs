@@ -3,6 +3,7 @@
 //! (a full code, or the marks of a stretch too short for one). Shared by `score` (which
 //! lays the dashes out) and `clearance` (which trims them), so neither imports the other.
 
+use super::curve::{Cubic, FLATTEN_MM};
 use super::layout::Media;
 use super::lines::LineKind;
 use crate::mesh::Vec2;
@@ -98,7 +99,7 @@ pub struct ToolSetting {
     pub force: Option<f64>,
 }
 
-/// One pen-down segment.
+/// One pen-down segment, straight or bent along a cubic (a dash of a curved crease).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Stroke {
     /// What the stroke is for (selects the tool).
@@ -109,12 +110,50 @@ pub struct Stroke {
     pub to: Vec2,
     /// The sheet line ([`Sheet::lines`]) it cuts or scores: a crease's dashes share it.
     pub line: usize,
+    /// The two inner control points of the cubic it follows from `from` to `to`, if it is
+    /// not straight.
+    pub bend: Option<[Vec2; 2]>,
 }
 
 impl Stroke {
-    /// Length in mm.
+    /// A straight stroke.
+    pub fn straight(kind: LineKind, from: Vec2, to: Vec2, line: usize) -> Stroke {
+        Stroke {
+            kind,
+            from,
+            to,
+            line,
+            bend: None,
+        }
+    }
+
+    /// A stroke along `cubic`.
+    pub fn along(kind: LineKind, cubic: &Cubic, line: usize) -> Stroke {
+        Stroke {
+            kind,
+            from: cubic.p0,
+            to: cubic.p3,
+            line,
+            bend: Some([cubic.c1, cubic.c2]),
+        }
+    }
+
+    /// The cubic it follows, if it bends.
+    pub fn cubic(&self) -> Option<Cubic> {
+        self.bend.map(|[c1, c2]| Cubic {
+            p0: self.from,
+            c1,
+            c2,
+            p3: self.to,
+        })
+    }
+
+    /// Length in mm (along the curve for a bent stroke).
     pub fn length(&self) -> f64 {
-        (self.to - self.from).norm()
+        match self.cubic() {
+            Some(c) => c.length(),
+            None => (self.to - self.from).norm(),
+        }
     }
 
     /// The same stroke drawn the other way.
@@ -122,7 +161,44 @@ impl Stroke {
         Stroke {
             from: self.to,
             to: self.from,
+            bend: self.bend.map(|[c1, c2]| [c2, c1]),
             ..self
+        }
+    }
+
+    /// The points the pen passes through: its ends if straight, else chords within
+    /// [`FLATTEN_MM`] of its curve. What line-only formats (HP-GL, GP-GL, DXF) send and
+    /// what the clearance check measures.
+    pub fn polyline(&self) -> Vec<Vec2> {
+        match self.cubic() {
+            Some(c) => c.flatten(FLATTEN_MM),
+            None => vec![self.from, self.to],
+        }
+    }
+
+    /// The part of it between lengths `a` and `b` from its start.
+    pub fn piece(&self, a: f64, b: f64) -> Stroke {
+        match self.cubic() {
+            Some(c) => Stroke::along(self.kind, &c.between_lengths(a, b), self.line),
+            None => {
+                let len = self.length();
+                let u = (self.to - self.from) / len;
+                Stroke {
+                    from: self.from + u * a,
+                    to: self.from + u * b,
+                    ..*self
+                }
+            }
+        }
+    }
+
+    /// The stroke with `f` applied to its points (exact for an affine `f`).
+    pub fn mapped(&self, f: impl Fn(Vec2) -> Vec2) -> Stroke {
+        Stroke {
+            from: f(self.from),
+            to: f(self.to),
+            bend: self.bend.map(|[c1, c2]| [f(c1), f(c2)]),
+            ..*self
         }
     }
 }

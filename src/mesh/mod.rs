@@ -4,6 +4,7 @@
 //! `−π` (Tachi 2010, §2). The FOLD convention (degrees, valley positive) is converted in
 //! [`crate::io`] and nowhere else.
 
+mod chains;
 mod cuts;
 mod error;
 mod info;
@@ -12,6 +13,7 @@ mod topology;
 mod triangulate;
 mod union_find;
 
+pub use chains::{crease_chains, curve_runs, run_edges, turn, CreaseChain, CORNER};
 pub use cuts::split_along_cuts;
 pub use error::MeshError;
 pub use info::MeshInfo;

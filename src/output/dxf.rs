@@ -1,6 +1,7 @@
 //! DXF for laser cutters and CAD: AutoCAD R12 ASCII, the dialect every program reads.
 //! Millimetres, one LINE entity per stroke of the toolpath (a dash is its own segment:
-//! laser software draws a dashed line style solid), on a layer per operation (CUT,
+//! laser software draws a dashed line style solid; a dash of a curved crease is a
+//! POLYLINE through chords within 0.005 mm of its curve), on a layer per operation (CUT,
 //! MOUNTAIN, VALLEY, FLAT; only those the sheet has) in the colour every file gives it
 //! ([`super::colour`]), so each operation gets its own power and speed.
 
@@ -67,6 +68,27 @@ pub fn to_string(toolpath: &Toolpath) -> String {
     pair(2, "ENTITIES");
     for s in &toolpath.strokes {
         let (layer, _) = layer_of(s.kind);
+        if s.bend.is_some() {
+            // A dash of a curved crease: an R12 POLYLINE through its chords (LWPOLYLINE
+            // and SPLINE came later, and R12 readers skip them).
+            pair(0, "POLYLINE");
+            pair(8, layer);
+            pair(66, "1");
+            pair(10, "0.0");
+            pair(20, "0.0");
+            pair(30, "0.0");
+            pair(70, "0");
+            for p in s.polyline() {
+                pair(0, "VERTEX");
+                pair(8, layer);
+                pair(10, &num(p.x));
+                pair(20, &num(p.y));
+                pair(30, "0.0");
+            }
+            pair(0, "SEQEND");
+            pair(8, layer);
+            continue;
+        }
         pair(0, "LINE");
         pair(8, layer);
         pair(10, &num(s.from.x));

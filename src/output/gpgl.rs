@@ -194,16 +194,16 @@ fn set_tool(out: &mut String, current: &mut ToolState, t: &ToolSetting, blade_of
 
 /// The toolpath as runs of joined strokes of one kind, (kind, points), in the toolpath's
 /// cutting order: only strokes that follow each other join, so the job cuts as routed.
+/// A bent stroke goes as its chords.
 fn runs_in_cutting_order(path: &Toolpath) -> Vec<(LineKind, Vec<crate::mesh::Vec2>)> {
     let mut runs: Vec<(LineKind, Vec<crate::mesh::Vec2>)> = Vec::new();
     for s in &path.strokes {
+        let points = s.polyline();
         match runs.last_mut() {
-            Some((kind, points))
-                if *kind == s.kind && (points[points.len() - 1] - s.from).norm() < 1e-9 =>
-            {
-                points.push(s.to)
+            Some((kind, run)) if *kind == s.kind && (run[run.len() - 1] - s.from).norm() < 1e-9 => {
+                run.extend_from_slice(&points[1..])
             }
-            _ => runs.push((s.kind, vec![s.from, s.to])),
+            _ => runs.push((s.kind, points)),
         }
     }
     runs

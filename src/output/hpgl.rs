@@ -64,7 +64,9 @@ pub fn to_string(path: &Toolpath, settings: &HpglSettings) -> Result<String, Str
             }
             tool = Some(s.kind);
         }
-        let (from, to) = (pos(s.from), pos(s.to));
+        // A bent stroke goes as its chords (HP-GL/1 has arcs only of circles).
+        let points: Vec<_> = s.polyline().into_iter().map(pos).collect();
+        let from = points[0];
         if from != at {
             if pen_down_open {
                 out.push(';');
@@ -72,17 +74,19 @@ pub fn to_string(path: &Toolpath, settings: &HpglSettings) -> Result<String, Str
             }
             let _ = write!(out, "PU{},{};", from.0 - at.0, from.1 - at.1);
         }
-        if to == from {
-            at = from;
-            continue; // shorter than a plotter unit
+        at = from;
+        for &to in &points[1..] {
+            if to == at {
+                continue; // shorter than a plotter unit
+            }
+            if pen_down_open {
+                let _ = write!(out, ",{},{}", to.0 - at.0, to.1 - at.1);
+            } else {
+                let _ = write!(out, "PD{},{}", to.0 - at.0, to.1 - at.1);
+                pen_down_open = true;
+            }
+            at = to;
         }
-        if pen_down_open {
-            let _ = write!(out, ",{},{}", to.0 - from.0, to.1 - from.1);
-        } else {
-            let _ = write!(out, "PD{},{}", to.0 - from.0, to.1 - from.1);
-            pen_down_open = true;
-        }
-        at = to;
     }
     if pen_down_open {
         out.push(';');
@@ -224,9 +228,15 @@ pub fn expected_segments(
     };
     path.strokes
         .iter()
-        .filter_map(|s: &Stroke| {
-            let (a, b) = (pos(s.from), pos(s.to));
-            (a != b).then(|| (settings.tools[&s.kind].pen, a, b))
+        .flat_map(|s: &Stroke| {
+            let pen = settings.tools[&s.kind].pen;
+            let points: Vec<[i64; 2]> = s.polyline().into_iter().map(pos).collect();
+            let segments: Vec<_> = points
+                .windows(2)
+                .filter(|w| w[0] != w[1])
+                .map(|w| (pen, w[0], w[1]))
+                .collect();
+            segments
         })
         .collect()
 }

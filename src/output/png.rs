@@ -62,8 +62,14 @@ pub fn sheet(path: &Toolpath) -> Result<Vec<u8>, String> {
         let mut pb = PathBuilder::new();
         for st in path.strokes.iter().filter(|st| st.kind == kind) {
             // The sheet's y grows up, the picture's down.
-            pb.move_to((st.from.x * s) as f32, (h - st.from.y * s) as f32);
-            pb.line_to((st.to.x * s) as f32, (h - st.to.y * s) as f32);
+            let px = |p: crate::mesh::Vec2| ((p.x * s) as f32, (h - p.y * s) as f32);
+            let (x, y) = px(st.from);
+            pb.move_to(x, y);
+            let (x, y) = px(st.to);
+            match st.bend.map(|c| c.map(px)) {
+                Some([(x1, y1), (x2, y2)]) => pb.cubic_to(x1, y1, x2, y2, x, y),
+                None => pb.line_to(x, y),
+            }
         }
         if let Some(p) = pb.finish() {
             let colour = super::colour::rgb(kind);

@@ -81,7 +81,17 @@ pub fn print_then_cut_to_string(
     for kind in LineKind::ALL {
         let mut d = String::new();
         for l in sheet.lines.iter().filter(|l| l.kind == kind) {
-            let _ = write!(d, "M{} L{} ", xy(l.a), xy(l.b));
+            let _ = write!(d, "M{} ", xy(l.a));
+            match &l.curve {
+                Some(curve) => {
+                    for c in curve.pieces() {
+                        let _ = write!(d, "C{} {} {} ", xy(c.c1), xy(c.c2), xy(c.p3));
+                    }
+                }
+                None => {
+                    let _ = write!(d, "L{} ", xy(l.b));
+                }
+            }
         }
         if !d.is_empty() {
             print = print.add(
@@ -186,19 +196,27 @@ fn with_layers(mut doc: Document, path: &Toolpath, width: f64, layers: Layers) -
     doc
 }
 
-/// SVG path data for strokes: joined strokes become one subpath (`M … L …`), a subpath
-/// that returns to its start is closed (`Z`). The sheet's y grows up, SVG's down.
+/// SVG path data for strokes: joined strokes become one subpath (`M … L …`, a bent
+/// stroke a cubic `C`), a subpath that returns to its start is closed (`Z`). The sheet's
+/// y grows up, SVG's down.
 fn path_data(strokes: &[&Stroke], h: f64) -> String {
     let mut d = String::new();
-    let point = |d: &mut String, op: char, p: Vec2| {
-        let _ = write!(d, "{op}{} {} ", round(p.x), round(h - p.y));
-    };
+    let xy = |p: Vec2| format!("{} {}", round(p.x), round(h - p.y));
     for chain in chains(strokes) {
-        let closed = chain.len() > 2 && (chain[0] - chain[chain.len() - 1]).norm() < 1e-6;
-        point(&mut d, 'M', chain[0]);
-        let last = if closed { chain.len() - 1 } else { chain.len() };
-        for &p in &chain[1..last] {
-            point(&mut d, 'L', p);
+        let first = chain[0].from;
+        let closed = chain.len() > 1 && (first - chain[chain.len() - 1].to).norm() < 1e-6;
+        let _ = write!(d, "M{} ", xy(first));
+        for (i, s) in chain.iter().enumerate() {
+            match s.bend {
+                Some([c1, c2]) => {
+                    let _ = write!(d, "C{} {} {} ", xy(c1), xy(c2), xy(s.to));
+                }
+                // A straight closing stroke is the `Z` itself.
+                None if closed && i == chain.len() - 1 => {}
+                None => {
+                    let _ = write!(d, "L{} ", xy(s.to));
+                }
+            }
         }
         if closed {
             d.push_str("Z ");
@@ -217,8 +235,9 @@ fn round(v: f64) -> f64 {
     }
 }
 
-/// Strokes joined end to end, in either direction, into runs of points.
-fn chains(strokes: &[&Stroke]) -> Vec<Vec<Vec2>> {
+/// Strokes joined end to end, in either direction, into runs, each stroke turned to run
+/// on from the one before.
+fn chains(strokes: &[&Stroke]) -> Vec<Vec<Stroke>> {
     let key = |p: Vec2| ((p.x * 1e6).round() as i64, (p.y * 1e6).round() as i64);
     let mut at: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
     for (i, s) in strokes.iter().enumerate() {
@@ -226,11 +245,16 @@ fn chains(strokes: &[&Stroke]) -> Vec<Vec<Vec2>> {
         at.entry(key(s.to)).or_default().push(i);
     }
     let mut used = vec![false; strokes.len()];
-    let next_from = |p: Vec2, used: &mut Vec<bool>| -> Option<Vec2> {
+    // An unused stroke with an end at `p`, turned to start there.
+    let next_from = |p: Vec2, used: &mut Vec<bool>| -> Option<Stroke> {
         let i = *at.get(&key(p))?.iter().find(|&&i| !used[i])?;
         used[i] = true;
-        let s = strokes[i];
-        Some(if key(s.from) == key(p) { s.to } else { s.from })
+        let s = *strokes[i];
+        Some(if key(s.from) == key(p) {
+            s
+        } else {
+            s.reversed()
+        })
     };
     let mut out = Vec::new();
     for i in 0..strokes.len() {
@@ -238,16 +262,16 @@ fn chains(strokes: &[&Stroke]) -> Vec<Vec<Vec2>> {
             continue;
         }
         used[i] = true;
-        let mut chain = vec![strokes[i].from, strokes[i].to];
-        while let Some(p) = next_from(chain[chain.len() - 1], &mut used) {
-            chain.push(p);
+        let mut chain = vec![*strokes[i]];
+        while let Some(s) = next_from(chain[chain.len() - 1].to, &mut used) {
+            chain.push(s);
         }
         // Strokes before this one in the run: walk back from its start.
         let mut before = Vec::new();
-        let mut cursor = chain[0];
-        while let Some(p) = next_from(cursor, &mut used) {
-            before.push(p);
-            cursor = p;
+        let mut cursor = chain[0].from;
+        while let Some(s) = next_from(cursor, &mut used) {
+            cursor = s.to;
+            before.push(s.reversed());
         }
         if !before.is_empty() {
             before.reverse();

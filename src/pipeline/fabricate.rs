@@ -283,6 +283,7 @@ fn panel_files(gaps: &crate::fab::hinge::HingeGaps, media: &crate::fab::Media) -
                 from: p.outline[i],
                 to: p.outline[(i + 1) % k],
                 line: n,
+                bend: None,
             })
         })
         .collect();
@@ -624,11 +625,7 @@ fn sides(
     let back = options.mountains_from_back.then(|| {
         let mirrored: Vec<_> = back
             .iter()
-            .map(|s| crate::fab::Stroke {
-                from: registration::mirrored(media.width, s.from),
-                to: registration::mirrored(media.width, s.to),
-                ..*s
-            })
+            .map(|s| s.mapped(|p| registration::mirrored(media.width, p)))
             .collect();
         let mut strokes = marks(registration::back_centres(media, margin));
         strokes.extend(route(&mirrored, tools));

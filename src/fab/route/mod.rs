@@ -39,7 +39,8 @@ fn tool_groups(strokes: &[Stroke], tools: &BTreeMap<LineKind, ToolSetting>) -> V
 }
 
 /// A crease's strokes in order along it, all pointing the same way: the pen goes down
-/// the line dash by dash, so the tour orders whole lines.
+/// the line dash by dash, so the tour orders whole lines. A curved line's strokes come
+/// from scoring in order along it, pointing along it (no one direction orders a curve).
 fn chains(group: &[Stroke]) -> Vec<Vec<Stroke>> {
     let mut by_line: BTreeMap<usize, Vec<Stroke>> = BTreeMap::new();
     for s in group {
@@ -48,6 +49,9 @@ fn chains(group: &[Stroke]) -> Vec<Vec<Stroke>> {
     by_line
         .into_values()
         .map(|mut chain| {
+            if chain.iter().any(|s| s.bend.is_some()) {
+                return chain;
+            }
             let d = chain.iter().fold(Vec2::zeros(), |d, s| {
                 let v = s.to - s.from;
                 if v.dot(&d) < 0.0 {
@@ -82,6 +86,7 @@ pub fn route(strokes: &[Stroke], tools: &BTreeMap<LineKind, ToolSetting>) -> Vec
                 from: c[0].from,
                 to: c[c.len() - 1].to,
                 line: i,
+                bend: None,
                 ..c[0]
             })
             .collect();
@@ -290,12 +295,7 @@ mod tests {
     }
 
     fn s(x0: f64, y0: f64, x1: f64, y1: f64) -> Stroke {
-        Stroke {
-            kind: LineKind::Valley,
-            from: Vec2::new(x0, y0),
-            to: Vec2::new(x1, y1),
-            line: 0,
-        }
+        Stroke::straight(LineKind::Valley, Vec2::new(x0, y0), Vec2::new(x1, y1), 0)
     }
 
     #[test]

@@ -58,6 +58,46 @@ fn line(a: (f64, f64), b: (f64, f64)) -> Op {
     }
 }
 
+/// A path from `start` through `steps`: each to its point, straight or along a cubic
+/// with the given inner control points (printpdf marks control points `bezier`).
+fn path(start: Vec2, steps: impl IntoIterator<Item = (Vec2, Option<[Vec2; 2]>)>) -> Op {
+    let p = |v: Vec2, bezier: bool| LinePoint {
+        p: Point::new(Mm(v.x as f32), Mm(v.y as f32)),
+        bezier,
+    };
+    let mut points = vec![p(start, false)];
+    for (to, bend) in steps {
+        if let Some([c1, c2]) = bend {
+            points.extend([p(c1, true), p(c2, true)]);
+        }
+        points.push(p(to, false));
+    }
+    Op::DrawLine {
+        line: Line {
+            points,
+            is_closed: false,
+        },
+    }
+}
+
+/// A stroke moved by `shift`: a segment, or its cubic.
+fn stroke(s: &crate::fab::Stroke, shift: Vec2) -> Op {
+    let s = s.mapped(|p| p + shift);
+    path(s.from, [(s.to, s.bend)])
+}
+
+/// A sheet line moved by `shift`: a segment, or its curve's cubics.
+fn crease_line(l: &crate::fab::CreaseLine, shift: Vec2) -> Op {
+    let l = l.mapped(|p| p + shift);
+    match &l.curve {
+        Some(curve) => path(
+            l.a,
+            curve.pieces().iter().map(|c| (c.p3, Some([c.c1, c.c2]))),
+        ),
+        None => path(l.a, [(l.b, None)]),
+    }
+}
+
 fn text(ops: &mut Vec<Op>, x: f64, y: f64, size: f32, s: &str) {
     ops.extend([
         Op::StartTextSection,

@@ -1,7 +1,7 @@
 //! The page a print-and-cut sheet is printed from ([`crate::fab::print_and_cut`]).
 
 use super::template::as_cut_page;
-use super::{filled, line, rgb, save, solid_black, style, text, SCALE_BAR_MM};
+use super::{crease_line, filled, line, rgb, save, solid_black, style, text, SCALE_BAR_MM};
 use crate::fab::{LineKind, Sheet, Toolpath};
 use crate::mesh::Vec2;
 use printpdf::{Mm, Op, PdfPage, Pt};
@@ -47,7 +47,7 @@ pub fn to_bytes_print(sheet: &Sheet, title: &str, print: &PrintPage, cut: &Toolp
         ops.push(Op::SetOutlineColor { col });
         ops.push(Op::SetLineDashPattern { dash });
         for l in sheet.lines.iter().filter(|l| l.kind == kind) {
-            ops.push(line((l.a.x, l.a.y), (l.b.x, l.b.y)));
+            ops.push(crease_line(l, Vec2::zeros()));
         }
     }
     if let Some(frame) = print.frame {

@@ -2,7 +2,7 @@
 //! bar, a legend, the title and the run's summary; a two-sided job's page of steps; a
 //! sheet too large tiled over pages; and the page as cut.
 
-use super::{cross, line, save, solid_black, style, text, wrap, SCALE_BAR_MM};
+use super::{crease_line, cross, line, save, solid_black, stroke, style, text, wrap, SCALE_BAR_MM};
 use crate::fab::{LineKind, Media, Sheet, Toolpath};
 use crate::mesh::Vec2;
 use printpdf::{Mm, Op, PdfPage, Pt};
@@ -109,8 +109,19 @@ fn pattern_ops(sheet: &Sheet, shift: Vec2, window: (Vec2, Vec2), flat: bool) -> 
         ops.push(Op::SetOutlineColor { col });
         ops.push(Op::SetLineDashPattern { dash });
         for l in sheet.lines.iter().filter(|l| l.kind == kind) {
-            if let Some((a, b)) = clip(l.a + shift, l.b + shift, window) {
-                ops.push(line((a.x, a.y), (b.x, b.y)));
+            let points: Vec<Vec2> = l.polyline().into_iter().map(|p| p + shift).collect();
+            let inside = |p: &Vec2| {
+                p.x >= window.0.x && p.y >= window.0.y && p.x <= window.1.x && p.y <= window.1.y
+            };
+            if l.curve.is_some() && points.iter().all(inside) {
+                // A curve wholly on the page is drawn as its cubics, else chord by chord.
+                ops.push(crease_line(l, shift));
+                continue;
+            }
+            for w in points.windows(2) {
+                if let Some((a, b)) = clip(w[0], w[1], window) {
+                    ops.push(line((a.x, a.y), (b.x, b.y)));
+                }
             }
         }
     }
@@ -282,8 +293,7 @@ pub(super) fn as_cut_page(path: &Toolpath, paper: &Paper) -> PdfPage {
         let (col, _) = style(kind);
         ops.push(Op::SetOutlineColor { col });
         for s in path.strokes.iter().filter(|s| s.kind == kind) {
-            let (a, b) = (s.from + paper.shift, s.to + paper.shift);
-            ops.push(line((a.x, a.y), (b.x, b.y)));
+            ops.push(stroke(s, paper.shift));
         }
     }
     let (lo, hi) = stroke_bounds(path, paper.shift);
