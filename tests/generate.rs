@@ -485,3 +485,55 @@ fn the_pleat_is_a_ruled_strip_reflected_crease_by_crease_to_1e_9() {
             .any(|f| f.name == "smoothness" && f.rows > 0));
     }
 }
+
+#[test]
+fn fold_files_name_the_edges_of_each_curved_crease_and_read_back_unchanged() {
+    // FOLD has no curved edges: the chords stay edges, and `crease:curves` lists, per
+    // curved crease, its edges in order along it. Written from the mesh each time, so a
+    // file read and written again is the same bytes (the field is not carried twice).
+    for kind in [
+        PatternKind::Arc,
+        PatternKind::Concentric,
+        PatternKind::Miura,
+    ] {
+        let params = Params::defaults(kind);
+        let mesh = generate(&params).unwrap();
+        let text = crease::io::fold::to_string(&mesh);
+        let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let listed = json
+            .get("crease:curves")
+            .map(|c| c.as_array().unwrap().clone());
+        // One arc; a circle between every two of the `ny` strips; no curve in a Miura-ori.
+        let expected = match kind {
+            PatternKind::Arc => 1,
+            PatternKind::Concentric => params.ny - 1,
+            _ => 0,
+        };
+        assert_eq!(listed.as_ref().map_or(0, Vec::len), expected, "{kind:?}");
+        let ends: Vec<[usize; 2]> = serde_json::from_value(json["edges_vertices"].clone()).unwrap();
+        let letters: Vec<String> =
+            serde_json::from_value(json["edges_assignment"].clone()).unwrap();
+        for curve in listed.into_iter().flatten() {
+            let edges: Vec<usize> = serde_json::from_value(curve).unwrap();
+            assert!(edges.len() >= 2);
+            // One fold type, each edge sharing a vertex with the next.
+            assert!(edges.iter().all(|&e| letters[e] == letters[edges[0]]));
+            assert!(matches!(letters[edges[0]].as_str(), "M" | "V"));
+            for w in edges.windows(2) {
+                let (a, b) = (ends[w[0]], ends[w[1]]);
+                assert!(
+                    a.iter().any(|v| b.contains(v)),
+                    "{kind:?}: {a:?} then {b:?}"
+                );
+            }
+        }
+        let dir =
+            std::env::temp_dir().join(format!("crease-generate-curves-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join(format!("{kind:?}.fold"));
+        std::fs::write(&file, &text).unwrap();
+        let again = crease::io::fold::to_string(&crease::io::read(&file).unwrap());
+        assert_eq!(again, text, "{kind:?}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

@@ -74,7 +74,7 @@ pub(super) fn keep_file_numbering(mut parts: MeshParts, file: &[Vec2]) -> MeshPa
 }
 
 /// Top-level fields crease reads itself; everything else is carried through.
-const MODELLED: [&str; 18] = [
+const MODELLED: [&str; 19] = [
     "file_spec",
     "file_creator",
     "file_classes",
@@ -93,6 +93,7 @@ const MODELLED: [&str; 18] = [
     "crease:lockTopology",
     "crease:coincidentVertices",
     "crease:coordinatePrecision",
+    "crease:curves",
 ];
 
 /// The top-level fields a source record keeps (those crease does not model, and frame

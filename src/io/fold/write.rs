@@ -257,6 +257,26 @@ fn write_edges(w: &mut Fields, mesh: &Mesh, faces: &Faces) {
         per_edge(&|e| num(angle_to_fold(mesh.edges()[e].target))),
     );
     w.field("crease:alpha", per_edge(&|e| num(mesh.edges()[e].alpha)));
+    // FOLD has no curved edges (fold#15): a curved crease stays its chords, and which
+    // edges form one curve, in order along it, is said here (derived on every write, so
+    // never stale).
+    if let Some(flat) = mesh.flat() {
+        let index: std::collections::HashMap<usize, usize> =
+            edges.iter().enumerate().map(|(i, &e)| (e, i)).collect();
+        let curves: Vec<String> = crate::mesh::curve_runs(mesh, flat)
+            .iter()
+            .filter_map(|run| {
+                let along: Option<Vec<usize>> = crate::mesh::run_edges(mesh, run)
+                    .iter()
+                    .map(|e| index.get(e).copied())
+                    .collect();
+                along.map(|a| id_list(&a))
+            })
+            .collect();
+        if !curves.is_empty() {
+            w.field("crease:curves", list(curves));
+        }
+    }
 }
 
 /// The faces written: polygons merged back across flat synthetic edges.
