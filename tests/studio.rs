@@ -503,6 +503,70 @@ fn frames_send_only_the_parts_a_page_lacks_and_show_the_flat_folded_state() {
 }
 
 #[test]
+fn the_crease_pattern_pane_gets_a_curved_crease_as_one_smooth_curve_through_its_chords() {
+    // The pane drew a curved crease as its chords. The frame now carries the smooth curve
+    // the cutter scores: cubics from the chain's first vertex through each of the others
+    // in order, tangent-continuous, in place of exactly the chain's edges.
+    let hub = fresh_hub();
+    json_call(&hub, "POST", "/api/generate", json!({"pattern": "arc"}));
+    let f = frame_with_pattern(&hub);
+    let cp: Vec<f64> = serde_json::from_value(f["pattern"]["creasePattern"].clone()).unwrap();
+    let point = |v: usize| crease::mesh::Vec2::new(cp[2 * v], cp[2 * v + 1]);
+    let curves = f["pattern"]["curves"].as_array().unwrap();
+    assert_eq!(curves.len(), 1, "the arc has one curved crease");
+    let curve = &curves[0];
+    assert_eq!(curve["kind"], "M");
+    let edges: Vec<usize> = serde_json::from_value(curve["edges"].clone()).unwrap();
+    let topo = f["topology"]["edges"].as_array().unwrap();
+    // The edges walk a chain of mountain creases, each starting where the last ended.
+    let ends: Vec<[usize; 2]> = edges
+        .iter()
+        .map(|&e| {
+            [
+                topo[e][0].as_u64().unwrap() as usize,
+                topo[e][1].as_u64().unwrap() as usize,
+            ]
+        })
+        .collect();
+    assert!(edges.iter().all(|&e| topo[e][2] == "M"));
+    let start: Vec<f64> = serde_json::from_value(curve["start"].clone()).unwrap();
+    let mut at = if (point(ends[0][0]) - crease::mesh::Vec2::new(start[0], start[1])).norm() < 1e-3
+    {
+        ends[0][0]
+    } else {
+        ends[0][1]
+    };
+    let pieces: Vec<f64> = serde_json::from_value(curve["pieces"].clone()).unwrap();
+    assert_eq!(pieces.len(), 6 * edges.len(), "one cubic per chord");
+    let mut from = crease::mesh::Vec2::new(start[0], start[1]);
+    let mut previous_tangent: Option<crease::mesh::Vec2> = None;
+    for (k, [a, b]) in ends.iter().enumerate() {
+        assert!(
+            at == *a || at == *b,
+            "edge {k} does not go on from vertex {at}"
+        );
+        at = if at == *a { *b } else { *a };
+        let q = &pieces[6 * k..6 * k + 6];
+        let (c1, c2, to) = (
+            crease::mesh::Vec2::new(q[0], q[1]),
+            crease::mesh::Vec2::new(q[2], q[3]),
+            crease::mesh::Vec2::new(q[4], q[5]),
+        );
+        assert!(
+            (to - point(at)).norm() < 1e-3,
+            "cubic {k} ends on the chain's vertex"
+        );
+        if let Some(t) = previous_tangent {
+            let here = (c1 - from).normalize();
+            assert!((here - t).norm() < 1e-3, "a kink at vertex {k}");
+        }
+        previous_tangent = Some((to - c2).normalize());
+        from = to;
+    }
+    hub.stop();
+}
+
+#[test]
 fn a_drag_on_the_flat_sheet_folds_it_a_little_first_and_can_be_undone() {
     let mut p = Params::defaults(PatternKind::Waterbomb);
     p.fold = None;

@@ -169,7 +169,25 @@ pub fn pattern_json(mesh: &Mesh, pattern: Option<&[Vec2]>) -> String {
             Err(e) => json!({"reason": e.to_string()}),
         },
     };
-    json!({"creasePattern": cp, "xray": xray}).to_string()
+    // Curved creases as the smooth curves fabrication scores: cubics from `start`, each
+    // (c1, c2, end); the page draws them in place of their chords.
+    let curves: Vec<Value> = pattern
+        .map(|p| {
+            crate::fab::smooth_creases(mesh, p)
+                .iter()
+                .map(|c| {
+                    let start = c.curve.pieces()[0].p0;
+                    json!({
+                        "kind": kind_name(c.kind),
+                        "edges": c.edges,
+                        "start": [micro(start.x), micro(start.y)],
+                        "pieces": flat2(c.curve.pieces().iter().flat_map(|q| [q.c1, q.c2, q.p3])),
+                    })
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    json!({"creasePattern": cp, "xray": xray, "curves": curves}).to_string()
 }
 
 /// The parts of the live frame.

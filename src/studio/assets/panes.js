@@ -30,15 +30,31 @@ export class PatternPane {
     const cp = model.pattern && model.pattern.creasePattern;
     if (!cp || !model.topology) return;
     const { ctx, at } = fit(this.canvas, cp);
+    // A curved crease is drawn as its smooth curve (the one the cutter scores), not as
+    // the chords the mesh holds.
+    const curves = model.pattern.curves || [];
+    const onCurve = new Set(curves.flatMap((c) => c.edges));
     // Flat lines first, so mountains and valleys stay on top.
     const order = { F: 0, B: 1, V: 2, M: 2 };
-    const edges = [...model.topology.edges].sort((a, b) => order[a[2]] - order[b[2]]);
+    const edges = model.topology.edges
+      .filter((_, i) => !onCurve.has(i))
+      .sort((a, b) => order[a[2]] - order[b[2]]);
     ctx.lineWidth = 1.2;
     for (const [a, b, kind] of edges) {
       ctx.strokeStyle = CSS[kind] || CSS.F;
       ctx.beginPath();
       ctx.moveTo(...at(cp[2 * a], cp[2 * a + 1]));
       ctx.lineTo(...at(cp[2 * b], cp[2 * b + 1]));
+      ctx.stroke();
+    }
+    for (const c of curves) {
+      ctx.strokeStyle = CSS[c.kind] || CSS.F;
+      ctx.beginPath();
+      ctx.moveTo(...at(c.start[0], c.start[1]));
+      const p = c.pieces;
+      for (let i = 0; i + 5 < p.length; i += 6) {
+        ctx.bezierCurveTo(...at(p[i], p[i + 1]), ...at(p[i + 2], p[i + 3]), ...at(p[i + 4], p[i + 5]));
+      }
       ctx.stroke();
     }
   }
