@@ -231,7 +231,10 @@ fn each_shipped_material_sets_dash_force_and_clearance_as_its_file_says() {
             ..Default::default()
         };
         let out = crease::pipeline::fabricate(&mesh, &machine, &options).unwrap();
-        assert_eq!(out.report["sheet"]["material"], material.name.as_str());
+        assert_eq!(
+            out.report.sheet.material.as_deref(),
+            Some(material.name.as_str())
+        );
         for (kind, [cut, gap]) in [
             (LineKind::Mountain, material.dash.mountain),
             (LineKind::Valley, material.dash.valley),
@@ -391,9 +394,13 @@ fn thick_board_is_cut_as_panels_set_back_from_each_valley_by_half_its_gap() {
         *ends.entry(key(*b)).or_insert(0) += 1;
     }
     assert!(ends.values().all(|&n| n % 2 == 0), "an open outline");
-    let hinge = &out.report["hinge"];
-    assert_eq!(hinge["thickness_mm"], h);
-    let panels = hinge["panels"].as_u64().unwrap() as usize;
+    let hinge = out.report.hinge.as_ref().unwrap();
+    assert_eq!(hinge.thickness_mm, h);
+    let panels = hinge.panels;
+    // report.json reads back as the report written, hinge and all.
+    let text = &out.files.iter().find(|f| f.0 == "report.json").unwrap().1;
+    let read = crease::pipeline::FabReport::from_text(std::str::from_utf8(text).unwrap());
+    assert_eq!(read.unwrap(), out.report);
     assert!(panels > 20, "{panels} panels");
     // DXF's y grows up, as the sheet's does. The gap along a fold is measured from its
     // midpoint: at its ends other panels come to the vertex.
@@ -434,13 +441,8 @@ fn thick_board_is_cut_as_panels_set_back_from_each_valley_by_half_its_gap() {
                 );
                 // A straight valley line takes the largest gap among its edges.
                 exact += usize::from(closest <= gap / 2.0 + 1e-3);
-                let reported = hinge["folds"]
-                    .as_array()
-                    .unwrap()
-                    .iter()
-                    .find(|f| f["edge"] == e)
-                    .unwrap();
-                assert!((reported["gap_mm"].as_f64().unwrap() - gap).abs() < 1e-6);
+                let reported = hinge.folds.iter().find(|f| f.edge == e).unwrap();
+                assert!((reported.gap_mm - gap).abs() < 1e-6);
             }
             LineKind::Mountain => {
                 mountains += 1;
@@ -473,5 +475,5 @@ fn thick_board_is_cut_as_panels_set_back_from_each_valley_by_half_its_gap() {
         crease::pipeline::fabricate(&mesh, &Machine::load("generic-hpgl").unwrap(), &options)
             .unwrap();
     assert!(plain.files.iter().all(|f| f.0 != "panels.dxf"));
-    assert!(plain.report["hinge"].is_null());
+    assert!(plain.report.hinge.is_none());
 }

@@ -27,16 +27,16 @@ fn every_fold_is_scored_or_named_in_the_report() {
             .iter()
             .chain(out.back.iter().flat_map(|b| &b.strokes))
             .collect();
-        let listed = out.report["sheet"]["unscored_creases"].as_array().unwrap();
+        let listed = &out.report.sheet.unscored_creases;
         for (i, line) in out.sheet.lines.iter().enumerate() {
             if !matches!(line.kind, LineKind::Mountain | LineKind::Valley) {
                 continue;
             }
             let scored = strokes.iter().any(|s| s.line == i);
             let in_report = listed.iter().any(|u| {
-                u["kind"] == line.kind.name()
-                    && (u["length_mm"].as_f64().unwrap() - line.length()).abs() < 1e-9
-                    && (u["from_mm"][0].as_f64().unwrap() - line.a.x).abs() < 1e-9
+                u.kind == line.kind.name()
+                    && (u.length_mm - line.length()).abs() < 1e-9
+                    && (u.from_mm[0] - line.a.x).abs() < 1e-9
             });
             assert!(
                 scored != in_report,
@@ -183,10 +183,7 @@ fn the_profile_chooses_what_folds_too_short_to_score_get() {
         fabricate(&mesh, &machine, &a3()).unwrap()
     };
     let plain = with("nothing");
-    let short = plain.report["sheet"]["unscored_creases"]
-        .as_array()
-        .unwrap()
-        .clone();
+    let short = plain.report.sheet.unscored_creases.clone();
     assert!(!short.is_empty(), "miura-collapse has short folds");
     let lines_of = |out: &crease::pipeline::FabOutput, i: usize| -> Vec<Stroke> {
         out.toolpath
@@ -207,9 +204,9 @@ fn the_profile_chooses_what_folds_too_short_to_score_get() {
     assert_eq!(short_lines.len(), short.len());
     for (choice, given) in [("dash", "a centred dash"), ("solid", "a solid cut")] {
         let out = with(choice);
-        let listed = out.report["sheet"]["unscored_creases"].as_array().unwrap();
+        let listed = &out.report.sheet.unscored_creases;
         assert_eq!(listed.len(), short.len(), "{choice}: still named");
-        assert!(listed.iter().all(|u| u["given"] == given), "{choice}");
+        assert!(listed.iter().all(|u| u.given == given), "{choice}");
         assert!(
             out.warnings.iter().any(|w| w.contains(given)),
             "{choice}: {:?}",

@@ -184,8 +184,8 @@ fn a_laser_profile_gets_dxf_and_svg_and_no_cutter_job() {
             .any(|n| n.ends_with(".hpgl") || n.ends_with(".gpgl")),
         "{names:?}"
     );
-    assert_eq!(out.report["sheet"]["job_files"], serde_json::json!([]));
-    assert!(out.report["sheet"]["plotter"].is_null());
+    assert_eq!(out.report.sheet.job_files, Some(Vec::new()));
+    assert!(out.report.sheet.plotter.is_none());
 }
 
 #[test]
@@ -532,7 +532,7 @@ fn read_png(bytes: &[u8]) -> (u32, u32, Vec<[u8; 3]>) {
 /// blue) covers what its strokes do at the stated width; the design picture is its
 /// stated size and shows paper and, where the design has them, red and blue creases.
 fn check_previews(out: &crease::pipeline::FabOutput, mesh: &Mesh, what: &str) {
-    let previews = &out.report["previews"];
+    let previews = &out.report.previews;
     let scale = previews["sheet.png"]["px_per_mm"].as_f64().unwrap();
     let width = previews["sheet.png"]["stroke_px"].as_f64().unwrap();
     let (w, h, pixels) = read_png(output(out, "sheet.png"));

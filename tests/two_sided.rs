@@ -179,10 +179,14 @@ fn the_two_jobs_register_through_crosses_both_cut_first() {
             "{steps}"
         );
         assert!(steps.contains("left to right"));
-        let report = &out.report["sheet"]["two_sided"];
-        assert_eq!(report["steps"].as_array().unwrap().len(), out.steps.len());
-        assert_eq!(report["front_marks_mm"].as_array().unwrap().len(), 3);
-        assert!(plain.report["sheet"]["two_sided"].is_null());
+        let report = out.report.sheet.two_sided.as_ref().unwrap();
+        assert_eq!(report.steps, out.steps);
+        assert!(report.front_marks_mm != report.back_marks_mm);
+        assert!(plain.report.sheet.two_sided.is_none());
+        // report.json reads back as the report written, through the one type.
+        let text = &out.files.iter().find(|f| f.0 == "report.json").unwrap().1;
+        let read = crease::pipeline::FabReport::from_text(std::str::from_utf8(text).unwrap());
+        assert_eq!(read.unwrap(), out.report);
         let pdf = &out.files.iter().find(|f| f.0 == "sheet.pdf").unwrap().1;
         let doc = printpdf::PdfDocument::parse(pdf, &Default::default(), &mut Vec::new()).unwrap();
         // Folding template, steps, a page of notes when the pattern leaves the title no

@@ -87,7 +87,7 @@ pub fn fab(args: FabArgs) -> Result<u8, String> {
             removed.join(", ")
         );
     }
-    if result.report["sheet"]["tiled"] == true {
+    if result.report.sheet.tiled {
         eprintln!(
             "{}: the sheet is larger than {}; sheet.pdf is tiled over pages with {} mm overlap and registration marks (no cutter job written)",
             dir.display(),
@@ -132,7 +132,7 @@ fn say_what_was_made(dir: &std::path::Path, result: &crease::pipeline::FabOutput
     eprintln!(
         "{}: {} strokes; {}",
         dir.display(),
-        result.report["sheet"]["strokes"],
+        result.report.sheet.strokes,
         result.job_line
     );
     if !result.steps.is_empty() {
@@ -147,17 +147,11 @@ fn say_what_was_made(dir: &std::path::Path, result: &crease::pipeline::FabOutput
             eprintln!("  {}. {step}", i + 1);
         }
     }
-    let hinge = &result.report["hinge"];
-    if let Some(panels) = hinge["panels"].as_u64() {
-        let widest = hinge["folds"]
-            .as_array()
-            .into_iter()
-            .flatten()
-            .filter_map(|f| f["gap_mm"].as_f64())
-            .fold(0.0, f64::max);
+    if let Some(hinge) = &result.report.hinge {
+        let widest = hinge.folds.iter().map(|f| f.gap_mm).fold(0.0, f64::max);
         eprintln!(
-            "panels.svg, panels.dxf: {panels} panels of {} mm sheet, set back from each valley by half its hinge gap (widest {widest:.1} mm); glue them on a membrane along the scored sheet",
-            hinge["thickness_mm"]
+            "panels.svg, panels.dxf: {} panels of {:?} mm sheet, set back from each valley by half its hinge gap (widest {widest:.1} mm); glue them on a membrane along the scored sheet",
+            hinge.panels, hinge.thickness_mm
         );
     }
     for warning in &result.warnings {

@@ -121,11 +121,14 @@ impl LineSettings {
         let bad = |why: &str| format!("{}: {why}; name the machine with --machine", path.display());
         let json: serde_json::Value =
             serde_json::from_str(&text).map_err(|e| bad(&format!("not JSON ({e})")))?;
-        let sheet = &json["sheet"];
-        let plotter = &sheet["plotter"];
-        let machine = sheet["machine"].as_str().unwrap_or("unnamed");
-        if plotter.is_null() {
-            return match sheet["job_files"].as_array() {
+        // A report of another shape was made before reports named their line.
+        let Ok(report) = serde_json::from_value::<crease::pipeline::FabReport>(json) else {
+            return Ok(None);
+        };
+        let sheet = &report.sheet;
+        let machine = sheet.machine.as_str();
+        let Some(plotter) = &sheet.plotter else {
+            return match &sheet.job_files {
                 // Made before reports named their line.
                 None => Ok(None),
                 Some(files) if files.is_empty() => Err(format!(
@@ -135,28 +138,23 @@ impl LineSettings {
                 Some(files) => Err(format!(
                     "{}: made for {machine}, which takes {} as a file (it is not on a serial port); send it with the cutter's software",
                     folder.display(),
-                    files.iter().filter_map(|f| f.as_str()).collect::<Vec<_>>().join(" and ")
+                    files.join(" and ")
                 )),
             };
-        }
-        let protocol = plotter["protocol"].as_str().unwrap_or("?");
+        };
+        let protocol = plotter.protocol.as_str();
         let language = Language::from_protocol(protocol).ok_or_else(|| {
             bad(&format!(
                 "made for {machine}, whose protocol \"{protocol}\" is not streamed"
             ))
         })?;
-        let number = |k: &str| plotter[k].as_u64().ok_or_else(|| bad(&format!("no {k}")));
         Ok(Some(LineSettings {
             source: format!("the job's machine ({machine}, from report.json)"),
             language,
-            device: plotter["connection"].as_str() == Some("usb"),
-            baud: u32::try_from(number("baud")?).map_err(|_| bad("baud out of range"))?,
-            flow: plotter["flow_control"]
-                .as_str()
-                .ok_or_else(|| bad("no flow_control"))?
-                .to_string(),
-            buffer: usize::try_from(number("buffer_bytes")?)
-                .map_err(|_| bad("buffer out of range"))?,
+            device: plotter.connection == "usb",
+            baud: plotter.baud,
+            flow: plotter.flow_control.clone(),
+            buffer: plotter.buffer_bytes,
         }))
     }
 }
@@ -377,11 +375,11 @@ fn back_side_next(job_path: &Path, port: &Path) -> Option<String> {
     let name = job_path.file_name()?.to_str()?;
     let extension = name.strip_prefix("sheet.")?;
     let folder = job_path.parent()?;
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(folder.join("report.json")).ok()?).ok()?;
-    if report["sheet"]["two_sided"].is_null() {
-        return None;
-    }
+    let text = std::fs::read_to_string(folder.join("report.json")).ok()?;
+    crease::pipeline::FabReport::from_text(&text)
+        .ok()?
+        .sheet
+        .two_sided?;
     let back = folder.join(format!("sheet-back.{extension}"));
     back.is_file().then(|| {
         format!(

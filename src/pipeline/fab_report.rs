@@ -2,6 +2,7 @@
 //! section, the summary printed by `fab` and on the PDF, and the PDF itself.
 
 use super::fab_options::{FabOptions, TILE_OVERLAP_MM};
+use super::report_json::{MediaReport, PlotterReport, SheetReport, TwoSidedReport, UnscoredCrease};
 use crate::fab::{Media, Sheet, ShortFolds, Toolpath};
 use crate::plotter::Machine;
 use std::collections::BTreeMap;
@@ -74,57 +75,68 @@ impl<'a> Run<'a> {
     }
 
     /// `report.json`'s `sheet` section.
-    pub fn sheet_json(&self, f: &Figures) -> serde_json::Value {
+    pub fn sheet_report(&self, f: &Figures) -> SheetReport {
         let (machine, sheet, media) = (self.machine, self.sheet, &self.sheet.media);
-        let line = machine.serial_line();
         let marks = |centres: [crate::mesh::Vec2; 3]| centres.map(|p| [p.x, p.y]);
-        serde_json::json!({
-            "machine": machine.name,
-            "material": machine.material,
+        let names = |m: &BTreeMap<&str, f64>| m.iter().map(|(k, v)| (k.to_string(), *v)).collect();
+        SheetReport {
+            machine: machine.name.clone(),
+            material: machine.material.clone(),
             // What `crease plot` needs to stream this job to the machine it was made for.
-            "plotter": line.as_ref().filter(|_| !self.jobs_written.is_empty()).map(|l| serde_json::json!({
-                "protocol": machine.protocol,
-                "connection": machine.connection,
-                "baud": l.baud,
-                "flow_control": l.flow_control,
-                "buffer_bytes": l.buffer_bytes,
-            })),
-            "media": {"name": media.name, "width_mm": media.width, "height_mm": media.height},
-            "size_mm": sheet.size,
-            "scale": sheet.scale,
-            "rotation_deg": sheet.rotation.to_degrees(),
-            "line_length_mm": f.line_length,
-            "cut_length_mm": f.cut_length,
-            "strokes": self.jobs.iter().map(|j| j.strokes.len()).sum::<usize>(),
-            "pen_up_travel_mm": f.travel,
-            "job_files": self.jobs_written.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>(),
-            "job_bytes": f.job_bytes,
-            "estimated_plot_time_s": f.estimate,
-            "motion_time_s": f.motion,
-            "transfer_time_s": f.transfer,
-            "isometry_max_relative_error": self.isometry_error,
-            "mountains_from_back": self.options.mountains_from_back,
+            plotter: machine
+                .serial_line()
+                .filter(|_| !self.jobs_written.is_empty())
+                .map(|l| PlotterReport {
+                    protocol: machine.protocol.clone(),
+                    connection: machine.connection.clone(),
+                    baud: l.baud,
+                    flow_control: l.flow_control,
+                    buffer_bytes: l.buffer_bytes,
+                }),
+            media: MediaReport {
+                name: media.name.clone(),
+                width_mm: media.width,
+                height_mm: media.height,
+            },
+            size_mm: sheet.size,
+            scale: sheet.scale,
+            rotation_deg: sheet.rotation.to_degrees(),
+            line_length_mm: names(&f.line_length),
+            cut_length_mm: names(&f.cut_length),
+            strokes: self.jobs.iter().map(|j| j.strokes.len()).sum(),
+            pen_up_travel_mm: f.travel,
+            job_files: Some(self.jobs_written.iter().map(|(n, _)| n.clone()).collect()),
+            job_bytes: f.job_bytes,
+            estimated_plot_time_s: f.estimate,
+            motion_time_s: f.motion,
+            transfer_time_s: f.transfer,
+            isometry_max_relative_error: self.isometry_error,
+            mountains_from_back: self.options.mountains_from_back,
             // How the two sides register: the crosses each job cuts first, and what to do.
-            "two_sided": (!self.steps.is_empty()).then(|| serde_json::json!({
-                "front_marks_mm": marks(crate::fab::registration::front_centres(media, self.margin)),
-                "back_marks_mm": marks(crate::fab::registration::back_centres(media, self.margin)),
-                "steps": self.steps,
-            })),
-            "tiled": self.tiled,
+            two_sided: (!self.steps.is_empty()).then(|| TwoSidedReport {
+                front_marks_mm: marks(crate::fab::registration::front_centres(media, self.margin)),
+                back_marks_mm: marks(crate::fab::registration::back_centres(media, self.margin)),
+                steps: self.steps.to_vec(),
+            }),
+            tiled: self.tiled,
             // Folds with no room for a dash (shorter than the clearance the junctions at
             // their ends need), and what the profile's `short_folds` gave them: with
             // "nothing" the maker has to score these by hand.
-            "unscored_creases": self.unscored.iter().map(|&i| {
-                let l = &sheet.lines[i];
-                serde_json::json!({
-                    "given": self.short_folds.name(),
-                    "kind": l.kind.name(),
-                    "length_mm": l.length(),
-                    "from_mm": [l.a.x, l.a.y],
-                    "to_mm": [l.b.x, l.b.y],
+            unscored_creases: self
+                .unscored
+                .iter()
+                .map(|&i| {
+                    let l = &sheet.lines[i];
+                    UnscoredCrease {
+                        given: self.short_folds.name().to_string(),
+                        kind: l.kind.name().to_string(),
+                        length_mm: l.length(),
+                        from_mm: [l.a.x, l.a.y],
+                        to_mm: [l.b.x, l.b.y],
+                    }
                 })
-            }).collect::<Vec<_>>(),
-        })
+                .collect(),
+        }
     }
 
     /// The summary's line on the cutter job: its size and time, or why there is none.

@@ -11,7 +11,7 @@ pub struct FabOutput {
     /// File name and bytes, in writing order.
     pub files: Files,
     /// The report written as report.json.
-    pub report: serde_json::Value,
+    pub report: super::FabReport,
     /// The summary's line on the cutter job (as on the PDF): its size and time, or why
     /// there is none.
     pub job_line: String,
@@ -36,7 +36,7 @@ pub struct FabOutput {
 }
 
 /// The steps a machine's profile gives for its own software.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct NextSteps {
     /// The software the files go to.
     pub software: String,
@@ -144,14 +144,16 @@ pub fn fabricate_verified(
     if let Some(gaps) = &hinge {
         files.extend(panel_files(gaps, &sheet.media));
     }
-    let report = serde_json::json!({
-        "verification": verification.to_json(),
-        "sheet": run.sheet_json(&figures),
-        "previews": previews,
-        "next_steps": next_steps,
-        "print_and_cut": print.as_ref().map(crate::fab::print_and_cut::PrintLayout::to_json),
-        "hinge": hinge.as_ref().map(|g| hinge_json(g, mesh)),
-    });
+    let report = super::FabReport {
+        verification: verification.to_json(),
+        sheet: run.sheet_report(&figures),
+        previews,
+        next_steps: next_steps.clone(),
+        print_and_cut: print
+            .as_ref()
+            .map(crate::fab::print_and_cut::PrintLayout::to_json),
+        hinge: hinge.as_ref().map(|g| hinge_report(g, mesh)),
+    };
     let job_line = run.job_line(&figures);
     let mut warnings: Vec<String> = run.unscored_warning().into_iter().collect();
     warnings.extend(hinge.as_ref().and_then(too_far_warning));
@@ -166,10 +168,7 @@ pub fn fabricate_verified(
         None => run.pdf(&page, title, &summary),
     };
     files.push(("sheet.pdf".to_string(), pdf));
-    files.push((
-        "report.json".to_string(),
-        (serde_json::to_string_pretty(&report).expect("json") + "\n").into_bytes(),
-    ));
+    files.push(("report.json".to_string(), report.to_text().into_bytes()));
     Ok(FabOutput {
         files,
         report,
@@ -306,27 +305,28 @@ fn panel_files(gaps: &crate::fab::hinge::HingeGaps, media: &crate::fab::Media) -
 
 /// report.json's `hinge`: the formula, the thickness, each fold's angle and gap, the
 /// panels, and the valleys folded too far for a gap.
-fn hinge_json(gaps: &crate::fab::hinge::HingeGaps, mesh: &Mesh) -> serde_json::Value {
-    let folds: Vec<serde_json::Value> = gaps
-        .folds
-        .iter()
-        .map(|&(e, rho, g)| {
-            serde_json::json!({
-                "edge": e,
-                "vertices": mesh.edges()[e].vertices,
-                "fold_deg": rho.to_degrees(),
-                "gap_mm": g,
+fn hinge_report(
+    gaps: &crate::fab::hinge::HingeGaps,
+    mesh: &Mesh,
+) -> super::report_json::HingeReport {
+    use super::report_json::{HingeFold, HingeReport};
+    HingeReport {
+        formula: "gap = 2 * thickness * tan(fold / 2) at every valley (panels on the front, membrane under them); mountains take none".to_string(),
+        thickness_mm: gaps.thickness,
+        largest_gap_fold_deg: crate::fab::hinge::MAX_GAP_FOLD.to_degrees(),
+        panels: gaps.panels.len(),
+        folds: gaps
+            .folds
+            .iter()
+            .map(|&(e, rho, g)| HingeFold {
+                edge: e,
+                vertices: mesh.edges()[e].vertices,
+                fold_deg: rho.to_degrees(),
+                gap_mm: g,
             })
-        })
-        .collect();
-    serde_json::json!({
-        "formula": "gap = 2 * thickness * tan(fold / 2) at every valley (panels on the front, membrane under them); mountains take none",
-        "thickness_mm": gaps.thickness,
-        "largest_gap_fold_deg": crate::fab::hinge::MAX_GAP_FOLD.to_degrees(),
-        "panels": gaps.panels.len(),
-        "folds": folds,
-        "too_far": gaps.too_far,
-    })
+            .collect(),
+        too_far: gaps.too_far.clone(),
+    }
 }
 
 /// The warning for valleys folded past the largest fold a gap is laid out for.

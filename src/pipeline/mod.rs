@@ -7,6 +7,7 @@ mod fab_report;
 mod fabricate;
 mod fit;
 mod path;
+mod report_json;
 
 pub use fab_options::{FabOptions, MIN_WIDTH_MM, TILE_OVERLAP_MM};
 pub use fabricate::{
@@ -15,6 +16,10 @@ pub use fabricate::{
 };
 pub use fit::{BlockedBy, ConditionResidual, Distances, FitReport, FitStage, PlacementRecord};
 pub use path::{folding_path, PathCollision, PathReport, PATH_STEPS};
+pub use report_json::{
+    FabReport, HingeFold, HingeReport, MediaReport, PlotterReport, SheetReport, TwoSidedReport,
+    UnscoredCrease,
+};
 
 use crate::constraints::{tracked_fold_angle, ConstraintSet, Family, Reference};
 use crate::fab::{unfold, UnfoldError};

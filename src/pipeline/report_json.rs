@@ -1,0 +1,172 @@
+//! `report.json`, the one type it is written and read through: `fab` writes it beside the
+//! files, `crease plot` reads the machine and the two-sided steps back from it, and the
+//! CLI and the tests read a run's figures from it. Written through `serde_json::Value`
+//! (whose map is sorted), so its keys stay in alphabetical order as before the type.
+
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// The whole of `report.json`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FabReport {
+    /// The verification report ([`crate::fab::Report::to_json`]).
+    pub verification: serde_json::Value,
+    /// The sheet and its jobs.
+    pub sheet: SheetReport,
+    /// How the preview pictures were drawn (scales, the design's view).
+    pub previews: serde_json::Value,
+    /// What the maker does in the machine's own software, if the profile says.
+    pub next_steps: Option<super::NextSteps>,
+    /// A print-and-cut sheet's marks and placement
+    /// ([`crate::fab::print_and_cut::PrintLayout::to_json`]).
+    pub print_and_cut: Option<serde_json::Value>,
+    /// The hinge gaps of a panels-on-membrane sheet.
+    pub hinge: Option<HingeReport>,
+}
+
+impl FabReport {
+    /// The JSON text written as `report.json` (pretty, keys sorted, a final newline).
+    pub fn to_text(&self) -> String {
+        let value = serde_json::to_value(self).expect("a report is plain data");
+        serde_json::to_string_pretty(&value).expect("json") + "\n"
+    }
+
+    /// Reads `report.json` text.
+    pub fn from_text(text: &str) -> Result<FabReport, serde_json::Error> {
+        serde_json::from_str(text)
+    }
+}
+
+/// `report.json`'s `sheet`: where the pattern went and what the jobs cost.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SheetReport {
+    /// The machine's name.
+    pub machine: String,
+    /// The material laid over the machine, if any.
+    pub material: Option<String>,
+    /// What `crease plot` needs to stream the job to the machine it was made for (none
+    /// when no cutter job was written, or the machine is not on a line).
+    #[serde(default)]
+    pub plotter: Option<PlotterReport>,
+    /// The media.
+    pub media: MediaReport,
+    /// The pattern's size on the media (mm).
+    pub size_mm: [f64; 2],
+    /// Scale applied to the design.
+    pub scale: f64,
+    /// Rotation applied (degrees).
+    pub rotation_deg: f64,
+    /// Length of the sheet's lines per kind (mm).
+    pub line_length_mm: BTreeMap<String, f64>,
+    /// Length cut or scored per kind (mm).
+    pub cut_length_mm: BTreeMap<String, f64>,
+    /// Strokes in the jobs.
+    pub strokes: usize,
+    /// Pen-up travel (mm).
+    pub pen_up_travel_mm: f64,
+    /// The cutter job files written (none for a laser, a Design Space sheet or a tiled
+    /// sheet). Missing in reports made before they were named.
+    #[serde(default)]
+    pub job_files: Option<Vec<String>>,
+    /// Their size in bytes.
+    pub job_bytes: usize,
+    /// What plotting takes (s): the motion, or the transfer if slower.
+    pub estimated_plot_time_s: f64,
+    /// The machine's motion (s).
+    pub motion_time_s: f64,
+    /// The transfer over the serial line (s).
+    pub transfer_time_s: f64,
+    /// Largest relative edge-length difference between the sheet and the 3D design.
+    pub isometry_max_relative_error: f64,
+    /// Mountains scored from the back in a second job.
+    pub mountains_from_back: bool,
+    /// How the two sides of a two-sided job register.
+    #[serde(default)]
+    pub two_sided: Option<TwoSidedReport>,
+    /// The sheet is tiled over pages (no cutter job).
+    pub tiled: bool,
+    /// Folds with no room for a dash, and what the profile gave them.
+    pub unscored_creases: Vec<UnscoredCrease>,
+}
+
+/// A machine's line, as `crease plot` needs it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PlotterReport {
+    /// hpgl or gpgl.
+    pub protocol: String,
+    /// serial or usb.
+    pub connection: String,
+    /// Baud rate.
+    pub baud: u32,
+    /// Flow control by name.
+    pub flow_control: String,
+    /// The machine's input buffer (bytes).
+    pub buffer_bytes: usize,
+}
+
+/// The media by name and size.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MediaReport {
+    /// Its name.
+    pub name: String,
+    /// Width (mm).
+    pub width_mm: f64,
+    /// Height (mm).
+    pub height_mm: f64,
+}
+
+/// The registration of a two-sided job: the crosses each job cuts first, and the steps.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TwoSidedReport {
+    /// The front job's cross centres (mm).
+    pub front_marks_mm: [[f64; 2]; 3],
+    /// The back job's (mm, mirrored).
+    pub back_marks_mm: [[f64; 2]; 3],
+    /// What the maker does, in order.
+    pub steps: Vec<String>,
+}
+
+/// A fold with no room for a dash.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct UnscoredCrease {
+    /// What the profile's `short_folds` gave it.
+    pub given: String,
+    /// mountain or valley.
+    pub kind: String,
+    /// Its length (mm).
+    pub length_mm: f64,
+    /// One end on the media (mm).
+    pub from_mm: [f64; 2],
+    /// The other end.
+    pub to_mm: [f64; 2],
+}
+
+/// The hinge gaps of a panels-on-membrane sheet.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct HingeReport {
+    /// How each gap is found.
+    pub formula: String,
+    /// The sheet's thickness (mm).
+    pub thickness_mm: f64,
+    /// The largest fold a gap is laid out for (degrees).
+    pub largest_gap_fold_deg: f64,
+    /// Panels cut.
+    pub panels: usize,
+    /// Every fold's gap.
+    pub folds: Vec<HingeFold>,
+    /// Valleys folded past the largest fold (edge indices).
+    pub too_far: Vec<usize>,
+}
+
+/// One fold's hinge gap.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct HingeFold {
+    /// The edge.
+    pub edge: usize,
+    /// Its two vertices.
+    pub vertices: [usize; 2],
+    /// Its fold (degrees).
+    pub fold_deg: f64,
+    /// The gap between its panels (mm).
+    pub gap_mm: f64,
+}
