@@ -1,5 +1,5 @@
-//! Helpers shared by the integration tests (each test file is its own crate and includes
-//! this with `mod common;`).
+//! Helpers shared by the integration tests (each test crate, one per concept, includes
+//! this with `mod common;` and its modules `use crate::common;`).
 
 #[allow(dead_code)] // only the fabrication tests use it
 pub mod fabbing;

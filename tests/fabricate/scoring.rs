@@ -1,7 +1,7 @@
 //! Safe scoring on every design and anchor: no dash within the clearance of the cut or of
 //! another crease, mountain and valley read apart, and every fold scored or named.
 
-mod common;
+use crate::common;
 
 use common::fabbing::{
     a3, designs_and_anchors, near_pairs, output, output_text, patterns, segment_distance,

@@ -500,7 +500,7 @@ fn a_strip_whose_flaps_cross_each_others_hinges_fails_in_every_form_flat_3d_fram
     }
 }
 
-mod common;
+use crate::common;
 
 /// The anchors and bundled patterns whose creases fold to ±180°, Origami Simulator's
 /// honeycomb kirigami among them with its creases set to ±180° (its file draws them at

@@ -2,7 +2,7 @@
 //! with the first through crosses both jobs cut, the outline cut last, and the order and
 //! the turn printed for the maker.
 
-mod common;
+use crate::common;
 
 use crease::fab::{LineKind, Stroke};
 use crease::mesh::Vec2;

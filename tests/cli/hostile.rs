@@ -3,7 +3,7 @@
 //! naming the input, within a bound on time and memory (a hang or a blow-up is a
 //! failure, not a slow pass), and leave nothing half-written.
 
-mod common;
+use crate::common;
 
 use common::Rng;
 use std::path::{Path, PathBuf};

@@ -2,7 +2,7 @@
 //! margins, a sheet too large is tiled over the fewest pages, and odd sizes neither panic
 //! nor cut strokes shorter than the machine's step.
 
-mod common;
+use crate::common;
 
 use common::fabbing::{a3, output, patterns};
 use common::run_crease;

@@ -1,7 +1,7 @@
 //! The sheet as other tools read it: DXF through the `dxf` crate, GP-GL and SVG through
 //! the tests' own readers, each carrying exactly the toolpath the same way round.
 
-mod common;
+use crate::common;
 
 use common::fabbing::{
     a3, designs_and_anchors, job_pieces, near_pairs, output, output_text, patterns,
@@ -57,7 +57,7 @@ fn sheet_dxf_read_by_an_independent_parser_carries_exactly_the_toolpath() {
             };
             assert_eq!(layer, expected);
             // A straight stroke is a LINE between its ends; a bent one a POLYLINE through
-            // its chords (whose fidelity to the curve tests/scoring.rs measures).
+            // its chords (whose fidelity to the curve tests/fabricate/scoring.rs measures).
             let want = s.polyline();
             assert_eq!(points.len(), want.len(), "{}", path.display());
             assert_eq!(*polyline, s.bend.is_some());

@@ -3,7 +3,7 @@
 //! triangle, the result verified, free of self-intersection and fabricated; a target out
 //! of reach ends with exit 1 and a named blocker; bad targets are refused.
 
-mod common;
+use crate::common;
 
 use common::run_crease;
 use crease::mesh::{Vec2, Vec3};

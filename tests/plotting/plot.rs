@@ -3,7 +3,7 @@
 //! bytes (so the tests can fail); `plot` takes the job's own line and refuses to start an
 //! unfinished job again. Recovery after a pulled cable or a power cut is in plot_resume.rs.
 
-mod common;
+use crate::common;
 
 use common::plotting::{cutter_job, scratch};
 use crease::output::hpgl;
@@ -108,7 +108,7 @@ fn paced_sending_delivers_the_job_intact_at_9600_baud() {
 }
 
 /// Every design in `patterns/` in every mode at 9600 baud: about 15 minutes of line time,
-/// so it runs on request (`cargo test --release --test plot -- --ignored`); the four tests
+/// so it runs on request (`cargo test --release --test plotting -- --ignored`); the four tests
 /// above cover each mode on the Miura-ori.
 #[test]
 #[ignore]

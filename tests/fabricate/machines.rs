@@ -1,7 +1,7 @@
 //! Machine profiles with absurd values are refused with one line naming the file and the
 //! key, instead of being accepted (a 1e-5 mm dash used to take gigabytes).
 
-mod common;
+use crate::common;
 
 use common::run_crease;
 use crease::fab::LineKind;

@@ -3,7 +3,7 @@
 //! HP-GL resumes exactly where the pen is, or after the last drawing the plotter
 //! confirmed; GP-GL, which cannot report a position, after the last chunk it reported cut.
 
-mod common;
+use crate::common;
 
 use common::plotting::{cutter_job, scratch};
 use crease::output::{gpgl, hpgl};

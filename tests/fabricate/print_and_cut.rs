@@ -2,7 +2,7 @@
 //! the README says they are, and the cutter's job — read back after quantisation, moved
 //! into the page by the marks' origin — cuts along the printed outline.
 
-mod common;
+use crate::common;
 
 use common::fabbing::{distance_to_segment, output, output_text, patterns};
 use crease::fab::{LineKind, Stroke};

@@ -1,9 +1,9 @@
 //! Seeded mutations of the bundled patterns and the anchor files in every format crease
 //! reads: import, verification and export must never panic, whatever the bytes. A sample
 //! also goes through the real binary: exit 0, 1 or 2 only, and nothing written on failure.
-//! `CREASE_FUZZ_CASES=5000 cargo test --release --test fuzz` runs a longer campaign.
+//! `CREASE_FUZZ_CASES=5000 cargo test --release --test cli fuzz` runs a longer campaign.
 
-mod common;
+use crate::common;
 
 use common::{run_crease, Rng};
 use crease::io::{self, Format};

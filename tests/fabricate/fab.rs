@@ -2,7 +2,7 @@
 //! layout is isometric to the design, whose dashes keep clear of crease junctions, whose
 //! HP-GL draws exactly the toolpath, and whose PDF is 1:1 with a true 100 mm scale bar.
 
-mod common;
+use crate::common;
 
 use common::fabbing::{a3, distance_to_segment, output, output_text, patterns};
 use common::run_crease;

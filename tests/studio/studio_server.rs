@@ -2,8 +2,7 @@
 //! sockets and closed tabs, two clients sharing a design, Ctrl-C. Its API in process is
 //! `studio.rs`; the page in a real browser is `studio_browser.rs`.
 
-#[path = "common/studio.rs"]
-mod studio_process;
+use crate::studio_process;
 
 use serde_json::{json, Value};
 use std::time::{Duration, Instant};

@@ -1,7 +1,7 @@
 //! Constraint Jacobians against central finite differences, and `crease verify` on
 //! bundled patterns, anchor crease patterns and a broken Miura-ori.
 
-mod common;
+use crate::common;
 
 use common::run_crease;
 use crease::constraints::{ConstraintSet, Family, Reference};

@@ -3,7 +3,7 @@
 //! rigid states; `deform` refuses bad arguments and reaches relative targets; `info`
 //! lists vertices.
 
-mod common;
+use crate::common;
 
 use crease::constraints::{ConstraintSet, Family, Reference};
 use crease::fab::{verify, Tolerances};

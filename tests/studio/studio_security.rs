@@ -2,8 +2,7 @@
 //! real binary: only its own page may talk to it, nothing a request carries opens a file,
 //! and a design that is hard to analyse never stops it answering.
 
-#[path = "common/studio.rs"]
-mod studio_process;
+use crate::studio_process;
 
 use serde_json::{json, Value};
 use std::io::{Read, Write};

@@ -1,7 +1,7 @@
 //! Foldability verdicts a maker can trust (issue #15): Maekawa judged where a vertex folds
 //! flat as drawn, tolerances bounded by what the file's rounding can really explain.
 
-mod common;
+use crate::common;
 
 use common::run_crease;
 use std::path::PathBuf;

@@ -1,0 +1,516 @@
+//! Bad input through the real binary: exit status 2, one line naming the file and the
+//! cause, never a panic, and no output file left behind.
+
+use crate::common;
+
+use common::run_crease;
+use std::path::{Path, PathBuf};
+
+fn scratch(name: &str, content: &str) -> PathBuf {
+    common::scratch_file("cli", name, content)
+}
+
+fn assert_bad_input(path: &Path, cause: &str) {
+    let out = path.with_file_name(format!(
+        "{}-out.fold",
+        path.file_name().unwrap().to_string_lossy()
+    ));
+    for args in [
+        vec!["info", path.to_str().unwrap()],
+        vec!["convert", path.to_str().unwrap(), out.to_str().unwrap()],
+    ] {
+        let (code, _, err) = run_crease(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+        assert!(
+            err.contains(path.file_name().unwrap().to_str().unwrap()),
+            "names the file: {err}"
+        );
+        assert!(err.to_lowercase().contains(cause), "says '{cause}': {err}");
+        assert!(!out.exists(), "no output written for bad input");
+    }
+}
+
+#[test]
+fn malformed_json() {
+    assert_bad_input(
+        &scratch("broken.fold", "{\"vertices_coords\": [[0,0],"),
+        "json",
+    );
+}
+
+#[test]
+fn index_out_of_range() {
+    let fold = r#"{"vertices_coords": [[0,0],[1,0],[0,1]], "faces_vertices": [[0,1,7]],
+                   "edges_vertices": [[0,1],[1,2],[2,0]]}"#;
+    assert_bad_input(&scratch("range.fold", fold), "vertex 7");
+}
+
+#[test]
+fn bad_coincidence_groups() {
+    let fold = |groups: &str| {
+        format!(
+            r#"{{"vertices_coords": [[0,0],[1,0],[0,1]], "faces_vertices": [[0,1,2]],
+                 "crease:coincidentVertices": {groups}}}"#
+        )
+    };
+    assert_bad_input(&scratch("group-range.fold", &fold("[[0, 9]]")), "vertex 9");
+    assert_bad_input(&scratch("group-one.fold", &fold("[[1]]")), "two or more");
+    assert_bad_input(
+        &scratch("group-twice.fold", &fold("[[0, 1], [1, 2]]")),
+        "twice",
+    );
+}
+
+#[test]
+fn non_manifold_mesh() {
+    // Three triangles on one edge (0–1).
+    let fold = r#"{"vertices_coords": [[0,0,0],[1,0,0],[0,1,0],[0,-1,0],[0,0,1]],
+                   "faces_vertices": [[0,1,2],[1,0,3],[0,1,4]]}"#;
+    assert_bad_input(&scratch("fin.fold", fold), "non-manifold");
+}
+
+#[test]
+fn unknown_svg_stroke_colour() {
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10">
+        <rect x="0" y="0" width="10" height="10" stroke="#000"/>
+        <line x1="0" y1="0" x2="10" y2="10" stroke="#123456"/></svg>"##;
+    assert_bad_input(&scratch("colour.svg", svg), "#123456");
+}
+
+#[test]
+fn empty_files() {
+    assert_bad_input(&scratch("empty.fold", ""), "empty");
+    assert_bad_input(&scratch("empty.svg", ""), "empty");
+    assert_bad_input(&scratch("empty.cp", ""), "no crease");
+}
+
+#[test]
+fn malformed_cp_line() {
+    assert_bad_input(&scratch("bad.cp", "1 0 0 1 1\n2 0 0 x 1\n"), "line 2");
+}
+
+#[test]
+fn missing_file_and_unknown_extension() {
+    let (code, _, err) = run_crease(&["info", "/nonexistent/design.fold"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("/nonexistent/design.fold"));
+    assert_bad_input(&scratch("design.stl", "solid x"), "unknown file type");
+}
+
+#[test]
+fn info_prints_counts() {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura.fold");
+    let (code, out, _) = run_crease(&["info", p.to_str().unwrap()]);
+    assert_eq!(code, 0);
+    assert!(out.contains("vertices:     81"), "{out}");
+    assert!(
+        out.contains("3D folded form: yes, crease pattern: yes"),
+        "{out}"
+    );
+}
+
+/// Command lines that named missing vertices, impossible thresholds or malformed lists
+/// used to panic or be accepted; each is now exit 2 with one line naming the cause, and
+/// nothing is written.
+#[test]
+fn bad_vertex_lists_thresholds_and_condition_lists_exit_2_with_one_line() {
+    let miura = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura.fold");
+    let m = miura.to_str().unwrap();
+    let out = std::env::temp_dir().join(format!("crease-cli-bad-{}.fold", std::process::id()));
+    let o = out.to_str().unwrap();
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec![
+                "deform",
+                m,
+                "--drag",
+                "40=+0,+0,+5",
+                "--fix",
+                "99999",
+                "-o",
+                o,
+            ],
+            "99999",
+        ),
+        (
+            vec!["fold", m, "--amount", "0.3", "--fix", "99999", "-o", o],
+            "99999",
+        ),
+        (
+            vec![
+                "deform",
+                m,
+                "--drag",
+                "40=+0,+0,+5",
+                "--remesh",
+                "1.5",
+                "-o",
+                o,
+            ],
+            "remesh",
+        ),
+        (
+            vec!["verify", m, "--conditions", "developability,,convexity"],
+            "empty entry",
+        ),
+        (
+            vec!["verify", m, "--conditions", "developability,developability"],
+            "twice",
+        ),
+    ];
+    for (args, cause) in cases {
+        let (code, _, err) = run_crease(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(cause), "{args:?}: {err}");
+        assert!(!out.exists(), "{args:?} wrote {o}");
+    }
+}
+
+#[test]
+fn fix_takes_commas_like_drag_and_a_fold_holds_what_is_fixed() {
+    let miura = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/plane.fold");
+    let out = std::env::temp_dir().join(format!("crease-cli-fix-{}.fold", std::process::id()));
+    let (code, _, err) = run_crease(&[
+        "deform",
+        miura.to_str().unwrap(),
+        "--drag",
+        "80=+0,+0,+10",
+        "--fix",
+        "0,1,9",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let before = crease::io::read(&miura).unwrap();
+    let after = crease::io::read(&out).unwrap();
+    for v in [0, 1, 9] {
+        assert_eq!(
+            after.positions()[v],
+            before.positions()[v],
+            "vertex {v} is held"
+        );
+    }
+    let _ = std::fs::remove_file(out);
+}
+
+#[test]
+fn machines_are_listed_and_found_in_the_working_folder() {
+    let (code, list, _) = run_crease(&["machines"]);
+    assert_eq!(code, 0);
+    for name in ["generic-hpgl", "hp7475a", "roland-cutter"] {
+        assert!(list.lines().any(|l| l.starts_with(name)), "{list}");
+    }
+    assert!(!list.contains("Cargo"), "only profiles are listed: {list}");
+    // A profile beside the user's design is found by name.
+    let dir = std::env::temp_dir().join(format!("crease-cli-machine-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let profile = Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/generic-hpgl.toml");
+    std::fs::copy(profile, dir.join("my-cutter.toml")).unwrap();
+    let design = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura-bent.fold");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_crease"))
+        .current_dir(&dir)
+        .args([
+            "fab",
+            design.to_str().unwrap(),
+            "--machine",
+            "my-cutter",
+            "--out",
+            "job",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(dir.join("job/sheet.hpgl").is_file());
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn coordinates_beyond_any_sheet_are_refused() {
+    let simple = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fold/simple.fold"),
+    )
+    .unwrap();
+    assert!(simple.contains("[0,1,0]"));
+    let far = simple.replacen("[0,1,0]", "[0,2e6,0]", 1);
+    assert_bad_input(&scratch("coordinate-far.fold", &far), "within 1 km");
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">
+<line x1="0" y1="0" x2="1e12" y2="0" stroke="#000"/><line x1="1e12" y1="0" x2="0" y2="100" stroke="#000"/>
+<line x1="0" y1="100" x2="0" y2="0" stroke="#000"/></svg>"##;
+    assert_bad_input(&scratch("coordinate-far.svg", svg), "within 1 km");
+}
+
+#[test]
+fn svg_roots_that_scale_nothing_and_cut_short_files_are_refused() {
+    let body = r##"<line x1="0" y1="0" x2="100" y2="0" stroke="#000"/><line x1="100" y1="0" x2="100" y2="100" stroke="#000"/><line x1="100" y1="100" x2="0" y2="0" stroke="#000"/>"##;
+    let svg = |width: &str| {
+        format!(
+            r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="100mm" viewBox="0 0 100 100">{body}</svg>"#
+        )
+    };
+    assert_bad_input(
+        &scratch("root-negative.svg", &svg("-100mm")),
+        "positive length",
+    );
+    assert_bad_input(&scratch("root-zero.svg", &svg("0mm")), "positive length");
+    assert_bad_input(&scratch("root-nan.svg", &svg("NaN")), "not a length");
+    assert_bad_input(
+        &scratch("root-furlongs.svg", &svg("100furlongs")),
+        "not a length",
+    );
+    let unclosed = svg("100mm").replace("</svg>", "");
+    assert_bad_input(&scratch("root-unclosed.svg", &unclosed), "cut short");
+    let colour = svg("100mm").replacen("#000", "#0\n00", 1);
+    assert_bad_input(&scratch("root-colour-newline.svg", &colour), "#0\\n00");
+    // A percentage is relative to a page: stated, and read as px.
+    let (code, info, err) = run_crease(&[
+        "info",
+        scratch("root-percent.svg", &svg("100%")).to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("100%"), "{err}");
+    assert!(info.contains("26.458"), "{info}");
+}
+
+#[test]
+fn a_3d_only_design_converts_to_svg_as_its_unfolding() {
+    let simple = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fold/simple.fold");
+    let out = std::env::temp_dir().join(format!("crease-cli-3d-{}.svg", std::process::id()));
+    let (code, _, err) = run_crease(&["convert", simple.to_str().unwrap(), out.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("simple.fold"),
+        "the note names the input: {err}"
+    );
+    let design = crease::io::read(&simple).unwrap();
+    let cp = crease::io::read(&out).unwrap();
+    // Isometric: the written crease pattern has the 3D form's edge lengths (the SVG
+    // numbers its vertices anew, so lengths are compared as sorted lists).
+    let flat = cp.flat().unwrap();
+    let sorted = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v
+    };
+    let l3 = sorted(
+        design
+            .edges()
+            .iter()
+            .map(|e| (design.positions()[e.vertices[0]] - design.positions()[e.vertices[1]]).norm())
+            .collect(),
+    );
+    let l2 = sorted(
+        cp.edges()
+            .iter()
+            .map(|e| (flat[e.vertices[0]] - flat[e.vertices[1]]).norm())
+            .collect(),
+    );
+    assert_eq!(l3.len(), l2.len());
+    for (a, b) in l3.iter().zip(&l2) {
+        assert!((a - b).abs() < 1e-3 * a, "{l3:?} vs {l2:?}");
+    }
+    let _ = std::fs::remove_file(out);
+}
+
+#[test]
+fn a_shape_drawn_four_thousand_times_imports_as_one() {
+    let square = r##"<rect x="0" y="0" width="100" height="100" stroke="#000" fill="none"/>"##;
+    let svg = format!(
+        r##"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">{}<line x1="0" y1="0" x2="100" y2="100" stroke="#f00"/><line x1="0" y1="0" x2="100" y2="100" stroke="#ff0"/></svg>"##,
+        square.repeat(4000)
+    );
+    let path = scratch("square-4000-times.svg", &svg);
+    let mesh = crease::io::read(&path).unwrap();
+    assert_eq!(mesh.vertex_count(), 4);
+    assert_eq!(mesh.faces().len(), 2);
+    let count =
+        |a: crease::mesh::Assignment| mesh.edges().iter().filter(|e| e.assignment == a).count();
+    assert_eq!(count(crease::mesh::Assignment::Boundary), 4);
+    // The diagonal drawn as mountain and as facet line: the mountain wins.
+    assert_eq!(count(crease::mesh::Assignment::Mountain), 1);
+    assert_eq!(mesh.edges().len(), 5);
+}
+
+#[test]
+fn a_fold_that_gets_nowhere_fails_and_writes_nothing() {
+    let plane = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/plane.fold");
+    let out = std::env::temp_dir().join(format!("crease-cli-nowhere-{}.fold", std::process::id()));
+    let (code, _, err) = run_crease(&[
+        "fold",
+        plane.to_str().unwrap(),
+        "--amount",
+        "0.5",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("got nowhere") && err.contains("nothing was written"),
+        "{err}"
+    );
+    assert!(!out.exists());
+    // Asking for nothing and getting it is fine.
+    let miura = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura.fold");
+    let (code, _, err) = run_crease(&[
+        "fold",
+        miura.to_str().unwrap(),
+        "--amount",
+        "0",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let _ = std::fs::remove_file(out);
+}
+
+/// The option blocks of `crease SUB --help`: (long name, its whole description).
+fn option_help(sub: &str) -> Vec<(String, String)> {
+    let (code, out, err) = run_crease(&[sub, "--help"]);
+    assert_eq!(code, 0, "{err}");
+    let mut blocks: Vec<(String, String)> = Vec::new();
+    for line in out.lines() {
+        let t = line.trim_start();
+        let starts = t.starts_with("--") || (t.starts_with('-') && t.get(2..4) == Some(", "));
+        if starts && line.starts_with("  ") {
+            let long = t
+                .split_whitespace()
+                .find(|w| w.starts_with("--"))
+                .unwrap()
+                .trim_end_matches(',')
+                .to_string();
+            blocks.push((long, t.to_string()));
+        } else if let Some(last) = blocks.last_mut() {
+            last.1.push(' ');
+            last.1.push_str(t);
+        }
+    }
+    blocks
+}
+
+#[test]
+fn every_option_that_takes_a_value_says_its_default_and_conditions_are_all_listed() {
+    // Options whose value is the job itself have no default to state.
+    let no_default = [
+        "generate --output",
+        "fold --output",
+        "fold --amount",
+        "deform --output",
+        "deform --drag",
+        "deform --script",
+        "plot --port",
+        "emulate --link",
+        "emulate --fail-after",
+        "emulate --reconnect-after",
+    ];
+    for sub in [
+        "generate", "info", "verify", "fold", "deform", "fab", "plot", "emulate", "convert",
+        "studio",
+    ] {
+        for (long, text) in option_help(sub) {
+            let takes_value = text
+                .split_whitespace()
+                .nth(1)
+                .is_some_and(|w| w.starts_with('<'))
+                || text.contains(&format!("{long} <"))
+                || text.contains(&format!("{long} [<"));
+            if !takes_value || no_default.contains(&format!("{sub} {long}").as_str()) {
+                continue;
+            }
+            assert!(
+                text.to_lowercase().contains("default"),
+                "crease {sub} {long} does not say its default: {text}"
+            );
+        }
+    }
+    for sub in ["verify", "deform"] {
+        let conditions = option_help(sub)
+            .into_iter()
+            .find(|(l, _)| l == "--conditions")
+            .unwrap()
+            .1;
+        for family in crease::constraints::Family::ALL {
+            assert!(
+                conditions.contains(family.name()),
+                "crease {sub} --conditions does not list {}",
+                family.name()
+            );
+        }
+    }
+}
+
+#[test]
+fn arcs_of_a_kilometre_radius_import_as_few_points_or_are_refused_by_name() {
+    let svg = |arc: &str| {
+        format!(
+            r##"<svg xmlns="http://www.w3.org/2000/svg" width="200mm" height="200mm" viewBox="0 0 200 200">
+<path d="M 0 0 L 200 0 L 200 200 L 0 200 Z" stroke="#000000" fill="none"/>
+<path d="M 0 100 {arc}" stroke="#ff0000" fill="none"/></svg>"##
+        )
+    };
+    // A gentle arc across the sheet: its sagitta (5 µm) is below the flattening tolerance,
+    // so it stays one straight crease, not 10,000 points.
+    let gentle = scratch("arc-gentle.svg", &svg("A 1000000 1000000 0 0 1 200 100"));
+    let (code, out, err) = run_crease(&["info", gentle.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("vertices:     6 "), "{out}");
+    // The large-arc branch of the same circle runs two kilometres out: refused, by name.
+    let huge = scratch("arc-huge.svg", &svg("A 1000000 1000000 0 1 1 200 100"));
+    let (code, _, err) = run_crease(&["info", huge.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("arc-huge.svg") && err.contains("1 km"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_converted_file_gets_the_verdict_of_its_original() {
+    // An SVG's coordinates are rounded; verification allows for it. Written as FOLD the
+    // numbers are exact, so the FOLD records the rounding (crease:coordinatePrecision)
+    // and keeps the allowance: simpleVertex.svg passed while its FOLD failed.
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/origamisimulator");
+    for name in [
+        "simpleVertex",
+        "singlesquaretwist",
+        "waterbombBase",
+        "miura-ori",
+        "hypar",
+    ] {
+        let svg = data.join(format!("{name}.svg"));
+        let fold =
+            std::env::temp_dir().join(format!("crease-verdict-{}-{name}.fold", std::process::id()));
+        let (code, _, err) =
+            run_crease(&["convert", svg.to_str().unwrap(), fold.to_str().unwrap()]);
+        assert_eq!(code, 0, "{err}");
+        let original = run_crease(&["verify", svg.to_str().unwrap()]).0;
+        let converted = run_crease(&["verify", fold.to_str().unwrap()]).0;
+        assert_eq!(original, converted, "{name}: the SVG and its FOLD disagree");
+        let text = std::fs::read_to_string(&fold).unwrap();
+        let rounded = crease::io::read(&svg).unwrap().coordinate_precision > 0.0;
+        assert_eq!(
+            text.contains("crease:coordinatePrecision"),
+            rounded,
+            "{name}"
+        );
+        let _ = std::fs::remove_file(&fold);
+    }
+    // A recorded rounding past half a millimetre would excuse anything: refused.
+    let bad = std::env::temp_dir().join(format!("crease-precision-{}.fold", std::process::id()));
+    std::fs::write(
+        &bad,
+        r#"{"vertices_coords": [[0,0],[10,0],[0,10]], "faces_vertices": [[0,1,2]], "crease:coordinatePrecision": 1e308}"#,
+    )
+    .unwrap();
+    let (code, _, err) = run_crease(&["verify", bad.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("crease:coordinatePrecision"), "{err}");
+    let _ = std::fs::remove_file(&bad);
+}
