@@ -142,6 +142,48 @@ mod architecture {
         assert!(loops.is_empty(), "files in an import cycle: {loops:?}");
     }
 
+    /// The library's top-level modules by layer, lowest first (ARCHITECTURE.md, "Layers"):
+    /// a module may use only modules of lower layers; modules of one layer do not use
+    /// each other.
+    const LAYERS: [&[&str]; 11] = [
+        &["limits", "allocator"],
+        &["mesh"],
+        &["geometry", "surface"],
+        &["generate", "io"],
+        &["constraints"],
+        &["solver", "fab"],
+        &["fit", "output"],
+        &["plotter"],
+        &["pipeline"],
+        &["studio"],
+        // The binary's files (and lib.rs, which only declares the modules).
+        &["cli", "main", "lib"],
+    ];
+
+    #[test]
+    fn no_module_imports_one_of_its_own_layer_or_above() {
+        let layer = |m: &str| LAYERS.iter().position(|l| l.contains(&m));
+        let mut against = Vec::new();
+        for (file, deps) in graph() {
+            let Some(from) = file.first() else { continue };
+            let from_layer = layer(from).unwrap_or_else(|| panic!("{from} has no layer"));
+            for dep in deps {
+                let to = &dep[0];
+                if to == from {
+                    continue;
+                }
+                let to_layer = layer(to).unwrap_or_else(|| panic!("{to} has no layer"));
+                if to_layer >= from_layer {
+                    against.push(format!("{} uses {}", file.join("::"), dep.join("::")));
+                }
+            }
+        }
+        assert!(
+            against.is_empty(),
+            "imports against the layers: {against:#?}"
+        );
+    }
+
     #[test]
     fn the_graph_reader_sees_a_known_import() {
         let edges = graph();
