@@ -113,9 +113,12 @@ impl FlatFolded {
         images
     }
 
-    /// Whether the faces close up within `tolerance` (see [`closure_tolerance`]).
-    pub fn closes(&self, tolerance: f64) -> bool {
-        self.mismatch <= tolerance
+    /// Whether the layers close up around every vertex, within [`closure_tolerance`] of
+    /// the crease pattern `flat` (from a file rounded to `precision` mm): the one test of
+    /// closure that verification, the layer solver and the studio's x-ray apply, so their
+    /// verdicts agree.
+    pub fn layers_close(&self, flat: &[Vec2], precision: f64) -> bool {
+        self.mismatch <= closure_tolerance(flat, precision)
     }
 }
 

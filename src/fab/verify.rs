@@ -453,10 +453,7 @@ fn layer_order_report(
 ) -> Option<FamilyReport> {
     use super::layers::{layer_order_within, LayerError, LayerOrder};
     let folded = super::flat_folded(mesh, None).ok()?;
-    let closes = folded.closes(super::closure_tolerance(
-        mesh.flat()?,
-        mesh.coordinate_precision,
-    ));
+    let closes = folded.layers_close(mesh.flat()?, mesh.coordinate_precision);
     let creases = mesh.edges().iter().any(|e| e.assignment.is_folded());
     if !closes || !creases {
         return None;

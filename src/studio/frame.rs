@@ -5,7 +5,7 @@
 //! does not have yet.
 
 use crate::constraints::{Element, Family};
-use crate::fab::{closure_tolerance, flat_folded, LineKind, Report};
+use crate::fab::{flat_folded, LineKind, Report};
 use crate::mesh::{Mesh, Vec2, Vec3};
 use crate::solver::Mode;
 use serde_json::{json, Value};
@@ -149,7 +149,7 @@ pub fn pattern_json(mesh: &Mesh, pattern: Option<&[Vec2]>) -> String {
             // Where the layers close up (by verification's own tolerance, so the pane and
             // the verdict agree) every vertex has one image, and the page needs only
             // those (a sixth of the triangles' numbers); otherwise each face's own.
-            Ok(f) if f.closes(closure_tolerance(p, mesh.coordinate_precision)) => {
+            Ok(f) if f.layers_close(p, mesh.coordinate_precision) => {
                 let points = f.vertex_images(mesh.faces(), p.len());
                 json!({
                     "points": flat2(points.into_iter()),

@@ -220,12 +220,11 @@ pub fn layer_conflict(mesh: &Mesh, budget: &Budget) -> Result<Option<LayerConfli
 fn decide(mesh: &Mesh, budget: &Budget, shrink: bool) -> Result<LayerOrder, LayerError> {
     let folded = super::flat_folded(mesh, None)?;
     let cp = mesh.flat().ok_or(super::NotFlatFoldable::NoCreasePattern)?;
-    let tolerance = super::closure_tolerance(cp, mesh.coordinate_precision);
-    if !folded.closes(tolerance) {
+    if !folded.layers_close(cp, mesh.coordinate_precision) {
         return Err(LayerError::Open {
             vertex: folded.worst_vertex.unwrap_or(0),
             gap: folded.mismatch,
-            tolerance,
+            tolerance: super::closure_tolerance(cp, mesh.coordinate_precision),
         });
     }
     let crease_at = |e: usize| folds_completely(&mesh.edges()[e]);
