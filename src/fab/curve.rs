@@ -356,7 +356,7 @@ impl SmoothCurve {
     /// One cubic for the stretch between arc lengths `a` < `b`: exact when it lies in one
     /// piece, else the arc-handled cubic between its end points and tangents (exact on a
     /// circle, and within [`FLATTEN_MM`] of the curve for a dash on any curve this tool
-    /// makes — [`SmoothCurve::stray`] measures it).
+    /// makes — the tests measure it).
     pub fn cubic_between(&self, a: f64, b: f64) -> Cubic {
         let (i, from) = self.locate(a);
         let (j, to) = self.locate(b);
@@ -393,13 +393,20 @@ impl SmoothCurve {
             })
             .collect()
     }
+}
 
-    /// How far `cubic`, standing for the stretch between arc lengths `a` < `b`, strays
-    /// from the curve: the largest distance from 33 points along it to the stretch,
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::distance_to_segment;
+    use std::f64::consts::PI;
+
+    /// How far `cubic`, standing for the stretch of `curve` between arc lengths `a` < `b`,
+    /// strays from it: the largest distance from 33 points along it to the stretch,
     /// flattened to within 10⁻⁶ mm.
-    pub fn stray(&self, cubic: &Cubic, a: f64, b: f64) -> f64 {
-        let mut stretch = vec![self.point_at(a)];
-        for piece in self.span(a, b) {
+    fn stray(curve: &SmoothCurve, cubic: &Cubic, a: f64, b: f64) -> f64 {
+        let mut stretch = vec![curve.point_at(a)];
+        for piece in curve.span(a, b) {
             stretch.extend(piece.flatten(1e-6).into_iter().skip(1));
         }
         (0..=32)
@@ -412,24 +419,6 @@ impl SmoothCurve {
             })
             .fold(0.0, f64::max)
     }
-}
-
-/// Distance from `p` to the segment `a`–`b`.
-pub fn distance_to_segment(p: Vec2, a: Vec2, b: Vec2) -> f64 {
-    let d = b - a;
-    let len2 = d.norm_squared();
-    let t = if len2 > 0.0 {
-        ((p - a).dot(&d) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (a + d * t - p).norm()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use std::f64::consts::PI;
 
     fn on_circle(r: f64, angles: &[f64]) -> Vec<Vec2> {
         angles
@@ -561,7 +550,7 @@ mod tests {
         for k in 1..curve.knots().len() - 1 {
             let (a, b) = (curve.knots()[k] - 1.5, curve.knots()[k] + 1.5);
             let dash = curve.cubic_between(a, b);
-            let stray = curve.stray(&dash, a, b);
+            let stray = stray(&curve, &dash, a, b);
             assert!(stray < 0.002, "{stray} mm at knot {k}");
         }
         // On a circle, exact.

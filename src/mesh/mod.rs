@@ -331,6 +331,18 @@ impl Mesh {
     }
 }
 
+/// Distance from `p` to the segment `a`–`b` in the plane (to `a` if the segment is a point).
+pub fn distance_to_segment(p: Vec2, a: Vec2, b: Vec2) -> f64 {
+    let d = b - a;
+    let len2 = d.norm_squared();
+    let t = if len2 > 0.0 {
+        ((p - a).dot(&d) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a + d * t - p).norm()
+}
+
 /// Axis-aligned bounds (min, max) of points in any dimension; (+∞, −∞) for none.
 pub fn bounds<const D: usize>(points: &[SVector<f64, D>]) -> (SVector<f64, D>, SVector<f64, D>) {
     points.iter().fold(

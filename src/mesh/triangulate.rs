@@ -1,7 +1,7 @@
 //! Ear-clipping triangulation of simple polygons, used to turn the polygon faces of a crease
 //! pattern into triangles joined by flat (target 0) creases, as the paper's model requires.
 
-use super::Vec2;
+use super::{distance_to_segment, Vec2};
 
 /// Triangulates a simple polygon given by its corners in order (either orientation).
 /// Returns triangles as indices into `corners`, counter-clockwise when the polygon is.
@@ -124,12 +124,6 @@ fn in_triangle(p: Vec2, a: Vec2, b: Vec2, c: Vec2, eps: f64) -> bool {
     (b - a).perp(&(p - a)) >= -eps
         && (c - b).perp(&(p - b)) >= -eps
         && (a - c).perp(&(p - c)) >= -eps
-}
-
-fn distance_to_segment(p: Vec2, a: Vec2, b: Vec2) -> f64 {
-    let d = b - a;
-    let t = ((p - a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
-    (a + d * t - p).norm()
 }
 
 fn min_angle(a: Vec2, b: Vec2, c: Vec2) -> f64 {
