@@ -62,7 +62,11 @@ impl LineKind {
     /// however far the polyhedral model bends it (scoring the rulings of a curved-crease
     /// model would fold it into facets).
     pub fn of_mesh(mesh: &Mesh) -> Vec<LineKind> {
-        let curved = crate::constraints::has_curved_creases(mesh);
+        Self::of_mesh_given(mesh, crate::constraints::has_curved_creases(mesh))
+    }
+
+    /// [`LineKind::of_mesh`], knowing whether the mesh has curved creases.
+    fn of_mesh_given(mesh: &Mesh, curved: bool) -> Vec<LineKind> {
         mesh.edges()
             .iter()
             .map(|e| {
@@ -148,7 +152,8 @@ impl CreaseLine {
 /// straight line.
 pub fn crease_lines(mesh: &Mesh, flat: &[Vec2]) -> Vec<CreaseLine> {
     let edges = mesh.edges();
-    let kinds = LineKind::of_mesh(mesh);
+    let curved = crate::constraints::has_curved_creases(mesh);
+    let kinds = LineKind::of_mesh_given(mesh, curved);
     // Creases and cuts meeting at each vertex (flat lines are not scored, so they do not
     // weaken the paper and do not count).
     let mut degree = vec![0usize; flat.len()];
@@ -159,7 +164,11 @@ pub fn crease_lines(mesh: &Mesh, flat: &[Vec2]) -> Vec<CreaseLine> {
         }
     }
     let mut used = vec![false; edges.len()];
-    let mut lines = curved_lines(mesh, flat, &degree, &mut used);
+    let mut lines = if curved {
+        curved_lines(mesh, flat, &degree, &mut used)
+    } else {
+        Vec::new()
+    };
     let mut by_vertex: HashMap<(usize, LineKind), Vec<usize>> = HashMap::new();
     for (i, e) in edges.iter().enumerate() {
         let k = kinds[i];
@@ -249,6 +258,11 @@ pub fn smooth_creases(mesh: &Mesh, flat: &[Vec2]) -> Vec<SmoothCrease> {
     if !crate::constraints::has_curved_creases(mesh) {
         return Vec::new();
     }
+    curves_of(mesh, flat)
+}
+
+/// The smooth creases of a mesh known to have curved creases.
+fn curves_of(mesh: &Mesh, flat: &[Vec2]) -> Vec<SmoothCrease> {
     curve_runs(mesh, flat)
         .into_iter()
         .map(|run| {
@@ -264,14 +278,15 @@ pub fn smooth_creases(mesh: &Mesh, flat: &[Vec2]) -> Vec<SmoothCrease> {
         .collect()
 }
 
-/// The lines of [`smooth_creases`]; their edges are marked `used`.
+/// The lines of [`smooth_creases`] of a mesh known to have curved creases; their edges
+/// are marked `used`.
 fn curved_lines(
     mesh: &Mesh,
     flat: &[Vec2],
     degree: &[usize],
     used: &mut [bool],
 ) -> Vec<CreaseLine> {
-    smooth_creases(mesh, flat)
+    curves_of(mesh, flat)
         .into_iter()
         .map(|crease| {
             for &e in &crease.edges {
