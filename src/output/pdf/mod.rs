@@ -46,16 +46,7 @@ fn style(kind: LineKind) -> (Color, LineDashPattern) {
 }
 
 fn line(a: (f64, f64), b: (f64, f64)) -> Op {
-    let p = |(x, y): (f64, f64)| LinePoint {
-        p: Point::new(Mm(x as f32), Mm(y as f32)),
-        bezier: false,
-    };
-    Op::DrawLine {
-        line: Line {
-            points: vec![p(a), p(b)],
-            is_closed: false,
-        },
-    }
+    path(Vec2::new(a.0, a.1), [(Vec2::new(b.0, b.1), None)])
 }
 
 /// A path from `start` through `steps`: each to its point, straight or along a cubic
