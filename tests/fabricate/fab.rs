@@ -392,17 +392,17 @@ fn routing_a_small_design_far_from_the_pen_keeps_every_stroke() {
     for i in 0..40 {
         let x = 1000.0 + (i % 8) as f64 * 0.7;
         let y = 800.0 + (i / 8) as f64 * 0.9;
-        strokes.push(Stroke {
-            kind: if i % 3 == 0 {
-                LineKind::Valley
-            } else {
-                LineKind::Mountain
-            },
-            from: Vec2::new(x, y),
-            to: Vec2::new(x + 0.5, y + 0.2),
-            line: i,
-            bend: None,
-        });
+        let kind = if i % 3 == 0 {
+            LineKind::Valley
+        } else {
+            LineKind::Mountain
+        };
+        strokes.push(Stroke::straight(
+            kind,
+            Vec2::new(x, y),
+            Vec2::new(x + 0.5, y + 0.2),
+            i,
+        ));
     }
     let tools = Machine::load("generic-hpgl").unwrap().hpgl_settings().tools;
     let routed = crease::fab::route(&strokes, &tools);

@@ -228,13 +228,7 @@ fn silhouette_marks_print_where_stated_and_the_job_cuts_the_printed_outline() {
             .iter()
             .filter(|(c, w, ..)| *c == [0, 0, 0] && *w < 0.25)
             .filter(|(_, _, a, b)| a.y > bottom_left.y && b.y > bottom_left.y)
-            .map(|&(_, _, a, b)| Stroke {
-                kind: LineKind::Cut,
-                from: a,
-                to: b,
-                line: 0,
-                bend: None,
-            })
+            .map(|&(_, _, a, b)| Stroke::straight(LineKind::Cut, a, b, 0))
             .collect();
         assert!(!outline.is_empty(), "{what}: the outline is printed");
         let cuts: Vec<(Vec2, Vec2)> = job
@@ -368,13 +362,7 @@ fn a_cricut_print_then_cut_file_cuts_the_printed_outline_inside_design_spaces_im
         .iter()
         .filter(|(l, c, _)| l == "Print" && c == "cut")
         .flat_map(|(_, _, s)| s.clone())
-        .map(|(a, b)| Stroke {
-            kind: LineKind::Cut,
-            from: a,
-            to: b,
-            line: 0,
-            bend: None,
-        })
+        .map(|(a, b)| Stroke::straight(LineKind::Cut, a, b, 0))
         .collect();
     assert!(!printed_outline.is_empty());
     let fills = layers
