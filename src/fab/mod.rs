@@ -16,7 +16,6 @@ pub mod rounding;
 pub mod route;
 pub mod score;
 pub mod toolpath;
-pub mod unfold;
 pub mod verify;
 
 pub use budget::{Budget, OverBudget};
@@ -30,7 +29,7 @@ pub use layout::{layout, LayoutError, Media, Sheet, Sizing};
 pub use lines::{crease_lines, smooth_creases, CreaseLine, LineKind, SmoothCrease};
 pub use route::route;
 
+pub use crate::geometry::unfold::{check_overlap, unfold, UnfoldError};
 pub use score::{score, score_lines};
 pub use toolpath::{dashes, DashCode, ScoreSettings, ShortFolds, Stroke, ToolSetting, Toolpath};
-pub use unfold::{check_overlap, unfold, UnfoldError};
 pub use verify::{verify, verify_within, FamilyReport, Report, Tolerances};

@@ -3,6 +3,7 @@
 //! configuration without building a mesh.
 
 mod gradients;
+pub mod unfold;
 
 pub use gradients::{fold_angle_gradient, sector_angle_gradient};
 
