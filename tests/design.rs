@@ -27,3 +27,5 @@ mod patterns;
 mod remesh;
 #[path = "design/solver.rs"]
 mod solver;
+#[path = "design/tubes.rs"]
+mod tubes;

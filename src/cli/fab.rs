@@ -56,6 +56,10 @@ pub struct FabArgs {
     /// white paper).
     #[arg(long, requires = "print_and_cut")]
     print_fill: Option<String>,
+    /// A tube's glue tab width in mm, before scaling (default 6): the tab hangs from one
+    /// side of the seam, its hinge scored as a valley, its outline cut.
+    #[arg(long)]
+    tab: Option<f64>,
 }
 
 pub fn fab(args: FabArgs) -> Result<u8, String> {
@@ -124,6 +128,7 @@ fn options_of(args: &FabArgs) -> Result<crease::pipeline::FabOptions, String> {
         hide_flat: args.hide_flat,
         print_and_cut: args.print_and_cut,
         print_fill,
+        tab: args.tab,
     })
 }
 

@@ -70,6 +70,12 @@ impl GenerateArgs {
                 names.join(", ")
             )
         })?;
+        if self.flat && kind.is_tube() {
+            return Err(format!(
+                "{} is a tube: it is generated closed and has no flat state of its own (`crease fab` lays out its strip); drop --flat",
+                kind.name()
+            ));
+        }
         let defaults = generate::Params::defaults(kind);
         Ok(generate::Params {
             kind,
@@ -206,6 +212,16 @@ pub fn convert(input: &Path, output: &Path) -> Result<u8, String> {
         io::Format::from_path(output).map_err(|e| e.to_string())?,
         io::Format::Svg | io::Format::Cp
     );
+    if flat_format && imported.mesh.is_tube() {
+        // A flat format draws a sheet: the tube's strip, its seam's sides cut lines.
+        let (strip, _) = crease::fab::unfold_tube(&imported.mesh)
+            .map_err(|e| format!("{}: {e}", input.display()))?;
+        imported.mesh = strip;
+        eprintln!(
+            "note: {} is a tube; the file draws the strip it is cut from (its seam's two sides are cut lines)",
+            input.display()
+        );
+    }
     if flat_format && imported.mesh.flat().is_none() {
         let flat = crease::fab::unfold(&imported.mesh).map_err(|e| {
             format!(

@@ -5,6 +5,7 @@ pub mod budget;
 pub mod clearance;
 pub mod curve;
 pub mod flat_fold;
+pub mod glue_tab;
 pub mod hinge;
 pub mod intersect;
 pub mod layers;
@@ -21,6 +22,7 @@ pub mod verify;
 pub use budget::{Budget, OverBudget};
 pub use curve::{Cubic, SmoothCurve};
 pub use flat_fold::{closure_tolerance, flat_folded, FlatFolded, NotFlatFoldable, PlaneMotion};
+pub use glue_tab::{glue_tab, with_tab, GlueTab};
 pub use intersect::{self_intersections, Crossing};
 pub use layers::{
     layer_conflict, layer_order, layer_order_within, LayerConflict, LayerError, LayerOrder,
@@ -29,7 +31,7 @@ pub use layout::{layout, LayoutError, Media, Sheet, Sizing};
 pub use lines::{crease_lines, smooth_creases, CreaseLine, LineKind, SmoothCrease};
 pub use route::route;
 
-pub use crate::geometry::unfold::{check_overlap, unfold, UnfoldError};
+pub use crate::geometry::unfold::{check_overlap, unfold, unfold_tube, UnfoldError};
 pub use score::{score, score_lines};
 pub use toolpath::{dashes, DashCode, ScoreSettings, ShortFolds, Stroke, ToolSetting, Toolpath};
 pub use verify::{verify, verify_within, FamilyReport, Report, Tolerances};

@@ -7,8 +7,10 @@ mod arc;
 mod lattice;
 mod pleat;
 mod resch;
+mod tube;
 
 pub use arc::ARC_TARGET;
+pub use tube::KRESLING_MAX_FOLD;
 
 use crate::mesh::{Assignment, Mesh, MeshError, MeshParts, Vec2, Vec3};
 use lattice::{build, rows_zipper};
@@ -38,11 +40,18 @@ pub enum PatternKind {
     /// A curved pleat: parallel sinusoidal creases, mountains and valleys alternating, a
     /// ruled strip reflected again and again.
     Pleat,
+    /// The waterbomb closed into a tube (§6.1's stent graft, §7): `nx` cells round.
+    WaterbombTube,
+    /// Yoshimura closed into a tube (§6.3, §7): rings of `nx` diamonds.
+    YoshimuraTube,
+    /// Kresling's twisted tube: a parallelogram lattice, each cell cut by a diagonal,
+    /// whose rings turn as it folds.
+    Kresling,
 }
 
 impl PatternKind {
     /// Every kind, in the order of the paper.
-    pub const ALL: [PatternKind; 9] = [
+    pub const ALL: [PatternKind; 12] = [
         PatternKind::Waterbomb,
         PatternKind::Miura,
         PatternKind::Yoshimura,
@@ -52,6 +61,9 @@ impl PatternKind {
         PatternKind::Arc,
         PatternKind::Concentric,
         PatternKind::Pleat,
+        PatternKind::WaterbombTube,
+        PatternKind::YoshimuraTube,
+        PatternKind::Kresling,
     ];
 
     /// The name used on the command line and for files in `patterns/`.
@@ -66,6 +78,9 @@ impl PatternKind {
             PatternKind::Arc => "arc",
             PatternKind::Concentric => "concentric",
             PatternKind::Pleat => "pleat",
+            PatternKind::WaterbombTube => "waterbomb-tube",
+            PatternKind::YoshimuraTube => "yoshimura-tube",
+            PatternKind::Kresling => "kresling",
         }
     }
 
@@ -74,9 +89,24 @@ impl PatternKind {
         PatternKind::ALL.into_iter().find(|k| k.name() == name)
     }
 
-    /// Whether the generator has a closed-form 3D state.
+    /// Whether the generator has a closed-form 3D state that a fold amount chooses.
     pub fn has_closed_form_3d(self) -> bool {
-        !matches!(self, PatternKind::Waterbomb | PatternKind::Resch)
+        !matches!(
+            self,
+            PatternKind::Waterbomb
+                | PatternKind::Resch
+                | PatternKind::WaterbombTube
+                | PatternKind::YoshimuraTube
+        )
+    }
+
+    /// Whether the pattern is a tube (§7): generated closed, with no flat state of its
+    /// own (its strip is the tube cut open along its seam).
+    pub fn is_tube(self) -> bool {
+        matches!(
+            self,
+            PatternKind::WaterbombTube | PatternKind::YoshimuraTube | PatternKind::Kresling
+        )
     }
 }
 
@@ -127,6 +157,8 @@ impl Params {
                 // 8 cells into an arch.
                 PatternKind::Yoshimura => Some(0.065),
                 PatternKind::Miura => Some(0.3),
+                // Waterbomb and Yoshimura tubes close in one state, Kresling's strip is
+                // made for the amount it is generated at.
                 _ => kind.has_closed_form_3d().then_some(0.5),
             },
             alpha: 0.0,
@@ -151,7 +183,7 @@ pub fn generate(p: &Params) -> Result<Mesh, GenerateError> {
     check_ranges(p)?;
     if p.fold.is_some() {
         // Resch's closed form is its fully folded state; its generator checks the amount.
-        if !p.kind.has_closed_form_3d() && p.kind != PatternKind::Resch {
+        if !p.kind.has_closed_form_3d() && p.kind != PatternKind::Resch && !p.kind.is_tube() {
             return bad(format!(
                 "{} has no closed-form folded state; generate it flat and fold it with the solver",
                 p.kind.name()
@@ -171,9 +203,13 @@ pub fn generate(p: &Params) -> Result<Mesh, GenerateError> {
         PatternKind::Arc => arc::arc(p)?,
         PatternKind::Concentric => arc::concentric(p)?,
         PatternKind::Pleat => pleat::pleat(p)?,
+        PatternKind::WaterbombTube | PatternKind::YoshimuraTube | PatternKind::Kresling => {
+            tube::tube(p)?
+        }
     };
     mesh.title = format!("{} {}x{}", p.kind.name(), p.nx, p.ny);
-    mesh.lock_topology = p.kind == PatternKind::Resch;
+    // Remeshing does not yet carry a tube's seam across a collapse.
+    mesh.lock_topology = p.kind == PatternKind::Resch || p.kind.is_tube();
     Ok(mesh)
 }
 

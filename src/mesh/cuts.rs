@@ -8,16 +8,18 @@ use std::collections::{HashMap, HashSet};
 /// side of the cut becomes a boundary edge. The tip of a slit, where the paper stays
 /// connected around the vertex, keeps a single vertex. Returns the number of vertices added.
 pub fn split_along_cuts(parts: &mut MeshParts) -> usize {
+    let n0 = vertex_count(parts);
+    split_along(parts).len() - n0
+}
+
+/// [`split_along_cuts`], returning for every vertex after the split the vertex it is a
+/// copy of (itself for the originals).
+pub(super) fn split_along(parts: &mut MeshParts) -> Vec<usize> {
+    let n0 = vertex_count(parts);
     let is_cut = cut_edges(parts);
     if is_cut.is_empty() {
-        return 0;
+        return (0..n0).collect();
     }
-    let n0 = parts
-        .flat
-        .as_ref()
-        .map(|f| f.len())
-        .or(parts.positions.as_ref().map(|p| p.len()))
-        .unwrap_or(0);
     let on_cut: HashSet<usize> = is_cut.iter().flat_map(|&(a, b)| [a, b]).collect();
     let mut incident: HashMap<usize, Vec<usize>> = HashMap::new();
     for (fi, f) in parts.faces.iter().enumerate() {
@@ -35,7 +37,16 @@ pub fn split_along_cuts(parts: &mut MeshParts) -> usize {
         split_vertex(parts, v, &incident[&v], &is_cut, &mut origin);
     }
     parts.edges = edges_after_split(parts, &origin);
-    origin.len() - n0
+    origin
+}
+
+fn vertex_count(parts: &MeshParts) -> usize {
+    parts
+        .flat
+        .as_ref()
+        .map(|f| f.len())
+        .or(parts.positions.as_ref().map(|p| p.len()))
+        .unwrap_or(0)
 }
 
 /// Boundary and cut lines with a face on each side: the paper is cut along them.

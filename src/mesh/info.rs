@@ -120,7 +120,13 @@ impl fmt::Display for MeshInfo {
         writeln!(
             f,
             "topology:     {} ({} piece(s), {} boundary loop(s), {} hole(s), χ = {})",
-            if t.is_disk { "disk" } else { "not a disk" },
+            if t.is_disk {
+                "disk"
+            } else if t.is_tube {
+                "cylinder (a tube)"
+            } else {
+                "neither a disk nor a tube"
+            },
             t.components,
             t.boundary_loops,
             t.holes,

@@ -8,6 +8,7 @@ mod chains;
 mod cuts;
 mod error;
 mod info;
+mod seam;
 mod source;
 mod topology;
 mod triangulate;
@@ -17,6 +18,7 @@ pub use chains::{crease_chains, curve_runs, run_edges, turn, CreaseChain, CORNER
 pub use cuts::split_along_cuts;
 pub use error::MeshError;
 pub use info::MeshInfo;
+pub use seam::{seam_keys, SeamError, Strip};
 pub use source::{polygon_faces, Fingerprint, SourceRecord};
 pub use topology::{Topology, TopologySummary, VertexFan};
 pub use triangulate::triangulate_polygon;
@@ -175,6 +177,10 @@ pub struct Mesh {
     /// Groups of vertices that meet in one point of the folded form: the three corners of
     /// each of Resch's tucks (§6.4). Kept coincident by the `coincidence` conditions.
     pub coincident: Vec<Vec<usize>>,
+    /// A tube's seam (paper §7): the edges, as [`edge_key`] pairs, it is cut open along to
+    /// be laid out as one strip. Empty for a sheet, and for a tube whose seam is the
+    /// shortest path between its rims ([`Mesh::seam_edges`]).
+    pub seam: Vec<[usize; 2]>,
     /// Rounding step of the source file's coordinates in mm (half its last decimal place),
     /// 0 when exact. Verification does not count rounding as a design error.
     pub coordinate_precision: f64,
@@ -251,6 +257,7 @@ impl Mesh {
             title: String::new(),
             lock_topology: false,
             coincident: Vec::new(),
+            seam: Vec::new(),
             coordinate_precision: 0.0,
             source: None,
         })

@@ -46,8 +46,10 @@ pub struct TopologySummary {
     pub holes: usize,
     /// V − E + F.
     pub euler_characteristic: i64,
-    /// One component, one boundary loop, χ = 1: what the solver needs.
+    /// One component, one boundary loop, χ = 1: a sheet.
     pub is_disk: bool,
+    /// One component, two boundary loops, χ = 0: a tube (paper §7).
+    pub is_tube: bool,
 }
 
 impl Topology {
@@ -66,6 +68,7 @@ impl Topology {
             holes: loops.saturating_sub(self.components),
             euler_characteristic: euler,
             is_disk: self.components == 1 && loops == 1 && euler == 1,
+            is_tube: self.components == 1 && loops == 2 && euler == 0,
         }
     }
 }

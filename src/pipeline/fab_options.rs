@@ -27,7 +27,12 @@ pub struct FabOptions {
     pub hide_flat: bool,
     /// Print-then-cut: the colour the paper's face is printed, RGB.
     pub print_fill: Option<[u8; 3]>,
+    /// A tube's glue tab width (mm); default [`GLUE_TAB_MM`].
+    pub tab: Option<f64>,
 }
+
+/// A tube's glue tab width when none is given (mm): room for a line of glue.
+pub const GLUE_TAB_MM: f64 = 6.0;
 
 /// Narrowest sheet `--width` may ask for, mm: a cutter's step is 0.025–0.05 mm, and a
 /// pattern much smaller than this leaves strokes that round to nothing (the lower end of

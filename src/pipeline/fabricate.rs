@@ -79,22 +79,34 @@ pub fn fabricate_verified(
             "the design fails verification (use --force to cut it anyway):\n{verification}"
         ))));
     }
+    // A tube is made from the strip it is cut open to, with a glue tab (issue 31).
+    let tube = super::tube::tube_strip(mesh, options.tab)?;
+    let mesh = tube.as_ref().map_or(mesh, |t| &t.mesh);
     let (flat, isometry_error) = flatten(mesh)?;
     let page = match &options.media {
         Some(m) => m.clone(),
         None => Media::parse(&machine.media).map_err(FabError::Input)?,
     };
     let margin = options.margin.unwrap_or(machine.margin_mm);
-    let lines = crease_lines(mesh, &flat);
+    let mut lines = crease_lines(mesh, &flat);
+    // The layout places the points it is given: the tab's corners reach past the strip.
+    let mut extent = flat.clone();
+    if let Some(t) = &tube {
+        let (tab, with) = t.tab(&flat, lines)?;
+        lines = with;
+        extent.extend(tab.outline);
+    }
     let print = print_layout(machine, options)?;
-    let (sheet, tiled) = match &print {
+    let (mut sheet, tiled) = match &print {
         Some(p) => (
-            p.place(&flat, &lines, sizing)
+            p.place(&extent, &lines, sizing)
                 .map_err(|e| FabError::Rejected(Rejected(e)))?,
             false,
         ),
-        None => lay_out(&flat, &lines, &page, margin, sizing, options)?,
+        None => lay_out(&extent, &lines, &page, margin, sizing, options)?,
     };
+    sheet.vertices.truncate(flat.len());
+    let seam = tube.as_ref().map(|t| t.report(&sheet.vertices));
     check_cuttable(&sheet, machine)?;
     let settings = machine.score_settings();
     let (strokes, unscored) = score_lines(&sheet, &settings);
@@ -153,6 +165,7 @@ pub fn fabricate_verified(
             .as_ref()
             .map(crate::fab::print_and_cut::PrintLayout::to_json),
         hinge: hinge.as_ref().map(|g| hinge_report(g, mesh)),
+        seam,
     };
     let job_line = run.job_line(&figures);
     let mut warnings: Vec<String> = run.unscored_warning().into_iter().collect();

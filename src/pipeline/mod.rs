@@ -8,8 +8,9 @@ mod fabricate;
 mod fit;
 mod path;
 mod report_json;
+mod tube;
 
-pub use fab_options::{FabOptions, MIN_WIDTH_MM, TILE_OVERLAP_MM};
+pub use fab_options::{FabOptions, GLUE_TAB_MM, MIN_WIDTH_MM, TILE_OVERLAP_MM};
 pub use fabricate::{
     fabricate, fabricate_verified, remove_stale_outputs, FabError, FabOutput, NextSteps, Rejected,
     OUTPUT_FILES,
@@ -429,6 +430,13 @@ pub fn layer_order_of_step(solver: &Solver, time: std::time::Duration) -> StepOr
     use crate::fab::{budget::Budget, layer_conflict, LayerError};
     let mut now = solver.mesh().clone();
     now.set_positions(solver.positions().to_vec());
+    if now.is_tube() {
+        // Not judged on a tube yet: its strip folded flat is not the tube folded flat.
+        return StepOrder::Undecided(
+            "the layer order of a tube is not judged yet (take layer-order out of the conditions)"
+                .into(),
+        );
+    }
     if now.has_3d() {
         let Ok(flat) = unfold(&now) else {
             return StepOrder::Kept;
@@ -490,7 +498,9 @@ pub fn set_alpha(mesh: &mut Mesh, alpha: f64) -> Result<(), PipelineError> {
 /// anew from the 3D form.
 pub fn finish_design(mesh: &mut Mesh, relaid: bool) -> Result<(), PipelineError> {
     record_fold_angles(mesh);
-    if relaid {
+    // A tube has no crease pattern of its own: its strip is unfolded when it is written
+    // or cut (`fab::unfold_tube`).
+    if relaid && !mesh.is_tube() {
         let flat = unfold(mesh)?;
         mesh.set_flat(flat);
     }

@@ -22,6 +22,30 @@ pub struct FabReport {
     pub print_and_cut: Option<serde_json::Value>,
     /// The hinge gaps of a panels-on-membrane sheet.
     pub hinge: Option<HingeReport>,
+    /// A tube's seam: which edge of the strip is glued to which.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub seam: Option<SeamReport>,
+}
+
+/// A tube's seam on the sheet (issue 31): the strip's side with the glue tab and the side
+/// glued onto it, edge by edge, in sheet millimetres.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SeamReport {
+    /// The glue tab's width (mm, before scaling to the sheet).
+    pub tab_mm: f64,
+    /// Each seam edge, rim to rim.
+    pub pairs: Vec<SeamPair>,
+}
+
+/// One seam edge: its two copies on the sheet, ends matching in order.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SeamPair {
+    /// Number of the pair, from 1, as marked on the sheet.
+    pub number: usize,
+    /// The edge the tab hangs from (its hinge), start and end.
+    pub tab_side: [[f64; 2]; 2],
+    /// The edge glued onto the tab, start and end (the copies of `tab_side`'s ends).
+    pub glued_side: [[f64; 2]; 2],
 }
 
 impl FabReport {

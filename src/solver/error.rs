@@ -18,8 +18,8 @@ pub enum SolverError {
         /// Vertex count.
         count: usize,
     },
-    /// The solver needs a disk.
-    #[error("the solver needs a single sheet without holes (a disk); this mesh has {components} piece(s) and {holes} hole(s)")]
+    /// The solver needs a disk or a tube.
+    #[error("the solver needs a single sheet without holes (a disk) or a tube closed along a seam; this mesh has {components} piece(s) and {holes} hole(s)")]
     NotADisk {
         /// Pieces of paper.
         components: usize,

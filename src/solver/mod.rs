@@ -163,7 +163,7 @@ impl Solver {
         let summary = mesh
             .topology()
             .summary(n, mesh.edges().len(), mesh.faces().len());
-        if !summary.is_disk {
+        if !(summary.is_disk || summary.is_tube) {
             return Err(SolverError::NotADisk {
                 components: summary.components,
                 holes: summary.holes,

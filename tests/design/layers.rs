@@ -806,6 +806,11 @@ fn every_bundled_design_gets_its_layer_order_verdict() {
         ("resch-folded", None),
         ("resch-dome", None),
         ("resch-cap", None),
+        // A tube's layer order is not judged yet (its strip folded flat is not the tube
+        // folded flat).
+        ("waterbomb-tube", None),
+        ("yoshimura-tube", None),
+        ("kresling", None),
     ];
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let bundled = std::fs::read_dir(root.join("patterns"))

@@ -208,7 +208,11 @@ fn width_is_the_laid_out_width_and_fit_fills_the_media_within_the_margin() {
             ..Default::default()
         };
         let out = fabricate(&mesh, &machine, &options).unwrap();
-        let xs = out.sheet.vertices.iter().map(|p| p.x);
+        // The sheet is what its lines reach: the paper's vertices, and a tube's glue tab.
+        let reach = |out: &crease::pipeline::FabOutput| -> Vec<Vec2> {
+            out.sheet.lines.iter().flat_map(|l| [l.a, l.b]).collect()
+        };
+        let xs = reach(&out).into_iter().map(|p| p.x);
         let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
             (a.min(x), b.max(x))
         });
@@ -226,7 +230,7 @@ fn width_is_the_laid_out_width_and_fit_fills_the_media_within_the_margin() {
         };
         let out = fabricate(&mesh, &machine, &options).unwrap();
         let (w, h) = (out.toolpath.media.width, out.toolpath.media.height);
-        let v = &out.sheet.vertices;
+        let v = &reach(&out);
         let lo = v
             .iter()
             .fold(Vec2::new(f64::INFINITY, f64::INFINITY), |a, p| a.inf(p));

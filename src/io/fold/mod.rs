@@ -9,6 +9,7 @@ use crate::mesh::{
 use serde::Deserialize;
 use source::{coordinate_arrays, keep_file_numbering, source_record};
 
+mod seam;
 mod source;
 mod write;
 pub use write::{to_string, to_string_with_orders};
@@ -53,6 +54,8 @@ struct Frame {
     coincident: Option<Vec<Vec<usize>>>,
     #[serde(rename = "faceOrders")]
     face_orders: Option<Vec<serde_json::Value>>,
+    #[serde(rename = "crease:seam")]
+    seam: Option<Vec<seam::SeamEntry>>,
 }
 
 impl Frame {
@@ -185,6 +188,11 @@ pub fn parse(text: &str) -> Result<Mesh, String> {
     let edges = read_edges(top, n)?;
     let title = top.frame_title.clone().or(file_title).unwrap_or_default();
     let mut parts = mesh_parts(&face_lists, edges, flat, folded, n)?;
+    let mut tube_seam = None;
+    if let Some(entries) = top.seam.as_deref() {
+        let (tube, seam) = seam::close(parts, entries)?;
+        (parts, tube_seam) = (tube, Some(seam));
+    }
     split_along_cuts(&mut parts);
     let mut mesh = Mesh::new(parts).map_err(|e| e.to_string())?;
     // The file's own rounding, or the rounding of the file it was converted from as
@@ -206,6 +214,15 @@ pub fn parse(text: &str) -> Result<Mesh, String> {
         return Err("crease:coincidentVertices needs faces_vertices".into());
     }
     mesh.coincident = read_groups(groups, n)?;
+    if let Some(seam) = tube_seam {
+        if !mesh.is_tube() {
+            return Err("crease:seam does not close the strip into a tube".into());
+        }
+        mesh.seam = seam;
+        mesh.seam_edges().map_err(|e| e.to_string())?;
+        // The file describes the strip; the tube is written back from its own geometry.
+        return Ok(mesh);
+    }
     mesh.source = Some(std::sync::Arc::new(source_record(
         text,
         &mesh,

@@ -45,7 +45,16 @@ pub fn to_string(mesh: &Mesh) -> String {
 /// [`crate::fab::layer_order`] gives them) written as FOLD `faceOrders` of the faces the
 /// file lists: triangles merged into one polygon share their order, so each pair of
 /// written faces takes its first triangle pair's.
+///
+/// A tube is written as its strip with `crease:seam` (see [`super::seam`]).
 pub fn to_string_with_orders(mesh: &Mesh, orders: Option<&[[i64; 3]]>) -> String {
+    match super::seam::strip_for_writing(mesh) {
+        Some((strip, seam)) => write(&strip, orders, Some(seam)),
+        None => write(mesh, orders, None),
+    }
+}
+
+fn write(mesh: &Mesh, orders: Option<&[[i64; 3]]>, seam: Option<String>) -> String {
     let source: Option<&SourceRecord> = mesh.source.as_deref();
     let mut w = Fields(String::from("{\n"));
     let scale = write_frame(&mut w, mesh, source);
@@ -53,6 +62,9 @@ pub fn to_string_with_orders(mesh: &Mesh, orders: Option<&[[i64; 3]]>) -> String
     write_edges(&mut w, mesh, &faces);
     if mesh.lock_topology {
         w.field("crease:lockTopology", "true".into());
+    }
+    if let Some(seam) = seam {
+        w.field("crease:seam", seam);
     }
     if mesh.coordinate_precision > 0.0 {
         // The rounding of the file the mesh came from (half its last decimal place), in
@@ -121,7 +133,7 @@ fn num(x: f64) -> String {
 }
 
 /// A JSON array of `items`, one per line.
-fn list(items: Vec<String>) -> String {
+pub(super) fn list(items: Vec<String>) -> String {
     if items.is_empty() {
         return "[]".into();
     }

@@ -1,0 +1,67 @@
+//! A tube on the sheet (issue 31): the fabrication run lays out the strip the tube is cut
+//! open to, with a glue tab on one side of the seam, and reports which edge is glued to
+//! which.
+
+use super::fabricate::{FabError, Rejected};
+use super::report_json::{SeamPair, SeamReport};
+use crate::fab::{glue_tab, with_tab, CreaseLine, GlueTab};
+use crate::mesh::{Mesh, Strip, Vec2};
+
+/// A tube being fabricated: the strip as a mesh of its own, and how it was cut.
+pub(super) struct TubeStrip {
+    pub mesh: Mesh,
+    pub strip: Strip,
+    pub tab_mm: f64,
+}
+
+/// The strip of a tube, `None` for a sheet.
+pub(super) fn tube_strip(mesh: &Mesh, tab: Option<f64>) -> Result<Option<TubeStrip>, FabError> {
+    if !mesh.is_tube() {
+        return Ok(None);
+    }
+    let tab_mm = crate::limits::LENGTH
+        .check("--tab", tab.unwrap_or(super::fab_options::GLUE_TAB_MM))
+        .map_err(|e| FabError::Input(e.to_string()))?;
+    let (strip_mesh, strip) =
+        crate::fab::unfold_tube(mesh).map_err(|e| FabError::Rejected(Rejected(e.to_string())))?;
+    Ok(Some(TubeStrip {
+        mesh: strip_mesh,
+        strip,
+        tab_mm,
+    }))
+}
+
+impl TubeStrip {
+    /// The glue tab on the seam's first side, and the lines with it.
+    pub fn tab(
+        &self,
+        flat: &[Vec2],
+        lines: Vec<CreaseLine>,
+    ) -> Result<(GlueTab, Vec<CreaseLine>), FabError> {
+        let mut hinge = vec![flat[self.strip.sides[0][0][0]]];
+        hinge.extend(self.strip.sides.iter().map(|[[_, b], _]| flat[*b]));
+        let tab = glue_tab(hinge, self.tab_mm).map_err(|e| FabError::Rejected(Rejected(e)))?;
+        let lines = with_tab(lines, &tab);
+        Ok((tab, lines))
+    }
+
+    /// The seam's pairs at their places on the sheet (`placed`: the strip's vertices in
+    /// sheet millimetres).
+    pub fn report(&self, placed: &[Vec2]) -> SeamReport {
+        let at = |v: usize| [placed[v].x, placed[v].y];
+        SeamReport {
+            tab_mm: self.tab_mm,
+            pairs: self
+                .strip
+                .sides
+                .iter()
+                .enumerate()
+                .map(|(k, [[a, b], [c, d]])| SeamPair {
+                    number: k + 1,
+                    tab_side: [at(*a), at(*b)],
+                    glued_side: [at(*c), at(*d)],
+                })
+                .collect(),
+        }
+    }
+}

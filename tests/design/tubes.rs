@@ -1,0 +1,225 @@
+//! Tubes (issue 31, paper §7): generated closed, verified like any design, written as the
+//! strip they are made from with `crease:seam`, read back closed.
+
+use crate::common::{run_crease, scratch_file};
+use crease::generate::{generate, Params, PatternKind};
+use crease::mesh::{Mesh, Vec3};
+use std::f64::consts::PI;
+
+const TUBES: [PatternKind; 3] = [
+    PatternKind::WaterbombTube,
+    PatternKind::YoshimuraTube,
+    PatternKind::Kresling,
+];
+
+fn tube(kind: PatternKind) -> Mesh {
+    generate(&Params {
+        nx: 8,
+        ny: 6,
+        ..Params::defaults(kind)
+    })
+    .unwrap()
+}
+
+/// Sum of the 3D sector angles at `v` (computed here from the faces, not by the crate).
+fn angle_sum(m: &Mesh, v: usize) -> f64 {
+    let x = m.positions();
+    m.faces()
+        .iter()
+        .filter_map(|f| {
+            let k = f.iter().position(|&c| c == v)?;
+            let (a, b) = (x[f[(k + 1) % 3]] - x[v], x[f[(k + 2) % 3]] - x[v]);
+            Some(a.cross(&b).norm().atan2(a.dot(&b)))
+        })
+        .sum()
+}
+
+fn seam_vertices(m: &Mesh) -> Vec<usize> {
+    let mut v: Vec<usize> = m.seam.iter().flatten().copied().collect();
+    v.sort_unstable();
+    v.dedup();
+    v
+}
+
+#[test]
+fn generated_tubes_are_cylinders_that_pass_verification() {
+    for kind in TUBES {
+        let name = kind.name();
+        let path = scratch_file("tubes", &format!("{name}.fold"), "");
+        let p = path.to_str().unwrap();
+        let (code, _, err) = run_crease(&["generate", name, "--nx", "8", "--ny", "6", "-o", p]);
+        assert_eq!(code, 0, "{name}: {err}");
+        let (code, info, _) = run_crease(&["info", p]);
+        assert_eq!(code, 0);
+        assert!(
+            info.contains("cylinder") && info.contains("χ = 0"),
+            "{name}: {info}"
+        );
+        let (code, out, err) = run_crease(&["verify", p, "--json"]);
+        assert_eq!(code, 0, "{name}: {out}{err}");
+        let v: serde_json::Value = serde_json::from_str(out.lines().next().unwrap()).unwrap();
+        assert_eq!(v["pass"], true, "{name}");
+        assert_eq!(
+            v["families"]["self-intersection"]["violations"], 0,
+            "{name}"
+        );
+        assert_eq!(v["families"]["flat-foldability"]["violations"], 0, "{name}");
+        // The seam's vertices are interior vertices of the tube read back from the file,
+        // and developable there: their sector angles close to 2π.
+        let m = crease::io::read(&path).unwrap();
+        assert!(m.is_tube(), "{name}");
+        let seam = seam_vertices(&m);
+        assert_eq!(seam.len(), 7, "{name}: one vertex a ring");
+        let mut inner = 0;
+        for v in seam {
+            if m.is_interior(v) {
+                inner += 1;
+                let residual = (angle_sum(&m, v) - 2.0 * PI).abs();
+                assert!(residual <= 1e-10, "{name}: seam vertex {v}: {residual:e}");
+            }
+        }
+        assert_eq!(inner, 5, "{name}: the seam's vertices between the rims");
+    }
+}
+
+#[test]
+fn a_tube_is_written_as_its_strip_and_read_back_closed() {
+    for kind in TUBES {
+        let m = tube(kind);
+        let text = crease::io::fold::to_string(&m);
+        let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let coords = |v: &serde_json::Value| -> Vec<Vec<f64>> {
+            serde_json::from_value(v["vertices_coords"].clone()).unwrap()
+        };
+        let folded = coords(&json);
+        let flat = coords(&json["file_frames"][0]);
+        assert_eq!(json["file_frames"][0]["frame_classes"][0], "creasePattern");
+        // The strip: the tube's 56 vertices and a second copy of the seam's 7.
+        assert_eq!(folded.len(), 63, "{kind:?}");
+        let seam = json["crease:seam"].as_array().unwrap();
+        assert_eq!(seam.len(), 6);
+        // Every seam vertex's two copies lie together in 3D and one translation apart in
+        // the strip, the width of the tube's unrolled rings.
+        let mut shift: Option<[f64; 2]> = None;
+        for entry in seam {
+            for k in 0..2 {
+                let (a, b) = (
+                    entry[0][k].as_u64().unwrap() as usize,
+                    entry[1][k].as_u64().unwrap() as usize,
+                );
+                let gap: f64 = (0..3)
+                    .map(|i| (folded[a][i] - folded[b][i]).powi(2))
+                    .sum::<f64>()
+                    .sqrt();
+                assert!(gap <= 1e-9, "{kind:?}: {a}, {b} are {gap} mm apart");
+                let t = [flat[b][0] - flat[a][0], flat[b][1] - flat[a][1]];
+                let s = *shift.get_or_insert(t);
+                assert!(
+                    (s[0] - t[0]).abs() < 1e-9 && (s[1] - t[1]).abs() < 1e-9,
+                    "{kind:?}: {t:?} against {s:?}"
+                );
+            }
+        }
+        let s = shift.unwrap();
+        let width = (s[0] * s[0] + s[1] * s[1]).sqrt();
+        assert!((width - 8.0 * 20.0).abs() < 1e-9, "{kind:?}: {width}");
+        // The strip's edges keep their 3D lengths.
+        let edges: Vec<[usize; 2]> =
+            serde_json::from_value(json["edges_vertices"].clone()).unwrap();
+        for [a, b] in edges {
+            let l3: f64 = (0..3)
+                .map(|i| (folded[a][i] - folded[b][i]).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            let l2 = ((flat[a][0] - flat[b][0]).powi(2) + (flat[a][1] - flat[b][1]).powi(2)).sqrt();
+            assert!((l3 - l2).abs() < 1e-9, "{kind:?}: edge {a}-{b}");
+        }
+        let back = crease::io::fold::parse(&text).unwrap();
+        assert!(back.is_tube());
+        assert_eq!(back.faces(), m.faces(), "{kind:?}");
+        assert_eq!(back.seam, m.seam, "{kind:?}");
+        for (p, q) in back.positions().iter().zip(m.positions()) {
+            assert!((p - q).norm() < 1e-12);
+        }
+        let letters = |m: &Mesh| -> Vec<&str> {
+            m.edges()
+                .iter()
+                .map(|e| e.assignment.fold_letter())
+                .collect()
+        };
+        assert_eq!(letters(&back), letters(&m), "{kind:?}");
+    }
+}
+
+#[test]
+fn tubes_close_in_their_rings_and_kresling_folds_with_its_amount() {
+    // Rings of nx equal sides: every ring polygon regular, each side the cell size.
+    for kind in TUBES {
+        let m = tube(kind);
+        let x = m.positions();
+        for ring in 0..7 {
+            for i in 0..8 {
+                let (a, b) = (x[ring * 8 + i], x[ring * 8 + (i + 1) % 8]);
+                assert!(((a - b).norm() - 20.0).abs() < 1e-9, "{kind:?}");
+                assert!((a.z - b.z).abs() < 1e-12);
+            }
+        }
+    }
+    // Developable at every interior vertex, at every Kresling fold amount.
+    let mut states: Vec<Mesh> = TUBES.iter().map(|&k| tube(k)).collect();
+    for fold in [0.0, 0.3, 0.9] {
+        states.push(
+            generate(&Params {
+                fold: Some(fold),
+                ..Params::defaults(PatternKind::Kresling)
+            })
+            .unwrap(),
+        );
+    }
+    for m in &states {
+        for v in (0..m.vertex_count()).filter(|&v| m.is_interior(v)) {
+            let g = angle_sum(m, v) - 2.0 * PI;
+            assert!(g.abs() < 1e-12, "{}: vertex {v}: {g:e}", m.title);
+        }
+    }
+    // Kresling's rings come closer as its fold amount grows.
+    let height = |fold: f64| {
+        let m = generate(&Params {
+            fold: Some(fold),
+            ..Params::defaults(PatternKind::Kresling)
+        })
+        .unwrap();
+        let z: Vec<f64> = m.positions().iter().map(|p: &Vec3| p.z).collect();
+        z.iter().cloned().fold(f64::MIN, f64::max) - z.iter().cloned().fold(f64::MAX, f64::min)
+    };
+    assert!(height(0.2) > height(0.5) && height(0.5) > height(0.8));
+    assert!((height(0.5) - 8.0 * 10.0).abs() < 1e-9);
+}
+
+#[test]
+fn absurd_tube_requests_are_refused_saying_why() {
+    let out = scratch_file("tubes", "refused.fold", "");
+    let o = out.to_str().unwrap();
+    for (args, says) in [
+        (vec!["yoshimura-tube", "--fold", "0.3"], "one state"),
+        (vec!["waterbomb-tube", "--flat"], "no flat state"),
+        (vec!["kresling", "--nx", "2"], "at least 3 cells round"),
+        (vec!["kresling", "--fold", "0.95"], "at most 0.9"),
+    ] {
+        let mut full = vec!["generate"];
+        full.extend(&args);
+        full.extend(["-o", o]);
+        let (code, _, err) = run_crease(&full);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(says), "{args:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+    }
+    // A seam that does not join its copies is refused naming the field.
+    let m = tube(PatternKind::YoshimuraTube);
+    let mut json: serde_json::Value =
+        serde_json::from_str(&crease::io::fold::to_string(&m)).unwrap();
+    // Join the first seam vertex to the ring's far side instead of its copy.
+    json["crease:seam"][0][1][0] = serde_json::json!(4);
+    let e = crease::io::fold::parse(&json.to_string()).expect_err("a bad seam is refused");
+    assert!(e.contains("crease:seam"), "{e}");
+}
