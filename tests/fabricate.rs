@@ -17,5 +17,7 @@ mod scoring;
 mod sheet_files;
 #[path = "fabricate/sheet_layout.rs"]
 mod sheet_layout;
+#[path = "fabricate/tubes.rs"]
+mod tubes;
 #[path = "fabricate/two_sided.rs"]
 mod two_sided;

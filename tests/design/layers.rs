@@ -809,6 +809,7 @@ fn every_bundled_design_gets_its_layer_order_verdict() {
         // A tube's layer order is not judged yet (its strip folded flat is not the tube
         // folded flat).
         ("waterbomb-tube", None),
+        ("waterbomb-tube-bent", None),
         ("yoshimura-tube", None),
         ("kresling", None),
     ];

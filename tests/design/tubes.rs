@@ -223,3 +223,89 @@ fn absurd_tube_requests_are_refused_saying_why() {
     let e = crease::io::fold::parse(&json.to_string()).expect_err("a bad seam is refused");
     assert!(e.contains("crease:seam"), "{e}");
 }
+
+/// The end ring's plane normal (best fit through the ring's vertices, by the smallest
+/// eigenvector of their scatter), pointing up the tube.
+fn ring_normal(m: &Mesh, ring: std::ops::Range<usize>) -> Vec3 {
+    let x = m.positions();
+    let n = ring.len() as f64;
+    let c = ring.clone().map(|v| x[v]).sum::<Vec3>() / n;
+    let mut scatter = nalgebra::Matrix3::zeros();
+    for v in ring {
+        scatter += (x[v] - c) * (x[v] - c).transpose();
+    }
+    let eig = scatter.symmetric_eigen();
+    let k = eig.eigenvalues.imin();
+    let normal: Vec3 = eig.eigenvectors.column(k).into();
+    if normal.z < 0.0 {
+        -normal
+    } else {
+        normal
+    }
+}
+
+#[test]
+fn the_bent_tube_rebuilds_from_its_script_closed_and_bent_30_degrees() {
+    use crease::pipeline::{run_design, DesignJob};
+    use crease::solver::Script;
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns");
+    let text = std::fs::read_to_string(dir.join("waterbomb-tube-bent.toml")).unwrap();
+    let script = Script::parse(&text).unwrap();
+    let job = DesignJob::from_script(&script, &dir, None).unwrap();
+    let bent = run_design(job, &mut |_, _, _| {}).unwrap().mesh;
+    let committed = crease::io::read(&dir.join("waterbomb-tube-bent.fold")).unwrap();
+    for (p, q) in bent.positions().iter().zip(committed.positions()) {
+        assert!((p - q).norm() < 1e-6, "waterbomb-tube-bent.fold is stale");
+    }
+    // Still the tube it started as, with its seam, and bent: the end rings' planes at
+    // least 30° apart.
+    let regular = tube_of_defaults();
+    assert!(bent.is_tube());
+    assert_eq!(bent.seam, regular.seam);
+    let turn = ring_normal(&bent, 0..8)
+        .angle(&ring_normal(&bent, 64..72))
+        .to_degrees();
+    assert!(
+        (30.0..40.0).contains(&turn),
+        "the end rings are {turn}° apart"
+    );
+    assert!(ring_normal(&regular, 0..8).angle(&ring_normal(&regular, 64..72)) < 1e-9);
+    // Every condition of its script holds, seam vertices included.
+    let set = script
+        .conditions
+        .map(|c| crease::constraints::ConstraintSet::parse(&c.join(",")).unwrap());
+    let report = crease::fab::verify(&bent, set.as_ref(), crease::fab::Tolerances::default());
+    assert!(report.pass(), "{report}");
+    for v in seam_vertices(&bent)
+        .into_iter()
+        .filter(|&v| bent.is_interior(v))
+    {
+        assert!(
+            (angle_sum(&bent, v) - 2.0 * PI).abs() <= 1e-10,
+            "seam vertex {v}"
+        );
+    }
+    // Written as its strip, the seam's two sides lie together in 3D.
+    let json: serde_json::Value =
+        serde_json::from_str(&crease::io::fold::to_string(&bent)).unwrap();
+    let x: Vec<Vec<f64>> = serde_json::from_value(json["vertices_coords"].clone()).unwrap();
+    let pairs = json["crease:seam"].as_array().unwrap();
+    assert_eq!(pairs.len(), 8);
+    for pair in pairs {
+        for k in 0..2 {
+            let (a, b) = (
+                pair[0][k].as_u64().unwrap() as usize,
+                pair[1][k].as_u64().unwrap() as usize,
+            );
+            let gap = (0..3)
+                .map(|i| (x[a][i] - x[b][i]).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            assert!(gap <= 1e-9, "seam copies {a}, {b} are {gap} mm apart");
+        }
+    }
+}
+
+fn tube_of_defaults() -> Mesh {
+    generate(&Params::defaults(PatternKind::WaterbombTube)).unwrap()
+}

@@ -1,0 +1,204 @@
+//! A tube on the sheet (issue 31): one strip with a glue tab, and the report's seam
+//! pairing glues it back into the design.
+
+use crate::common;
+
+use common::fabbing::{a3, output_text};
+use crease::fab::LineKind;
+use crease::mesh::{distance_to_segment, Mesh, UnionFind, Vec2};
+use crease::pipeline::{fabricate, FabOptions, FabReport};
+use crease::plotter::Machine;
+use std::collections::HashSet;
+use std::path::Path;
+
+fn bent_tube() -> Mesh {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/waterbomb-tube-bent.fold");
+    let m = crease::io::read(&path).unwrap();
+    assert!(m.is_tube());
+    m
+}
+
+fn v2(p: [f64; 2]) -> Vec2 {
+    Vec2::new(p[0], p[1])
+}
+
+/// The vertex of `points` at `p` (the report's figures are the sheet's own numbers).
+fn vertex_at(points: &[Vec2], p: Vec2) -> usize {
+    let (i, d) = points
+        .iter()
+        .enumerate()
+        .map(|(i, q)| (i, (q - p).norm()))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .unwrap();
+    assert!(d < 1e-9, "no strip vertex at {p:?} ({d} mm off)");
+    i
+}
+
+#[test]
+fn a_bent_tube_is_one_strip_that_the_seam_pairing_glues_back_into_its_form() {
+    let tube = bent_tube();
+    let machine = Machine::load("silhouette-cameo").unwrap();
+    let out = fabricate(&tube, &machine, &a3()).unwrap();
+    let report = FabReport::from_text(output_text(&out, "report.json")).unwrap();
+    let seam = report.seam.expect("a tube's report pairs its seam");
+    assert_eq!(seam.pairs.len(), 8, "one pair per seam edge, rim to rim");
+    let scale = report.sheet.scale;
+    // The strip as laid out, read back from the file fab wrote: one piece, a disk.
+    let strip = crease::io::fold::parse(output_text(&out, "crease-pattern.fold")).unwrap();
+    assert!(strip.topology().summary(0, 0, 0).components == 1 && !strip.is_tube());
+    let at = strip.flat().unwrap();
+    // Glue: each edge of the glued side onto its partner on the tab's side.
+    let mut glue = UnionFind::new(at.len());
+    for pair in &seam.pairs {
+        for k in 0..2 {
+            glue.union(
+                vertex_at(at, v2(pair.tab_side[k])),
+                vertex_at(at, v2(pair.glued_side[k])),
+            );
+        }
+    }
+    // Each glued vertex is one vertex of the tube: found by its 3D place.
+    let of_tube: Vec<usize> = (0..at.len())
+        .map(|v| {
+            let root = glue.find(v);
+            let p = strip.positions()[root];
+            let (t, d) = tube
+                .positions()
+                .iter()
+                .enumerate()
+                .map(|(t, q)| (t, (q - p).norm()))
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .unwrap();
+            assert!(d < 1e-9, "strip vertex {v} is no vertex of the tube");
+            t
+        })
+        .collect();
+    let classes: HashSet<usize> = of_tube.iter().copied().collect();
+    assert_eq!(
+        classes.len(),
+        tube.vertex_count(),
+        "glued, every vertex once"
+    );
+    // Every edge of the glued sheet is an edge of the tube with its length, within
+    // 0.01 mm, and every edge of the tube is made.
+    let mut made = HashSet::new();
+    let mut worst: f64 = 0.0;
+    for e in strip.edges() {
+        let [a, b] = e.vertices;
+        let (ta, tb) = (of_tube[a], of_tube[b]);
+        let te = tube
+            .topology()
+            .edge_between(ta, tb)
+            .unwrap_or_else(|| panic!("glued edge {ta}-{tb} is not in the tube"));
+        let sheet = (at[a] - at[b]).norm() / scale;
+        let space = (tube.positions()[ta] - tube.positions()[tb]).norm();
+        worst = worst.max((sheet - space).abs());
+        made.insert(te);
+    }
+    assert!(worst <= 0.01, "an edge is {worst} mm off its 3D length");
+    assert_eq!(made.len(), tube.edges().len());
+    // The tab's hinge is scored as a valley and the glued side is cut.
+    let near = |p: Vec2, kind: LineKind| {
+        out.sheet
+            .lines
+            .iter()
+            .any(|l| l.kind == kind && distance_to_segment(p, l.a, l.b) < 1e-6)
+    };
+    for pair in &seam.pairs {
+        let mid = |s: [[f64; 2]; 2]| (v2(s[0]) + v2(s[1])) / 2.0;
+        assert!(
+            near(mid(pair.tab_side), LineKind::Valley),
+            "pair {}",
+            pair.number
+        );
+        assert!(
+            near(mid(pair.glued_side), LineKind::Cut),
+            "pair {}",
+            pair.number
+        );
+        let scored = out.toolpath.strokes.iter().any(|s| {
+            s.kind == LineKind::Valley
+                && distance_to_segment(
+                    (s.from + s.to) / 2.0,
+                    v2(pair.tab_side[0]),
+                    v2(pair.tab_side[1]),
+                ) < 1e-6
+        });
+        assert!(scored, "pair {}: its hinge has a valley dash", pair.number);
+    }
+    // The tab's outline: the cut lines that do not run between strip vertices, from the
+    // hinge's first point round to its last.
+    let is_vertex = |p: Vec2| at.iter().any(|q| (q - p).norm() < 1e-9);
+    let outline: Vec<(Vec2, Vec2)> = out
+        .sheet
+        .lines
+        .iter()
+        .filter(|l| l.kind == LineKind::Cut && !(is_vertex(l.a) && is_vertex(l.b)))
+        .map(|l| (l.a, l.b))
+        .collect();
+    assert_eq!(outline.len(), 3, "chamfer, outer edge, chamfer");
+    let first = v2(seam.pairs[0].tab_side[0]);
+    let last = v2(seam.pairs[7].tab_side[1]);
+    assert!((outline[0].0 - first).norm() < 1e-9 && (outline[2].1 - last).norm() < 1e-9);
+    // Its outer edge runs at least the tab's width beyond every point of the hinge.
+    let (q0, q1) = outline[1];
+    let along = (q1 - q0).normalize();
+    for pair in &seam.pairs {
+        for p in pair.tab_side {
+            let w = along.perp(&(v2(p) - q0)).abs() / scale;
+            assert!(w >= 6.0 - 1e-9, "the tab is {w} mm wide at {p:?}");
+        }
+    }
+    // No paper of the strip lies under the tab: no strip vertex inside its polygon.
+    let mut polygon = vec![first, outline[0].1, outline[1].1, last];
+    // Back along the hinge: each pair's start, the last pair's first, down to the second's.
+    polygon.extend(seam.pairs[1..].iter().rev().map(|p| v2(p.tab_side[0])));
+    let inside = |p: Vec2| {
+        let n = polygon.len();
+        let mut winding = false;
+        for i in 0..n {
+            let (a, b) = (polygon[i], polygon[(i + 1) % n]);
+            if distance_to_segment(p, a, b) < 1e-6 {
+                return false;
+            }
+            if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x) {
+                winding = !winding;
+            }
+        }
+        winding
+    };
+    for (v, p) in at.iter().enumerate() {
+        assert!(!inside(*p), "strip vertex {v} lies under the tab");
+    }
+}
+
+#[test]
+fn the_tab_width_is_the_makers_and_a_tab_too_wide_is_refused() {
+    let tube = bent_tube();
+    let machine = Machine::load("silhouette-cameo").unwrap();
+    let wide = |tab: f64| {
+        fabricate(
+            &tube,
+            &machine,
+            &FabOptions {
+                tab: Some(tab),
+                ..a3()
+            },
+        )
+    };
+    let narrow = wide(3.0).unwrap();
+    let default = fabricate(&tube, &machine, &a3()).unwrap();
+    let width = |o: &crease::pipeline::FabOutput| o.sheet.size[0].max(o.sheet.size[1]);
+    assert_eq!(narrow.report.seam.as_ref().unwrap().tab_mm, 3.0);
+    assert!(width(&default) > width(&narrow));
+    let Err(e) = wide(100.0) else {
+        panic!("a 100 mm tab cannot fit")
+    };
+    let e = e.to_string();
+    assert!(e.contains("glue tab") && e.contains("--tab"), "{e}");
+    let Err(e) = wide(0.0) else {
+        panic!("no tab at all is refused")
+    };
+    let e = e.to_string();
+    assert!(e.contains("--tab"), "{e}");
+}
