@@ -80,7 +80,14 @@ pub fn fabricate_verified(
         ))));
     }
     // A tube is made from the strip it is cut open to, with a glue tab (issue 31).
-    let tube = super::tube::tube_strip(mesh, options.tab)?;
+    let tab_mm = crate::limits::LENGTH
+        .check(
+            "--tab",
+            options.tab.unwrap_or(super::fab_options::GLUE_TAB_MM),
+        )
+        .map_err(|e| FabError::Input(e.to_string()))?;
+    let rejected = |e: String| FabError::Rejected(Rejected(e));
+    let tube = super::tube::tube_strip(mesh, tab_mm).map_err(rejected)?;
     let mesh = tube.as_ref().map_or(mesh, |t| &t.mesh);
     let (flat, isometry_error) = flatten(mesh)?;
     let page = match &options.media {
@@ -92,7 +99,7 @@ pub fn fabricate_verified(
     // The layout places the points it is given: the tab's corners reach past the strip.
     let mut extent = flat.clone();
     if let Some(t) = &tube {
-        let (tab, with) = t.tab(&flat, lines)?;
+        let (tab, with) = t.tab(&flat, lines).map_err(rejected)?;
         lines = with;
         extent.extend(tab.outline);
     }

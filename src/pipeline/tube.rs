@@ -1,8 +1,8 @@
 //! A tube on the sheet (issue 31): the fabrication run lays out the strip the tube is cut
 //! open to, with a glue tab on one side of the seam, and reports which edge is glued to
-//! which.
+//! which. Its refusals are plain sentences: the run (`fabricate`) says they reject the
+//! design.
 
-use super::fabricate::{FabError, Rejected};
 use super::report_json::{SeamPair, SeamReport};
 use crate::fab::{glue_tab, with_tab, CreaseLine, GlueTab};
 use crate::mesh::{Mesh, Strip, Vec2};
@@ -14,16 +14,13 @@ pub(super) struct TubeStrip {
     pub tab_mm: f64,
 }
 
-/// The strip of a tube, `None` for a sheet.
-pub(super) fn tube_strip(mesh: &Mesh, tab: Option<f64>) -> Result<Option<TubeStrip>, FabError> {
+/// The strip of a tube with a glue tab `tab_mm` wide (already range-checked), `None` for
+/// a sheet.
+pub(super) fn tube_strip(mesh: &Mesh, tab_mm: f64) -> Result<Option<TubeStrip>, String> {
     if !mesh.is_tube() {
         return Ok(None);
     }
-    let tab_mm = crate::limits::LENGTH
-        .check("--tab", tab.unwrap_or(super::fab_options::GLUE_TAB_MM))
-        .map_err(|e| FabError::Input(e.to_string()))?;
-    let (strip_mesh, strip) =
-        crate::fab::unfold_tube(mesh).map_err(|e| FabError::Rejected(Rejected(e.to_string())))?;
+    let (strip_mesh, strip) = crate::fab::unfold_tube(mesh).map_err(|e| e.to_string())?;
     Ok(Some(TubeStrip {
         mesh: strip_mesh,
         strip,
@@ -37,10 +34,10 @@ impl TubeStrip {
         &self,
         flat: &[Vec2],
         lines: Vec<CreaseLine>,
-    ) -> Result<(GlueTab, Vec<CreaseLine>), FabError> {
+    ) -> Result<(GlueTab, Vec<CreaseLine>), String> {
         let mut hinge = vec![flat[self.strip.sides[0][0][0]]];
         hinge.extend(self.strip.sides.iter().map(|[[_, b], _]| flat[*b]));
-        let tab = glue_tab(hinge, self.tab_mm).map_err(|e| FabError::Rejected(Rejected(e)))?;
+        let tab = glue_tab(hinge, self.tab_mm)?;
         let lines = with_tab(lines, &tab);
         Ok((tab, lines))
     }

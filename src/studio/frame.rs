@@ -120,6 +120,10 @@ fn kind_name(kind: LineKind) -> &'static str {
 
 /// Faces and creases.
 pub fn topology_json(mesh: &Mesh) -> String {
+    topology_value(mesh).to_string()
+}
+
+fn topology_value(mesh: &Mesh) -> Value {
     let faces: Vec<usize> = mesh.faces().iter().flatten().copied().collect();
     let edges: Vec<Value> = mesh
         .edges()
@@ -128,7 +132,16 @@ pub fn topology_json(mesh: &Mesh) -> String {
         .map(|(e, kind)| json!([e.vertices[0], e.vertices[1], kind_name(kind)]))
         .collect();
     json!({"vertices": mesh.vertex_count(), "faces": faces, "edges": edges, "title": mesh.title})
-        .to_string()
+}
+
+/// A tube's crease pattern: the strip it is cut open to (issue 31), with the strip's own
+/// faces and creases, since its seam's vertices are there twice.
+pub fn strip_pattern_json(strip: &Mesh) -> String {
+    let mut value = pattern_value(strip, strip.flat());
+    let topology = topology_value(strip);
+    value["faces"] = topology["faces"].clone();
+    value["edges"] = topology["edges"].clone();
+    value.to_string()
 }
 
 /// Rounds to 1 µm: the page needs no more, and the numbers print shorter.
@@ -142,6 +155,10 @@ fn flat2(points: impl Iterator<Item = Vec2>) -> Vec<f64> {
 
 /// The crease pattern and the flat-folded x-ray (or why there is none).
 pub fn pattern_json(mesh: &Mesh, pattern: Option<&[Vec2]>) -> String {
+    pattern_value(mesh, pattern).to_string()
+}
+
+fn pattern_value(mesh: &Mesh, pattern: Option<&[Vec2]>) -> Value {
     let cp = pattern.map(|p| flat2(p.iter().copied()));
     let xray = match pattern {
         None => json!({"reason": "the design cannot be unfolded into a crease pattern"}),
@@ -187,7 +204,7 @@ pub fn pattern_json(mesh: &Mesh, pattern: Option<&[Vec2]>) -> String {
                 .collect()
         })
         .unwrap_or_default();
-    json!({"creasePattern": cp, "xray": xray, "curves": curves}).to_string()
+    json!({"creasePattern": cp, "xray": xray, "curves": curves})
 }
 
 /// The parts of the live frame.

@@ -878,3 +878,50 @@ fn a_pointer_drag_that_would_lose_the_layer_order_is_held_when_it_is_kept() {
     hub.stop();
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn a_tube_is_designed_in_the_studio_and_its_pane_draws_the_strip() {
+    // A tube's crease pattern is the strip it is cut open to: the seam's vertices are
+    // there twice, so the frame carries the strip's own creases and faces.
+    let hub = fresh_hub();
+    let (status, r) = json_call(
+        &hub,
+        "POST",
+        "/api/generate",
+        json!({"pattern": "yoshimura-tube"}),
+    );
+    assert_eq!(status, 200, "{r}");
+    let f = frame_with_pattern(&hub);
+    let cp: Vec<f64> = serde_json::from_value(f["pattern"]["creasePattern"].clone()).unwrap();
+    let edges = f["pattern"]["edges"].as_array().unwrap();
+    let faces = f["pattern"]["faces"].as_array().unwrap();
+    assert_eq!(f["topology"]["vertices"], 72);
+    assert_eq!(cp.len(), 2 * (72 + 9), "the seam's nine vertices twice");
+    assert_eq!(faces.len(), 3 * 128);
+    // Rims and both sides of the seam are the strip's cut lines.
+    let cuts = edges.iter().filter(|e| e[2] == "B").count();
+    assert_eq!(cuts, 2 * 8 + 2 * 8);
+    // The strip keeps every edge's length: the tube's own vertices keep their numbers,
+    // and their edges are as long in the pane as in space.
+    let x: Vec<[f64; 3]> = (0..72).map(|v| position(&state(&hub), v)).collect();
+    for e in edges {
+        let (a, b) = (
+            e[0].as_u64().unwrap() as usize,
+            e[1].as_u64().unwrap() as usize,
+        );
+        if a < 72 && b < 72 {
+            let flat = (cp[2 * a] - cp[2 * b]).hypot(cp[2 * a + 1] - cp[2 * b + 1]);
+            assert!((flat - distance(x[a], x[b])).abs() < 2e-3, "edge {a}-{b}");
+        }
+    }
+    // And it is designed like a sheet: a drag moves it and verification still passes.
+    let before = position(&state(&hub), 64);
+    drag_to(&hub, 64, [before[0], before[1], before[2] - 3.0]);
+    let s = state(&hub);
+    assert!(
+        distance(position(&s, 64), before) > 0.5,
+        "the drag moved the tube"
+    );
+    assert_eq!(s["pass"], true, "{}", s["residuals"]);
+    hub.stop();
+}

@@ -12,9 +12,10 @@ use std::collections::HashMap;
 /// One `crease:seam` entry.
 pub(super) type SeamEntry = ([usize; 2], [usize; 2], String);
 
-/// The strip a tube is written as and its `crease:seam` value; `None` when the mesh is
-/// not a tube or cannot be cut open (it is then written as it is, closed).
-pub(super) fn strip_for_writing(mesh: &Mesh) -> Option<(Mesh, String)> {
+/// The strip a tube is written as and its `crease:seam` entries, one JSON array each;
+/// `None` when the mesh is not a tube or cannot be cut open (it is then written as it is,
+/// closed).
+pub(super) fn strip_for_writing(mesh: &Mesh) -> Option<(Mesh, Vec<String>)> {
     if !mesh.is_tube() {
         return None;
     }
@@ -28,7 +29,7 @@ pub(super) fn strip_for_writing(mesh: &Mesh) -> Option<(Mesh, String)> {
             format!("[[{a}, {b}], [{c}, {d}], \"{letter}\"]")
         })
         .collect();
-    Some((flat_mesh, super::write::list(entries)))
+    Some((flat_mesh, entries))
 }
 
 /// Joins the strip's seam sides named by `crease:seam` into a tube: each second copy

@@ -54,7 +54,7 @@ pub fn to_string_with_orders(mesh: &Mesh, orders: Option<&[[i64; 3]]>) -> String
     }
 }
 
-fn write(mesh: &Mesh, orders: Option<&[[i64; 3]]>, seam: Option<String>) -> String {
+fn write(mesh: &Mesh, orders: Option<&[[i64; 3]]>, seam: Option<Vec<String>>) -> String {
     let source: Option<&SourceRecord> = mesh.source.as_deref();
     let mut w = Fields(String::from("{\n"));
     let scale = write_frame(&mut w, mesh, source);
@@ -64,7 +64,7 @@ fn write(mesh: &Mesh, orders: Option<&[[i64; 3]]>, seam: Option<String>) -> Stri
         w.field("crease:lockTopology", "true".into());
     }
     if let Some(seam) = seam {
-        w.field("crease:seam", seam);
+        w.field("crease:seam", list(seam));
     }
     if mesh.coordinate_precision > 0.0 {
         // The rounding of the file the mesh came from (half its last decimal place), in
@@ -133,7 +133,7 @@ fn num(x: f64) -> String {
 }
 
 /// A JSON array of `items`, one per line.
-pub(super) fn list(items: Vec<String>) -> String {
+fn list(items: Vec<String>) -> String {
     if items.is_empty() {
         return "[]".into();
     }

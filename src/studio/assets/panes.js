@@ -36,7 +36,8 @@ export class PatternPane {
     const onCurve = new Set(curves.flatMap((c) => c.edges));
     // Flat lines first, so mountains and valleys stay on top.
     const order = { F: 0, B: 1, V: 2, M: 2 };
-    const edges = model.topology.edges
+    // A tube's pattern is its strip, with creases of its own (the seam's vertices twice).
+    const edges = (model.pattern.edges || model.topology.edges)
       .filter((_, i) => !onCurve.has(i))
       .sort((a, b) => order[a[2]] - order[b[2]]);
     ctx.lineWidth = 1.2;
@@ -74,7 +75,7 @@ export class XrayPane {
     // Closed layers come as one image per vertex; otherwise as each face's corners.
     let t = xray.triangles;
     if (!t) {
-      const faces = model.topology.faces, p = xray.points;
+      const faces = model.pattern.faces || model.topology.faces, p = xray.points;
       t = new Float64Array(faces.length * 2);
       faces.forEach((v, i) => { t[2 * i] = p[2 * v]; t[2 * i + 1] = p[2 * v + 1]; });
     }

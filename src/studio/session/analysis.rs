@@ -70,6 +70,11 @@ fn analyse(job: Job, cancel: Arc<AtomicBool>) -> Analysis {
     let budget = Budget::live(LIVE_BUDGET, cancel, LIVE_ADVICE);
     let report = fab::verify_within(&mesh, Some(&set), Tolerances::default(), &budget);
     let pattern_json = with_pattern.then(|| {
+        if mesh.is_tube() {
+            if let Ok((strip, _)) = fab::unfold_tube(&mesh) {
+                return frame::strip_pattern_json(&strip);
+            }
+        }
         let pattern = match (relaid, mesh.flat()) {
             (false, Some(f)) => Some(f.to_vec()),
             _ => fab::unfold(&mesh).ok(),
