@@ -79,6 +79,18 @@ pub struct Sheet {
     pub vertices: Vec<Vec2>,
     /// Size of the pattern's bounding box on the media (mm).
     pub size: [f64; 2],
+    /// Words printed on the template at places of the sheet (a tube's seam numbers): the
+    /// PDF draws them, no cutter receives them.
+    pub labels: Vec<SheetLabel>,
+}
+
+/// A word printed on the template, centred on `at` (media mm).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SheetLabel {
+    /// Where (the middle of its baseline).
+    pub at: Vec2,
+    /// What.
+    pub text: String,
 }
 
 impl Sheet {
@@ -93,13 +105,22 @@ impl Sheet {
                 .map(|l| l.mapped(|p| p + by))
                 .collect(),
             vertices: self.vertices.into_iter().map(|p| p + by).collect(),
+            labels: self
+                .labels
+                .into_iter()
+                .map(|l| SheetLabel { at: l.at + by, ..l })
+                .collect(),
             ..self
         }
     }
 
-    /// The pattern's bounding box on the media (bottom-left, top-right).
+    /// The pattern's bounding box on the media (bottom-left, top-right): its vertices and
+    /// the ends of its lines (a tube's glue tab reaches past the paper's vertices).
     pub fn bounds(&self) -> (Vec2, Vec2) {
-        bounds(&self.vertices)
+        let ends: Vec<Vec2> = self.lines.iter().flat_map(|l| [l.a, l.b]).collect();
+        let (a, b) = bounds(&self.vertices);
+        let (c, d) = bounds(&ends);
+        (a.inf(&c), b.sup(&d))
     }
 }
 
@@ -301,6 +322,7 @@ fn place_sheet(
         lines: placed_lines,
         vertices: vertices.iter().map(|&p| place(p)).collect(),
         size: [size.x, size.y],
+        labels: Vec::new(),
     }
 }
 

@@ -27,7 +27,7 @@ pub use intersect::{self_intersections, Crossing};
 pub use layers::{
     layer_conflict, layer_order, layer_order_within, LayerConflict, LayerError, LayerOrder,
 };
-pub use layout::{layout, LayoutError, Media, Sheet, Sizing};
+pub use layout::{layout, LayoutError, Media, Sheet, SheetLabel, Sizing};
 pub use lines::{crease_lines, smooth_creases, CreaseLine, LineKind, SmoothCrease};
 pub use route::route;
 

@@ -114,6 +114,9 @@ pub fn fabricate_verified(
     };
     sheet.vertices.truncate(flat.len());
     let seam = tube.as_ref().map(|t| t.report(&sheet.vertices));
+    if let Some(t) = &tube {
+        sheet.labels = t.labels(&sheet.vertices, sheet.scale);
+    }
     check_cuttable(&sheet, machine)?;
     let settings = machine.score_settings();
     let (strokes, unscored) = score_lines(&sheet, &settings);
@@ -177,7 +180,13 @@ pub fn fabricate_verified(
     let job_line = run.job_line(&figures);
     let mut warnings: Vec<String> = run.unscored_warning().into_iter().collect();
     warnings.extend(hinge.as_ref().and_then(too_far_warning));
-    let summary = run.summary(verification.pass(), &job_line, &warnings);
+    let mut summary = run.summary(verification.pass(), &job_line, &warnings);
+    if let Some(seam) = &report.seam {
+        summary.push(format!(
+            "a tube: fold the glue tab under along its valley and glue the seam's {} numbered edges beside it onto the edges numbered alike across the sheet (report.json, seam)",
+            seam.pairs.len()
+        ));
+    }
     let title = if mesh.title.is_empty() {
         "crease pattern"
     } else {

@@ -202,3 +202,43 @@ fn the_tab_width_is_the_makers_and_a_tab_too_wide_is_refused() {
     let e = e.to_string();
     assert!(e.contains("--tab"), "{e}");
 }
+
+#[test]
+fn the_template_numbers_each_seam_edge_on_the_tab_and_across_the_sheet() {
+    let tube = bent_tube();
+    let machine = Machine::load("silhouette-cameo").unwrap();
+    let out = fabricate(&tube, &machine, &a3()).unwrap();
+    let seam = out.report.seam.as_ref().unwrap();
+    // Each number twice on the printed page: beside the tab's hinge and beside the edge
+    // glued onto it; the page says how to glue.
+    let pdf = common::fabbing::output(&out, "sheet.pdf");
+    let doc = printpdf::PdfDocument::parse(pdf, &Default::default(), &mut Vec::new()).unwrap();
+    let texts = common::fabbing::pdf_texts(&doc.pages[0]);
+    for k in 1..=seam.pairs.len() {
+        let n = texts.iter().filter(|t| **t == k.to_string()).count();
+        assert_eq!(n, 2, "number {k} is printed {n} times");
+    }
+    assert!(texts.join(" ").contains("glue tab"), "{texts:?}");
+    // On the sheet: each number on the right of its edge (the tab beyond the hinge, the
+    // paper beyond the glued side), within the tab's width of the edge's middle.
+    let scale = out.sheet.scale;
+    for pair in &seam.pairs {
+        let text = pair.number.to_string();
+        let labels: Vec<Vec2> = out
+            .sheet
+            .labels
+            .iter()
+            .filter(|l| l.text == text)
+            .map(|l| l.at)
+            .collect();
+        assert_eq!(labels.len(), 2);
+        for side in [pair.tab_side, pair.glued_side] {
+            let (a, b) = (v2(side[0]), v2(side[1]));
+            let near = labels.iter().any(|&p| {
+                let mid = (a + b) / 2.0;
+                (b - a).perp(&(p - a)) < 0.0 && (p - mid).norm() <= 6.0 * scale
+            });
+            assert!(near, "pair {}: no number beside {side:?}", pair.number);
+        }
+    }
+}

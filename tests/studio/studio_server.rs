@@ -20,18 +20,19 @@ fn the_binary_serves_the_page_and_the_api_on_loopback() {
     assert_eq!(s["vertices"], 81, "without a file: the generated Miura-ori");
     let (status, meta) = studio.json("GET", "/api/meta", "");
     assert_eq!(status, 200);
-    // The paper's six starting patterns and the curved-crease arc.
+    // The paper's six starting patterns, the curved-crease ones and the tubes.
     let names: Vec<&str> = meta["patterns"]
         .as_array()
         .unwrap()
         .iter()
         .map(|p| p["name"].as_str().unwrap())
         .collect();
-    assert_eq!(names.len(), 9, "{names:?}");
+    assert_eq!(names.len(), 12, "{names:?}");
     assert!(
         names.contains(&"arc") && names.contains(&"concentric") && names.contains(&"pleat"),
         "{names:?}"
     );
+    assert!(names.contains(&"waterbomb-tube") && names.contains(&"kresling"));
     assert!(meta["machines"]
         .as_array()
         .unwrap()

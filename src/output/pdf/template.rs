@@ -125,8 +125,19 @@ fn pattern_ops(sheet: &Sheet, shift: Vec2, window: (Vec2, Vec2), flat: bool) -> 
             }
         }
     }
+    for label in &sheet.labels {
+        let at = label.at + shift;
+        let half = char_mm(LABEL_PT) * label.text.chars().count() as f64 / 2.0;
+        let inside = at.x - half >= window.0.x && at.x + half <= window.1.x;
+        if inside && at.y >= window.0.y && at.y <= window.1.y {
+            text(&mut ops, at.x - half, at.y, LABEL_PT, &label.text);
+        }
+    }
     ops
 }
+
+/// Size of the words printed on the sheet (a tube's seam numbers), points.
+const LABEL_PT: f32 = 7.0;
 
 /// The part of segment `a`–`b` inside the rectangle `window` (Liang–Barsky), if any.
 fn clip(a: Vec2, b: Vec2, (lo, hi): (Vec2, Vec2)) -> Option<(Vec2, Vec2)> {
