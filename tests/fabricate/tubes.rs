@@ -22,14 +22,17 @@ fn v2(p: [f64; 2]) -> Vec2 {
     Vec2::new(p[0], p[1])
 }
 
+/// The index of the smallest of `distances` and that distance.
+fn nearest(distances: impl Iterator<Item = f64>) -> (usize, f64) {
+    distances
+        .enumerate()
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .unwrap()
+}
+
 /// The vertex of `points` at `p` (the report's figures are the sheet's own numbers).
 fn vertex_at(points: &[Vec2], p: Vec2) -> usize {
-    let (i, d) = points
-        .iter()
-        .enumerate()
-        .map(|(i, q)| (i, (q - p).norm()))
-        .min_by(|a, b| a.1.total_cmp(&b.1))
-        .unwrap();
+    let (i, d) = nearest(points.iter().map(|q| (q - p).norm()));
     assert!(d < 1e-9, "no strip vertex at {p:?} ({d} mm off)");
     i
 }
@@ -62,13 +65,7 @@ fn a_bent_tube_is_one_strip_that_the_seam_pairing_glues_back_into_its_form() {
         .map(|v| {
             let root = glue.find(v);
             let p = strip.positions()[root];
-            let (t, d) = tube
-                .positions()
-                .iter()
-                .enumerate()
-                .map(|(t, q)| (t, (q - p).norm()))
-                .min_by(|a, b| a.1.total_cmp(&b.1))
-                .unwrap();
+            let (t, d) = nearest(tube.positions().iter().map(|q| (q - p).norm()));
             assert!(d < 1e-9, "strip vertex {v} is no vertex of the tube");
             t
         })
