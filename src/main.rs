@@ -10,8 +10,7 @@ mod cli;
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 use clap::{Parser, Subcommand};
-use cli::{out, GenerateArgs};
-use crease::{constraints::ConstraintSet, fab, generate, io};
+use cli::GenerateArgs;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -31,40 +30,9 @@ enum Command {
     /// Generate one of the paper's starting patterns.
     Generate(GenerateArgs),
     /// Print counts, size and crease types of a pattern file.
-    Info {
-        /// Pattern file (.fold, .cp, .svg, .obj).
-        file: PathBuf,
-        /// Also list every vertex: id, 3D and crease-pattern position, creases, boundary
-        /// or interior (the ids `--drag` and `--fix` take).
-        #[arg(long)]
-        vertices: bool,
-    },
+    Info(cli::verify::InfoArgs),
     /// Check a design against the origami conditions (exit 1 if one fails).
-    Verify {
-        /// Pattern file (.fold, .cp, .svg, .obj).
-        file: PathBuf,
-        /// Print the report as JSON.
-        #[arg(long)]
-        json: bool,
-        /// Tolerance for every condition (radians for angles, relative for lengths), used
-        /// exactly as given. Default: 1e-6 plus, per vertex or edge, what the file's
-        /// coordinate rounding can explain there.
-        #[arg(long)]
-        tol: Option<f64>,
-        /// Comma-separated conditions: developability, boundary-angle, boundary-length,
-        /// convexity, flat-foldability, angular-inequality, fold-angle-range, twist-range,
-        /// edge-length, coincidence, layer-order (the flat-folded state's, failing for a
-        /// freeform design too), smoothness (curved creases drawn as chords turn smoothly:
-        /// second differences at most 0.5°). Default: what the design's assignment calls
-        /// for, smoothness where a crease chain curves.
-        #[arg(long)]
-        conditions: Option<String>,
-        /// Also fold the crease pattern from flat to the design's own angles in
-        /// simulation mode and report the first step where faces pass through each other
-        /// (exit 1), or that the path is clear.
-        #[arg(long)]
-        path: bool,
-    },
+    Verify(cli::verify::VerifyArgs),
     /// Fold a pattern in simulation mode (rigid panels), driving every crease toward a
     /// fraction of its target angle; or, with --flat, write its flat-folded state.
     Fold(cli::fold::FoldArgs),
@@ -131,76 +99,9 @@ fn main() -> ExitCode {
 
 fn run(cli: Cli) -> Result<u8, String> {
     match cli.command {
-        Command::Generate(args) => {
-            let mesh = generate::generate(&args.params()?).map_err(|e| e.to_string())?;
-            io::write(&mesh, &args.output).map_err(|e| e.to_string())?;
-            eprintln!(
-                "wrote {} ({} vertices, {} triangles)",
-                args.output.display(),
-                mesh.vertex_count(),
-                mesh.faces().len()
-            );
-            Ok(0)
-        }
-        Command::Info { file, vertices } => {
-            let imported = io::read_with_notes(&file).map_err(|e| e.to_string())?;
-            for note in &imported.notes {
-                eprintln!("note: {note}");
-            }
-            out(&format!(
-                "file:         {}\n{}",
-                file.display(),
-                imported.mesh.info()
-            ));
-            if vertices {
-                out(&format!("\n{}", imported.mesh.vertex_table()));
-            }
-            Ok(0)
-        }
-        Command::Verify {
-            file,
-            json,
-            tol,
-            conditions,
-            path,
-        } => {
-            let set = conditions
-                .as_deref()
-                .map(ConstraintSet::parse)
-                .transpose()?;
-            let mut tolerances = fab::Tolerances::default();
-            if let Some(t) = tol {
-                if !(t.is_finite() && t > 0.0) {
-                    return Err(format!("--tol must be a positive number (got {t})"));
-                }
-                tolerances = fab::Tolerances::exactly(t);
-            }
-            let mesh = io::read(&file).map_err(|e| e.to_string())?;
-            let report = fab::verify(&mesh, set.as_ref(), tolerances);
-            let path = path
-                .then(|| crease::pipeline::folding_path(&mesh, &mut cli::progress_bar()))
-                .transpose()
-                .map_err(|e| format!("{}: the path from flat: {e}", file.display()))?;
-            let collides = path.as_ref().is_some_and(|p| p.collision.is_some());
-            if json {
-                let mut value = report.to_json();
-                if let Some(p) = &path {
-                    value["path"] = serde_json::to_value(p).expect("a path report is JSON");
-                }
-                out(&format!("{value}\n"));
-            } else {
-                out(&report.to_string());
-                if let Some(p) = &path {
-                    out(&format!("{p}\n"));
-                }
-            }
-            let decided = report.undecided().is_none();
-            Ok(if report.pass() && decided && !collides {
-                0
-            } else {
-                1
-            })
-        }
+        Command::Generate(args) => cli::generate(args),
+        Command::Info(args) => cli::verify::info(args),
+        Command::Verify(args) => cli::verify::verify(args),
         Command::Fold(args) => cli::fold::fold(args),
         Command::Deform(args) => cli::deform::deform(args),
         Command::Fit(args) => cli::fit::fit(args),

@@ -7,6 +7,7 @@ pub mod fit;
 pub mod fold;
 pub mod plot;
 pub mod studio;
+pub mod verify;
 
 use crease::generate;
 use crease::io;
@@ -91,6 +92,19 @@ impl GenerateArgs {
             alpha: self.alpha,
         })
     }
+}
+
+/// `crease generate`: the pattern written to the output file.
+pub fn generate(args: GenerateArgs) -> Result<u8, String> {
+    let mesh = generate::generate(&args.params()?).map_err(|e| e.to_string())?;
+    io::write(&mesh, &args.output).map_err(|e| e.to_string())?;
+    eprintln!(
+        "wrote {} ({} vertices, {} triangles)",
+        args.output.display(),
+        mesh.vertex_count(),
+        mesh.faces().len()
+    );
+    Ok(0)
 }
 
 /// Prints to standard output; a closed pipe (`crease info x | head`) is not an error.

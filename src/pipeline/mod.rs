@@ -198,24 +198,8 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
     let fold_anchor = fold_fixed.unwrap_or_else(|| Solver::default_fixed(&mesh, &[]));
     let pins = fixed.clone();
     let fixed = fixed.unwrap_or_else(|| Solver::default_fixed(&mesh, &dragged));
-    let mut fold_report = None;
-    if let Some(amount) = fold {
-        crate::limits::FRACTION
-            .check("fold amount", amount)
-            .map_err(|e| PipelineError::Input(e.to_string()))?;
-        let (folded, report) = fold_phase(mesh, amount, &fold_anchor, &options, "fold", progress)?;
-        (mesh, fold_report) = (folded, Some(report));
-    } else if moves && is_flat_start(&mesh) {
-        let (folded, report) = fold_phase(
-            mesh,
-            LEAVE_FLAT_AMOUNT,
-            &fold_anchor,
-            &options,
-            "leave flat",
-            progress,
-        )?;
-        (mesh, fold_report) = (folded, Some(report));
-    }
+    let fold_report;
+    (mesh, fold_report) = first_fold(mesh, fold, moves, &fold_anchor, &options, progress)?;
     let set = match mode {
         Mode::Simulation => Mode::simulation_set(),
         Mode::Design => conditions
@@ -346,6 +330,31 @@ pub fn fold_mesh(
 
 /// Folds `mesh` in simulation mode toward `amount` of its targets, holding `anchor`, and
 /// polishes the result: a saved state is unfolded for cutting, isometric to ~1e-12.
+/// The job's fold before any drag: to `fold` when asked, else out of the plane when
+/// the design starts flat and is about to move (a flat sheet has no direction to fold
+/// in), else none.
+fn first_fold(
+    mesh: Mesh,
+    fold: Option<f64>,
+    moves: bool,
+    anchor: &[usize],
+    options: &Options,
+    progress: Progress,
+) -> Result<(Mesh, Option<FoldReport>), PipelineError> {
+    let (amount, phase) = match fold {
+        Some(amount) => {
+            crate::limits::FRACTION
+                .check("fold amount", amount)
+                .map_err(|e| PipelineError::Input(e.to_string()))?;
+            (amount, "fold")
+        }
+        None if moves && is_flat_start(&mesh) => (LEAVE_FLAT_AMOUNT, "leave flat"),
+        None => return Ok((mesh, None)),
+    };
+    let (folded, report) = fold_phase(mesh, amount, anchor, options, phase, progress)?;
+    Ok((folded, Some(report)))
+}
+
 fn fold_phase(
     mesh: Mesh,
     amount: f64,
