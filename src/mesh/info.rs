@@ -117,13 +117,19 @@ impl fmt::Display for MeshInfo {
             .collect();
         writeln!(f, "assignments:  {}", hist.join(", "))?;
         let t = &self.topology;
+        if t.is_tube {
+            // A tube's second rim is not a hole in its paper: it is one strip, closed.
+            return writeln!(
+                f,
+                "topology:     cylinder (a tube: one strip closed along a seam, 2 rims, χ = {})",
+                t.euler_characteristic
+            );
+        }
         writeln!(
             f,
             "topology:     {} ({} piece(s), {} boundary loop(s), {} hole(s), χ = {})",
             if t.is_disk {
                 "disk"
-            } else if t.is_tube {
-                "cylinder (a tube)"
             } else {
                 "neither a disk nor a tube"
             },
