@@ -107,48 +107,7 @@ pub fn tube(p: &Params) -> Result<Mesh, GenerateError> {
     }
     let a = p.size;
     let rings = match p.kind {
-        PatternKind::WaterbombTube | PatternKind::YoshimuraTube => {
-            if let Some(f) = p.fold {
-                return bad(format!(
-                    "{} closes in one state (rings of {} equal sides), so it takes no fold amount (got {f}); fold it further with `crease fold` or `crease deform`",
-                    p.kind.name(),
-                    p.nx
-                ));
-            }
-            // Rows of the strip: waterbomb right isosceles (height a/2), Yoshimura
-            // equilateral (height a·√3/2); alternate rows shifted by half a cell.
-            let row = if p.kind == PatternKind::WaterbombTube {
-                a / 2.0
-            } else {
-                a * 3f64.sqrt() / 2.0
-            };
-            let offset: Vec<f64> = (0..=p.ny).map(|j| (j % 2) as f64 * a / 2.0).collect();
-            let turn: Vec<f64> = offset
-                .iter()
-                .map(|o| 2.0 * PI * o / (p.nx as f64 * a))
-                .collect();
-            // A diagonal spans half a cell round: its chord is 2R sin(π / 2nx); the rings'
-            // spacing makes up the rest of its flat length √((a/2)² + row²).
-            let r = a / (2.0 * (PI / p.nx as f64).sin());
-            let chord = 2.0 * r * (PI / (2.0 * p.nx as f64)).sin();
-            let rise2 = a * a / 4.0 + row * row - chord * chord;
-            if rise2 <= 0.0 {
-                return bad(format!(
-                    "{} with {} cells round cannot close",
-                    p.kind.name(),
-                    p.nx
-                ));
-            }
-            let height = (0..=p.ny).map(|j| j as f64 * rise2.sqrt()).collect();
-            Rings {
-                nx: p.nx,
-                ny: p.ny,
-                width: a,
-                offset,
-                turn,
-                height,
-            }
-        }
+        PatternKind::WaterbombTube | PatternKind::YoshimuraTube => alternating_rings(p)?,
         PatternKind::Kresling => {
             let Some(t) = p.fold else {
                 return bad(
@@ -183,6 +142,54 @@ pub fn tube(p: &Params) -> Result<Mesh, GenerateError> {
     let mut mesh = Mesh::new(parts)?;
     mesh.seam = rings.seam();
     Ok(mesh)
+}
+
+/// Waterbomb and Yoshimura tubes: alternate rows shifted half a cell, each ring a regular
+/// polygon, the rings spaced so each diagonal keeps its flat length. They close in one
+/// state, so a fold amount is refused.
+fn alternating_rings(p: &Params) -> Result<Rings, GenerateError> {
+    let bad = |m: String| Err(GenerateError::BadParameter(m));
+    let a = p.size;
+    if let Some(f) = p.fold {
+        return bad(format!(
+                "{} closes in one state (rings of {} equal sides), so it takes no fold amount (got {f}); fold it further with `crease fold` or `crease deform`",
+                p.kind.name(),
+                p.nx
+            ));
+    }
+    // Rows of the strip: waterbomb right isosceles (height a/2), Yoshimura
+    // equilateral (height a·√3/2); alternate rows shifted by half a cell.
+    let row = if p.kind == PatternKind::WaterbombTube {
+        a / 2.0
+    } else {
+        a * 3f64.sqrt() / 2.0
+    };
+    let offset: Vec<f64> = (0..=p.ny).map(|j| (j % 2) as f64 * a / 2.0).collect();
+    let turn: Vec<f64> = offset
+        .iter()
+        .map(|o| 2.0 * PI * o / (p.nx as f64 * a))
+        .collect();
+    // A diagonal spans half a cell round: its chord is 2R sin(π / 2nx); the rings'
+    // spacing makes up the rest of its flat length √((a/2)² + row²).
+    let r = a / (2.0 * (PI / p.nx as f64).sin());
+    let chord = 2.0 * r * (PI / (2.0 * p.nx as f64)).sin();
+    let rise2 = a * a / 4.0 + row * row - chord * chord;
+    if rise2 <= 0.0 {
+        return bad(format!(
+            "{} with {} cells round cannot close",
+            p.kind.name(),
+            p.nx
+        ));
+    }
+    let height = (0..=p.ny).map(|j| j as f64 * rise2.sqrt()).collect();
+    Ok(Rings {
+        nx: p.nx,
+        ny: p.ny,
+        width: a,
+        offset,
+        turn,
+        height,
+    })
 }
 
 /// Kresling at fold amount `t`: rings `(1 − t)·a` apart, each turned a quarter cell

@@ -2,6 +2,7 @@
 
 use super::fab_options::{FabOptions, TILE_OVERLAP_MM};
 use super::fab_report::Run;
+use super::tube::TubeStrip;
 use crate::fab::unfold;
 use crate::mesh::Mesh;
 use std::collections::BTreeMap;
@@ -72,7 +73,7 @@ pub fn fabricate_verified(
     machine: &crate::plotter::Machine,
     options: &FabOptions,
 ) -> Result<FabOutput, FabError> {
-    use crate::fab::{crease_lines, score_lines, Media};
+    use crate::fab::{score_lines, Media};
     let sizing = sizing_of(options)?;
     if !verification.pass() && !options.force {
         return Err(FabError::Rejected(Rejected(format!(
@@ -80,14 +81,7 @@ pub fn fabricate_verified(
         ))));
     }
     // A tube is made from the strip it is cut open to, with a glue tab (issue 31).
-    let tab_mm = crate::limits::LENGTH
-        .check(
-            "--tab",
-            options.tab.unwrap_or(super::fab_options::GLUE_TAB_MM),
-        )
-        .map_err(|e| FabError::Input(e.to_string()))?;
-    let rejected = |e: String| FabError::Rejected(Rejected(e));
-    let tube = super::tube::tube_strip(mesh, tab_mm).map_err(rejected)?;
+    let tube = tube_of(mesh, options)?;
     let mesh = tube.as_ref().map_or(mesh, |t| &t.mesh);
     let (flat, isometry_error) = flatten(mesh)?;
     let page = match &options.media {
@@ -95,28 +89,16 @@ pub fn fabricate_verified(
         None => Media::parse(&machine.media).map_err(FabError::Input)?,
     };
     let margin = options.margin.unwrap_or(machine.margin_mm);
-    let mut lines = crease_lines(mesh, &flat);
-    // The layout places the points it is given: the tab's corners reach past the strip.
-    let mut extent = flat.clone();
-    if let Some(t) = &tube {
-        let (tab, with) = t.tab(&flat, lines).map_err(rejected)?;
-        lines = with;
-        extent.extend(tab.outline);
-    }
     let print = print_layout(machine, options)?;
-    let (mut sheet, tiled) = match &print {
-        Some(p) => (
-            p.place(&extent, &lines, sizing)
-                .map_err(|e| FabError::Rejected(Rejected(e)))?,
-            false,
-        ),
-        None => lay_out(&extent, &lines, &page, margin, sizing, options)?,
+    let placing = Placing {
+        print: print.as_ref(),
+        page: &page,
+        margin,
+        sizing,
+        options,
     };
-    sheet.vertices.truncate(flat.len());
+    let (sheet, tiled) = sheet_of(mesh, &flat, tube.as_ref(), &placing)?;
     let seam = tube.as_ref().map(|t| t.report(&sheet.vertices));
-    if let Some(t) = &tube {
-        sheet.labels = t.labels(&sheet.vertices, sheet.scale);
-    }
     check_cuttable(&sheet, machine)?;
     let settings = machine.score_settings();
     let (strokes, unscored) = score_lines(&sheet, &settings);
@@ -211,6 +193,57 @@ pub fn fabricate_verified(
         back,
         isometry_error,
     })
+}
+
+/// A tube's strip with its glue tab `--tab` wide (range-checked here), `None` for a sheet.
+fn tube_of(mesh: &Mesh, options: &FabOptions) -> Result<Option<TubeStrip>, FabError> {
+    let tab_mm = crate::limits::LENGTH
+        .check(
+            "--tab",
+            options.tab.unwrap_or(super::fab_options::GLUE_TAB_MM),
+        )
+        .map_err(|e| FabError::Input(e.to_string()))?;
+    super::tube::tube_strip(mesh, tab_mm).map_err(|e| FabError::Rejected(Rejected(e)))
+}
+
+/// Where a sheet goes: a print-and-cut frame, else the media within the margin.
+struct Placing<'a> {
+    print: Option<&'a crate::fab::print_and_cut::PrintLayout>,
+    page: &'a crate::fab::Media,
+    margin: f64,
+    sizing: crate::fab::Sizing,
+    options: &'a FabOptions,
+}
+
+/// The design's lines laid out as `at` says (a tube's strip with its glue tab and seam
+/// numbers), and whether the sheet is tiled over pages.
+fn sheet_of(
+    mesh: &Mesh,
+    flat: &[crate::mesh::Vec2],
+    tube: Option<&TubeStrip>,
+    at: &Placing,
+) -> Result<(crate::fab::Sheet, bool), FabError> {
+    let rejected = |e: String| FabError::Rejected(Rejected(e));
+    let mut lines = crate::fab::crease_lines(mesh, flat);
+    // The layout places the points it is given: the tab's corners reach past the strip.
+    let mut extent = flat.to_vec();
+    if let Some(t) = tube {
+        let (tab, with) = t.tab(flat, lines).map_err(rejected)?;
+        lines = with;
+        extent.extend(tab.outline);
+    }
+    let (mut sheet, tiled) = match at.print {
+        Some(p) => (
+            p.place(&extent, &lines, at.sizing).map_err(rejected)?,
+            false,
+        ),
+        None => lay_out(&extent, &lines, at.page, at.margin, at.sizing, at.options)?,
+    };
+    sheet.vertices.truncate(flat.len());
+    if let Some(t) = tube {
+        sheet.labels = t.labels(&sheet.vertices, sheet.scale);
+    }
+    Ok((sheet, tiled))
 }
 
 /// The sheet would need `count` strokes: more than a job may have is refused, saying
