@@ -810,6 +810,7 @@ fn every_bundled_design_gets_its_layer_order_verdict() {
         // folded flat).
         ("waterbomb-tube", None),
         ("waterbomb-tube-bent", None),
+        ("waterbomb-tube-vase", None),
         ("yoshimura-tube", None),
         ("kresling", None),
     ];

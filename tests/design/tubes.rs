@@ -309,3 +309,56 @@ fn the_bent_tube_rebuilds_from_its_script_closed_and_bent_30_degrees() {
 fn tube_of_defaults() -> Mesh {
     generate(&Params::defaults(PatternKind::WaterbombTube)).unwrap()
 }
+
+#[test]
+fn the_vase_flares_from_its_script_and_its_strip_becomes_a_fan() {
+    use crease::pipeline::{run_design, DesignJob};
+    use crease::solver::Script;
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns");
+    let text = std::fs::read_to_string(dir.join("waterbomb-tube-vase.toml")).unwrap();
+    let script = Script::parse(&text).unwrap();
+    let job = DesignJob::from_script(&script, &dir, None).unwrap();
+    let vase = run_design(job, &mut |_, _, _| {}).unwrap().mesh;
+    let committed = crease::io::read(&dir.join("waterbomb-tube-vase.fold")).unwrap();
+    for (p, q) in vase.positions().iter().zip(committed.positions()) {
+        assert!((p - q).norm() < 1e-6, "waterbomb-tube-vase.fold is stale");
+    }
+    assert!(vase.is_tube());
+    let report = crease::fab::verify(&vase, None, crease::fab::Tolerances::default());
+    assert!(report.pass(), "{report}");
+    // The mouth at least a quarter wider than the foot.
+    let radius = |ring: std::ops::Range<usize>| {
+        let x = vase.positions();
+        let c = ring.clone().map(|v| x[v]).sum::<Vec3>() / ring.len() as f64;
+        ring.map(|v| (x[v] - c).xy().norm()).sum::<f64>() / 8.0
+    };
+    let (foot, mouth) = (radius(0..8), radius(64..72));
+    assert!(
+        mouth > 1.25 * foot,
+        "foot {foot:.2} mm, mouth {mouth:.2} mm"
+    );
+    // Its strip: the seam's copies no longer one translation apart, but one rotation
+    // (a fan), the same for every pair.
+    let json: serde_json::Value =
+        serde_json::from_str(&crease::io::fold::to_string(&vase)).unwrap();
+    let flat: Vec<Vec<f64>> =
+        serde_json::from_value(json["file_frames"][0]["vertices_coords"].clone()).unwrap();
+    let at = |v: &serde_json::Value| {
+        let v = v.as_u64().unwrap() as usize;
+        nalgebra::Vector2::new(flat[v][0], flat[v][1])
+    };
+    let pairs = json["crease:seam"].as_array().unwrap();
+    let turn = |pair: &serde_json::Value| {
+        let (a, b) = (at(&pair[0][0]), at(&pair[0][1]));
+        let (c, d) = (at(&pair[1][0]), at(&pair[1][1]));
+        (b - a).perp(&(d - c)).atan2((b - a).dot(&(d - c)))
+    };
+    let first = turn(&pairs[0]);
+    assert!(first.abs() > 0.1, "the strip still closes by a translation");
+    for pair in pairs {
+        assert!(
+            (turn(pair) - first).abs() < 1e-9,
+            "one rotation for every pair"
+        );
+    }
+}

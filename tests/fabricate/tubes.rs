@@ -12,7 +12,11 @@ use std::collections::HashSet;
 use std::path::Path;
 
 fn bent_tube() -> Mesh {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/waterbomb-tube-bent.fold");
+    tube_design("waterbomb-tube-bent")
+}
+
+fn tube_design(name: &str) -> Mesh {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("patterns/{name}.fold"));
     let m = crease::io::read(&path).unwrap();
     assert!(m.is_tube());
     m
@@ -39,9 +43,18 @@ fn vertex_at(points: &[Vec2], p: Vec2) -> usize {
 
 #[test]
 fn a_bent_tube_is_one_strip_that_the_seam_pairing_glues_back_into_its_form() {
-    let tube = bent_tube();
+    glued_back(&bent_tube());
+}
+
+#[test]
+fn the_vase_whose_strip_is_a_fan_glues_back_into_its_form() {
+    glued_back(&tube_design("waterbomb-tube-vase"));
+}
+
+/// Fabricates `tube` on the Cameo and glues its sheet back through the report's pairing.
+fn glued_back(tube: &Mesh) {
     let machine = Machine::load("silhouette-cameo").unwrap();
-    let out = fabricate(&tube, &machine, &a3()).unwrap();
+    let out = fabricate(tube, &machine, &a3()).unwrap();
     let report = FabReport::from_text(output_text(&out, "report.json")).unwrap();
     let seam = report.seam.expect("a tube's report pairs its seam");
     assert_eq!(seam.pairs.len(), 8, "one pair per seam edge, rim to rim");
