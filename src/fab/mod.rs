@@ -29,7 +29,7 @@ pub use layers::{
 };
 pub use layout::{layout, LayoutError, Media, Sheet, SheetLabel, Sizing};
 pub use lines::{crease_lines, smooth_creases, CreaseLine, LineKind, SmoothCrease};
-pub use route::route;
+pub use route::{route, route_with, RouteSearch};
 
 pub use crate::geometry::unfold::{check_overlap, unfold, unfold_tube, UnfoldError};
 pub use score::{score, score_lines};

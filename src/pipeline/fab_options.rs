@@ -29,6 +29,8 @@ pub struct FabOptions {
     pub print_fill: Option<[u8; 3]>,
     /// A tube's glue tab width (mm); default [`GLUE_TAB_MM`].
     pub tab: Option<f64>,
+    /// How hard the cutting order is searched (a draft route for checking a layout).
+    pub route: crate::fab::RouteSearch,
 }
 
 /// A tube's glue tab width when none is given (mm): room for a line of glue.

@@ -667,7 +667,7 @@ fn sides(
     options: &FabOptions,
     registered: bool,
 ) -> (crate::fab::Toolpath, Option<crate::fab::Toolpath>) {
-    use crate::fab::{registration, route, LineKind, Toolpath};
+    use crate::fab::{registration, route_with, LineKind, Toolpath};
     let (front, back): (Vec<_>, Vec<_>) = strokes.into_iter().partition(|s| {
         !(options.mountains_from_back && matches!(s.kind, LineKind::Mountain | LineKind::Cut))
     });
@@ -679,7 +679,7 @@ fn sides(
         }
     };
     let mut front_strokes = marks(registration::front_centres(media, margin));
-    front_strokes.extend(route(&front, tools));
+    front_strokes.extend(route_with(&front, tools, options.route));
     let front = Toolpath {
         media: media.clone(),
         strokes: front_strokes,
@@ -690,7 +690,7 @@ fn sides(
             .map(|s| s.mapped(|p| registration::mirrored(media.width, p)))
             .collect();
         let mut strokes = marks(registration::back_centres(media, margin));
-        strokes.extend(route(&mirrored, tools));
+        strokes.extend(route_with(&mirrored, tools, options.route));
         Toolpath {
             media: media.clone(),
             strokes,

@@ -422,6 +422,42 @@ fn routing_a_small_design_far_from_the_pen_keeps_every_stroke() {
     }
 }
 
+#[test]
+fn a_draft_route_cuts_the_same_strokes_with_no_less_travel() {
+    // `--draft-route` skips the long search: the same strokes in another order, and
+    // never a shorter pen-up travel than the full search finds.
+    let machine = Machine::load("generic-hpgl").unwrap();
+    for name in ["resch", "miura-dome", "waterbomb-tube-bent"] {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("patterns/{name}.fold"));
+        let mesh = crease::io::read(&path).unwrap();
+        let full = fabricate(&mesh, &machine, &a3()).unwrap();
+        let draft_options = FabOptions {
+            route: crease::fab::RouteSearch::Draft,
+            ..a3()
+        };
+        let draft = fabricate(&mesh, &machine, &draft_options).unwrap();
+        let key = |s: &Stroke| {
+            let (a, b) = if (s.from.x, s.from.y) <= (s.to.x, s.to.y) {
+                (s.from, s.to)
+            } else {
+                (s.to, s.from)
+            };
+            format!("{:?} {:.9} {:.9} {:.9} {:.9}", s.kind, a.x, a.y, b.x, b.y)
+        };
+        let set = |o: &crease::pipeline::FabOutput| {
+            let mut v: Vec<String> = o.toolpath.strokes.iter().map(key).collect();
+            v.sort();
+            v
+        };
+        assert_eq!(set(&full), set(&draft), "{name}: the same strokes");
+        let (f, d) = (full.toolpath.travel(), draft.toolpath.travel());
+        assert!(
+            d >= f - 1e-6,
+            "{name}: draft travel {d:.1} mm < full {f:.1} mm"
+        );
+    }
+}
+
 /// With a folder named like one of the outputs in the way, `fab` writes none of its files
 /// and leaves no temporary file behind.
 #[test]

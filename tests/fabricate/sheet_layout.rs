@@ -6,6 +6,7 @@ use crate::common;
 
 use common::fabbing::{a3, output, patterns};
 use common::run_crease;
+use crease::fab::RouteSearch;
 use crease::mesh::Vec2;
 use crease::pipeline::{fabricate, FabError, FabOptions};
 use crease::plotter::Machine;
@@ -202,9 +203,11 @@ fn width_is_the_laid_out_width_and_fit_fills_the_media_within_the_margin() {
         let mesh = crease::io::read(&path).unwrap();
         let name = path.display();
         // --width 150: the sheet as placed (after any turn) is 150 mm wide.
+        // Layouts only: a draft route (the cutting order is not what is checked here).
         let options = FabOptions {
             media: Some(crease::fab::Media::parse("a3").unwrap()),
             width: Some(150.0),
+            route: RouteSearch::Draft,
             ..Default::default()
         };
         let out = fabricate(&mesh, &machine, &options).unwrap();
@@ -226,6 +229,7 @@ fn width_is_the_laid_out_width_and_fit_fills_the_media_within_the_margin() {
             media: Some(crease::fab::Media::parse("a4").unwrap()),
             fit: true,
             margin: Some(25.0),
+            route: RouteSearch::Draft,
             ..Default::default()
         };
         let out = fabricate(&mesh, &machine, &options).unwrap();
@@ -247,7 +251,11 @@ fn width_is_the_laid_out_width_and_fit_fills_the_media_within_the_margin() {
         let fill = ((hi.x - lo.x) / (w - 50.0)).max((hi.y - lo.y) / (h - 50.0));
         assert!((fill - 1.0).abs() < 1e-6, "{name}: fills {fill}");
         // Fitted is at least as large as the design laid out upright at the same fill.
-        let natural = fabricate(&mesh, &machine, &a3()).unwrap();
+        let draft = FabOptions {
+            route: RouteSearch::Draft,
+            ..a3()
+        };
+        let natural = fabricate(&mesh, &machine, &draft).unwrap();
         let upright = ((w - 50.0) / natural.sheet.size[0]).min((h - 50.0) / natural.sheet.size[1]);
         assert!(
             out.sheet.scale >= upright - 1e-9,
@@ -377,6 +385,7 @@ fn the_template_prints_inside_a_10_mm_margin_on_paper_and_its_text_clears_the_pa
                 media: media.map(|m| crease::fab::Media::parse(m).unwrap()),
                 fit,
                 hide_flat,
+                route: RouteSearch::Draft,
                 ..Default::default()
             };
             let Ok(out) = fabricate(&mesh, &Machine::load(machine).unwrap(), &options) else {
