@@ -169,6 +169,13 @@ fn say_what_was_made(dir: &std::path::Path, result: &crease::pipeline::FabOutput
             hinge.panels, hinge.thickness_mm
         );
     }
+    if let Some(seam) = &result.report.seam {
+        eprintln!(
+            "a tube: one strip with a {} mm glue tab; fold the tab under and glue its {} numbered edges onto the edges numbered alike (sheet.pdf prints the numbers, report.json pairs them)",
+            seam.tab_mm,
+            seam.pairs.len()
+        );
+    }
     for warning in &result.warnings {
         eprintln!("warning: {warning}");
     }

@@ -252,3 +252,43 @@ fn the_template_numbers_each_seam_edge_on_the_tab_and_across_the_sheet() {
         }
     }
 }
+
+#[test]
+fn fab_tells_the_maker_how_to_glue_a_tube_and_takes_the_tab_width() {
+    let dir = std::env::temp_dir().join(format!("crease-fab-tube-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let design = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/waterbomb-tube-bent.fold");
+    let (code, _, err) = common::run_crease(&[
+        "fab",
+        design.to_str().unwrap(),
+        "--machine",
+        "silhouette-cameo",
+        "--tab",
+        "8",
+        "--draft-route",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("8 mm glue tab") && err.contains("8 numbered edges"),
+        "{err}"
+    );
+    let report =
+        FabReport::from_text(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    assert_eq!(report.seam.unwrap().tab_mm, 8.0);
+    // A tab that cannot be: refused naming the option, exit 2, nothing written.
+    let bad = dir.join("bad");
+    let (code, _, err) = common::run_crease(&[
+        "fab",
+        design.to_str().unwrap(),
+        "--tab",
+        "0",
+        "--out",
+        bad.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--tab"), "{err}");
+    assert!(!bad.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
