@@ -228,9 +228,9 @@ pub fn convert(input: &Path, output: &Path) -> Result<u8, String> {
     );
     if flat_format && imported.mesh.is_tube() {
         // A flat format draws a sheet: the tube's strip, its seam's sides cut lines.
-        let (strip, _) = crease::fab::unfold_tube(&imported.mesh)
+        let strip = crease::fab::unfold_tube(&imported.mesh)
             .map_err(|e| format!("{}: {e}", input.display()))?;
-        imported.mesh = strip;
+        imported.mesh = strip.sheet;
         eprintln!(
             "note: {} is a tube; the file draws the strip it is cut from (its seam's two sides are cut lines)",
             input.display()

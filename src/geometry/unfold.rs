@@ -3,7 +3,7 @@
 //! side of the edge it shares with its parent, so orientation is kept; the result is then
 //! turned and moved onto the previous crease pattern when one is known.
 
-use crate::mesh::{Mesh, MeshError, SeamError, Strip, Vec2};
+use crate::mesh::{Mesh, SeamError, Strip, Vec2};
 use std::collections::VecDeque;
 
 /// Why a design cannot be unfolded.
@@ -21,9 +21,6 @@ pub enum UnfoldError {
     /// A tube cannot be cut open along its seam.
     #[error(transparent)]
     Seam(#[from] SeamError),
-    /// The strip a tube is cut open to is not a valid sheet.
-    #[error("the tube's strip is not a valid sheet: {0}")]
-    Strip(#[from] MeshError),
 }
 
 /// Checks that no two faces of a flat layout cover the same paper (interiors overlapping by
@@ -158,16 +155,12 @@ pub fn unfold(mesh: &Mesh) -> Result<Vec<Vec2>, UnfoldError> {
 }
 
 /// A tube (paper §7) laid out: the strip it is cut open to along its seam
-/// ([`Mesh::cut_open`]), as a sheet with its 3D form and its crease pattern unfolded
-/// from it, and how it was cut.
-pub fn unfold_tube(tube: &Mesh) -> Result<(Mesh, Strip), UnfoldError> {
-    let strip = tube.cut_open()?;
-    let mut sheet = Mesh::new(strip.parts.clone())?;
-    sheet.set_flat(unfold(&sheet)?);
-    sheet.title = tube.title.clone();
-    sheet.lock_topology = tube.lock_topology;
-    sheet.coordinate_precision = tube.coordinate_precision;
-    Ok((sheet, strip))
+/// ([`Mesh::cut_open`]), its sheet given the crease pattern unfolded from its 3D form.
+pub fn unfold_tube(tube: &Mesh) -> Result<Strip, UnfoldError> {
+    let mut strip = tube.cut_open()?;
+    let flat = unfold(&strip.sheet)?;
+    strip.sheet.set_flat(flat);
+    Ok(strip)
 }
 
 /// The third corner of a counter-clockwise triangle on base p→q with sides |pr|, |qr|.

@@ -6,16 +6,17 @@
 //! around it). The seam is only where the paper is cut to lay the tube out: a path of
 //! edges from one rim to the other.
 
-use super::{edge_key, Assignment, Mesh, MeshParts, Vec3};
+use super::{edge_key, Assignment, Mesh, Vec3};
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashSet};
 
 /// A tube cut open along its seam: the strip of paper it is made from.
 #[derive(Clone, Debug)]
 pub struct Strip {
-    /// The strip: the tube's vertices, then one more copy of every seam vertex; the seam's
-    /// edges are boundary on both sides.
-    pub parts: MeshParts,
+    /// The strip as a sheet: the tube's vertices, then one more copy of every seam vertex;
+    /// the seam's edges are boundary on both sides. Its 3D form is the tube's; it has a
+    /// crease pattern once unfolded (`geometry::unfold::unfold_tube`).
+    pub sheet: Mesh,
     /// For each strip vertex, the tube vertex it is a copy of.
     pub origin: Vec<usize>,
     /// Each seam edge of the tube, in order from one rim to the other and pointing along
@@ -136,12 +137,11 @@ impl Mesh {
             // Face l has a → b counter-clockwise: the paper is left of a → b there.
             sides.push([[copy(l, a), copy(l, b)], [copy(r, a), copy(r, b)]]);
         }
-        let strip_mesh =
-            Mesh::new(parts.clone()).map_err(|e| SeamError::NotAStrip(e.to_string()))?;
-        let s = strip_mesh.topology().summary(
-            strip_mesh.vertex_count(),
-            strip_mesh.edges().len(),
-            strip_mesh.faces().len(),
+        let mut sheet = Mesh::new(parts).map_err(|e| SeamError::NotAStrip(e.to_string()))?;
+        let s = sheet.topology().summary(
+            sheet.vertex_count(),
+            sheet.edges().len(),
+            sheet.faces().len(),
         );
         if !s.is_disk {
             return Err(SeamError::NotAStrip(format!(
@@ -149,8 +149,11 @@ impl Mesh {
                 s.components, s.holes
             )));
         }
+        sheet.title = self.title.clone();
+        sheet.lock_topology = self.lock_topology;
+        sheet.coordinate_precision = self.coordinate_precision;
         Ok(Strip {
-            parts,
+            sheet,
             origin,
             sides,
             edges,

@@ -82,7 +82,7 @@ pub fn fabricate_verified(
     }
     // A tube is made from the strip it is cut open to, with a glue tab (issue 31).
     let tube = tube_of(mesh, options)?;
-    let mesh = tube.as_ref().map_or(mesh, |t| &t.mesh);
+    let mesh = tube.as_ref().map_or(mesh, |t| &t.strip.sheet);
     let (flat, isometry_error) = flatten(mesh)?;
     let page = match &options.media {
         Some(m) => m.clone(),

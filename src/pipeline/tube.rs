@@ -11,9 +11,9 @@ use crate::mesh::{Mesh, Strip, Vec2};
 /// number is centred on.
 const LABEL_RISE_MM: f64 = 0.9;
 
-/// A tube being fabricated: the strip as a mesh of its own, and how it was cut.
+/// A tube being fabricated: the strip it is cut open to (a sheet of its own, with its
+/// crease pattern) and the glue tab's width.
 pub(super) struct TubeStrip {
-    pub mesh: Mesh,
     pub strip: Strip,
     pub tab_mm: f64,
 }
@@ -24,12 +24,8 @@ pub(super) fn tube_strip(mesh: &Mesh, tab_mm: f64) -> Result<Option<TubeStrip>, 
     if !mesh.is_tube() {
         return Ok(None);
     }
-    let (strip_mesh, strip) = crate::fab::unfold_tube(mesh).map_err(|e| e.to_string())?;
-    Ok(Some(TubeStrip {
-        mesh: strip_mesh,
-        strip,
-        tab_mm,
-    }))
+    let strip = crate::fab::unfold_tube(mesh).map_err(|e| e.to_string())?;
+    Ok(Some(TubeStrip { strip, tab_mm }))
 }
 
 impl TubeStrip {

@@ -19,7 +19,7 @@ pub(super) fn strip_for_writing(mesh: &Mesh) -> Option<(Mesh, Vec<String>)> {
     if !mesh.is_tube() {
         return None;
     }
-    let (flat_mesh, strip) = crate::geometry::unfold::unfold_tube(mesh).ok()?;
+    let strip = crate::geometry::unfold::unfold_tube(mesh).ok()?;
     let entries: Vec<String> = strip
         .sides
         .iter()
@@ -29,7 +29,7 @@ pub(super) fn strip_for_writing(mesh: &Mesh) -> Option<(Mesh, Vec<String>)> {
             format!("[[{a}, {b}], [{c}, {d}], \"{letter}\"]")
         })
         .collect();
-    Some((flat_mesh, entries))
+    Some((strip.sheet, entries))
 }
 
 /// Joins the strip's seam sides named by `crease:seam` into a tube: each second copy

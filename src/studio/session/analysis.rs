@@ -71,8 +71,8 @@ fn analyse(job: Job, cancel: Arc<AtomicBool>) -> Analysis {
     let report = fab::verify_within(&mesh, Some(&set), Tolerances::default(), &budget);
     let pattern_json = with_pattern.then(|| {
         if mesh.is_tube() {
-            if let Ok((strip, _)) = fab::unfold_tube(&mesh) {
-                return frame::strip_pattern_json(&strip);
+            if let Ok(strip) = fab::unfold_tube(&mesh) {
+                return frame::strip_pattern_json(&strip.sheet);
             }
         }
         let pattern = match (relaid, mesh.flat()) {
