@@ -44,12 +44,27 @@ pub fn build(
     classify: impl Fn(Vec2, Vec2) -> Assignment,
     alpha: f64,
 ) -> MeshParts {
+    let edges = face_edges(&faces, |a, b| classify(flat[a], flat[b]), alpha);
+    MeshParts {
+        positions: None,
+        flat: Some(flat),
+        faces,
+        edges,
+    }
+}
+
+/// Edges of `faces` in first-seen order: boundary edges (one face) are `B`, the others as
+/// `classify` says from their end vertices; flat creases get twist allowance `alpha`.
+pub fn face_edges(
+    faces: &[[usize; 3]],
+    classify: impl Fn(usize, usize) -> Assignment,
+    alpha: f64,
+) -> Vec<Edge> {
     let mut count: HashMap<(usize, usize), usize> = HashMap::new();
     let mut order = Vec::new();
-    for f in &faces {
+    for f in faces {
         for k in 0..3 {
-            let (a, b) = (f[k], f[(k + 1) % 3]);
-            let key = edge_key(a, b);
+            let key = edge_key(f[k], f[(k + 1) % 3]);
             let c = count.entry(key).or_insert(0);
             if *c == 0 {
                 order.push(key);
@@ -57,13 +72,13 @@ pub fn build(
             *c += 1;
         }
     }
-    let edges = order
+    order
         .into_iter()
         .map(|(a, b)| {
             let assignment = if count[&(a, b)] == 1 {
                 Assignment::Boundary
             } else {
-                classify(flat[a], flat[b])
+                classify(a, b)
             };
             let mut e = Edge::new(a, b, assignment);
             if assignment == Assignment::Flat {
@@ -71,11 +86,5 @@ pub fn build(
             }
             e
         })
-        .collect();
-    MeshParts {
-        positions: None,
-        flat: Some(flat),
-        faces,
-        edges,
-    }
+        .collect()
 }

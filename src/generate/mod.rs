@@ -264,6 +264,21 @@ pub(crate) fn assign_by_fold(
     Ok(())
 }
 
+/// [`assign_by_fold`], then the twist allowance `alpha` on the creases it finds flat.
+pub(crate) fn assign_by_fold_with_twist(
+    parts: &mut MeshParts,
+    folded_mid: Vec<Vec3>,
+    alpha: f64,
+) -> Result<(), GenerateError> {
+    assign_by_fold(parts, folded_mid)?;
+    for e in &mut parts.edges {
+        if e.assignment == Assignment::Flat {
+            e.alpha = alpha;
+        }
+    }
+    Ok(())
+}
+
 fn miura(p: &Params) -> Result<Mesh, GenerateError> {
     let gamma = p.angle_deg.to_radians();
     if !(gamma > 0.0 && gamma < PI / 2.0) {
@@ -341,12 +356,7 @@ fn finish_with(
     amount_is_crease_fraction: bool,
 ) -> Result<Mesh, GenerateError> {
     let mut parts = build(flat, faces, |_, _| Assignment::Unassigned, p.alpha);
-    assign_by_fold(&mut parts, folded_at(0.5)?)?;
-    for e in &mut parts.edges {
-        if e.assignment == Assignment::Flat {
-            e.alpha = p.alpha;
-        }
-    }
+    assign_by_fold_with_twist(&mut parts, folded_at(0.5)?, p.alpha)?;
     let mut mesh = Mesh::new(parts)?;
     if let Some(t) = p.fold {
         let u = if amount_is_crease_fraction {

@@ -9,9 +9,9 @@
 //! diagonals between rings keep their flat lengths; the heights (Yoshimura, waterbomb) or
 //! the strip's shear (Kresling) are chosen so they do.
 
-use super::{GenerateError, Params, PatternKind};
-use crate::mesh::{edge_key, Assignment, Edge, Mesh, MeshParts, Vec3};
-use std::collections::HashMap;
+use super::lattice::face_edges;
+use super::{assign_by_fold_with_twist, GenerateError, Params, PatternKind};
+use crate::mesh::{edge_key, Assignment, Mesh, MeshParts, Vec3};
 use std::f64::consts::PI;
 
 /// Kresling's twist between rings as a fraction of the angle a cell spans (`2π/nx`).
@@ -133,12 +133,13 @@ pub fn tube(p: &Params) -> Result<Mesh, GenerateError> {
     }
     let positions = rings.positions();
     let mut parts = MeshParts {
-        positions: Some(positions),
+        positions: Some(positions.clone()),
         flat: None,
-        edges: edges_of(&faces, p.alpha),
+        edges: face_edges(&faces, |_, _| Assignment::Unassigned, p.alpha),
         faces,
     };
-    assign_by_fold(&mut parts, p.alpha)?;
+    // Mountain, valley or flat from the sign of each crease's fold in the closed form.
+    assign_by_fold_with_twist(&mut parts, positions, p.alpha)?;
     let mut mesh = Mesh::new(parts)?;
     mesh.seam = rings.seam();
     Ok(mesh)
@@ -212,49 +213,4 @@ fn kresling(nx: usize, ny: usize, a: f64, t: f64) -> Rings {
         turn: (0..=ny).map(|j| j as f64 * phi).collect(),
         height: (0..=ny).map(|j| j as f64 * rise).collect(),
     }
-}
-
-/// The faces' edges in first-seen order: the rims' edges (one face) boundary, the rest
-/// to be assigned by their fold.
-fn edges_of(faces: &[[usize; 3]], alpha: f64) -> Vec<Edge> {
-    let mut count: HashMap<(usize, usize), usize> = HashMap::new();
-    let mut order = Vec::new();
-    for f in faces {
-        for k in 0..3 {
-            let key = edge_key(f[k], f[(k + 1) % 3]);
-            let c = count.entry(key).or_insert(0);
-            if *c == 0 {
-                order.push(key);
-            }
-            *c += 1;
-        }
-    }
-    order
-        .into_iter()
-        .map(|(a, b)| {
-            let kind = if count[&(a, b)] == 1 {
-                Assignment::Boundary
-            } else {
-                Assignment::Unassigned
-            };
-            let mut e = Edge::new(a, b, kind);
-            e.alpha = alpha;
-            e
-        })
-        .collect()
-}
-
-/// Mountain, valley or flat from the sign of each crease's fold in the closed form (as
-/// [`super::assign_by_fold`] does for the sheets); flat lines keep the twist allowance.
-fn assign_by_fold(parts: &mut MeshParts, alpha: f64) -> Result<(), GenerateError> {
-    let positions = parts.positions.clone().expect("a tube is generated in 3D");
-    super::assign_by_fold(parts, positions)?;
-    for e in &mut parts.edges {
-        e.alpha = if e.assignment == Assignment::Flat {
-            alpha
-        } else {
-            0.0
-        };
-    }
-    Ok(())
 }
