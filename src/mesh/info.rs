@@ -69,11 +69,7 @@ impl Mesh {
             size_3d: [hi.x - lo.x, hi.y - lo.y, hi.z - lo.z],
             size_flat,
             assignments,
-            topology: self.topology().summary(
-                self.vertex_count(),
-                self.edges().len(),
-                self.faces().len(),
-            ),
+            topology: self.shape(),
         }
     }
 }

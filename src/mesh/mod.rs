@@ -317,6 +317,12 @@ impl Mesh {
         self.positions.len()
     }
 
+    /// The surface's shape: pieces, boundary loops, χ; whether a disk or a tube.
+    pub fn shape(&self) -> TopologySummary {
+        self.topology
+            .summary(self.vertex_count(), self.edges.len(), self.faces.len())
+    }
+
     /// Whether vertex `v` is interior (its faces close around it).
     pub fn is_interior(&self, v: usize) -> bool {
         !self.topology.fans[v].boundary

@@ -51,17 +51,13 @@ pub enum SeamError {
 impl Mesh {
     /// Whether the surface is a tube: one piece, two rims, χ = 0 (a cylinder).
     pub fn is_tube(&self) -> bool {
-        self.topology()
-            .summary(self.vertex_count(), self.edges().len(), self.faces().len())
-            .is_tube
+        self.shape().is_tube
     }
 
     /// The seam's edges from one rim to the other: the declared seam ([`Mesh::seam`]) when
     /// there is one, else the shortest path of edges (3D length) between the rims.
     pub fn seam_edges(&self) -> Result<Vec<usize>, SeamError> {
-        let t =
-            self.topology()
-                .summary(self.vertex_count(), self.edges().len(), self.faces().len());
+        let t = self.shape();
         if !t.is_tube {
             return Err(SeamError::NotATube {
                 loops: t.boundary_loops,
@@ -138,11 +134,7 @@ impl Mesh {
             sides.push([[copy(l, a), copy(l, b)], [copy(r, a), copy(r, b)]]);
         }
         let mut sheet = Mesh::new(parts).map_err(|e| SeamError::NotAStrip(e.to_string()))?;
-        let s = sheet.topology().summary(
-            sheet.vertex_count(),
-            sheet.edges().len(),
-            sheet.faces().len(),
-        );
+        let s = sheet.shape();
         if !s.is_disk {
             return Err(SeamError::NotAStrip(format!(
                 "cut along it, the paper has {} piece(s) and {} hole(s)",

@@ -160,9 +160,7 @@ impl Solver {
         options: Options,
     ) -> Result<Solver, SolverError> {
         let n = mesh.vertex_count();
-        let summary = mesh
-            .topology()
-            .summary(n, mesh.edges().len(), mesh.faces().len());
+        let summary = mesh.shape();
         if !(summary.is_disk || summary.is_tube) {
             return Err(SolverError::NotADisk {
                 components: summary.components,
