@@ -169,6 +169,21 @@ pub fn crease_lines(mesh: &Mesh, flat: &[Vec2]) -> Vec<CreaseLine> {
     } else {
         Vec::new()
     };
+    lines.extend(straight_lines(mesh, flat, &kinds, &degree, &mut used));
+    drop_second_sides(lines)
+}
+
+/// Every edge not `used` yet, merged with its neighbours of the same kind into straight
+/// lines: from each edge, the walk goes on through a vertex while exactly one edge of the
+/// kind continues straight there. Junctions are the vertices of `degree` 3 or more.
+fn straight_lines(
+    mesh: &Mesh,
+    flat: &[Vec2],
+    kinds: &[LineKind],
+    degree: &[usize],
+    used: &mut [bool],
+) -> Vec<CreaseLine> {
+    let edges = mesh.edges();
     let mut by_vertex: HashMap<(usize, LineKind), Vec<usize>> = HashMap::new();
     for (i, e) in edges.iter().enumerate() {
         let k = kinds[i];
@@ -190,6 +205,7 @@ pub fn crease_lines(mesh: &Mesh, flat: &[Vec2]) -> Vec<CreaseLine> {
         let first = found.next();
         first.filter(|_| found.next().is_none())
     };
+    let mut lines = Vec::new();
     for start in 0..edges.len() {
         if used[start] {
             continue;
@@ -233,7 +249,7 @@ pub fn crease_lines(mesh: &Mesh, flat: &[Vec2]) -> Vec<CreaseLine> {
             curve: None,
         });
     }
-    drop_second_sides(lines)
+    lines
 }
 
 /// One curved crease of a pattern: its edges in order along it and the smooth curve
