@@ -39,6 +39,9 @@ pub struct Reference {
     /// Some chain turns in the crease pattern: a curved-crease pattern, which gets the
     /// smoothness family by default.
     pub curved_creases: bool,
+    /// The contacts of the flat-folded state the layer-order rows hold
+    /// ([`Reference::hold_contacts`]); empty unless asked for.
+    pub contacts: Vec<super::Contact>,
 }
 
 impl Reference {
@@ -83,7 +86,22 @@ impl Reference {
             sigma,
             previous_fold,
             odd_vertex,
+            contacts: Vec::new(),
         }
+    }
+
+    /// Finds the contacts of the flat-folded state of `mesh`'s crease pattern (its 3D
+    /// form when it has none), for the layer-order rows to hold: vertices within a
+    /// millionth of the pattern's diagonal plus eight times the file's rounding (the
+    /// closure tolerance of `crate::fab::closure_tolerance`) count as touching.
+    pub fn hold_contacts(&mut self, mesh: &Mesh) {
+        let at: Vec<Vec3> = match mesh.flat() {
+            Some(f) => f.iter().map(|p| Vec3::new(p.x, p.y, 0.0)).collect(),
+            None => mesh.positions().to_vec(),
+        };
+        let (lo, hi) = crate::mesh::bounds(&at);
+        let tolerance = 1e-6 * (hi - lo).norm() + 8.0 * mesh.coordinate_precision;
+        self.contacts = super::flat_contacts(mesh, &at, tolerance);
     }
 
     /// Whether the assignment can fold flat at all: every interior vertex has an even

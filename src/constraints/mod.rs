@@ -5,12 +5,14 @@
 
 mod angles;
 mod chains;
+mod contacts;
 mod context;
 mod lengths;
 mod smoothness;
 
 pub use angles::{tracked_fold_angle, FoldAngles};
 pub use chains::{crease_chains, has_curved_creases, CreaseChain};
+pub use contacts::{flat_contacts, Contact, MAX_CONTACT_FACES};
 pub use context::{flips, Reference};
 pub use smoothness::{largest_second_differences, MAX_SECOND_DIFFERENCE};
 
@@ -53,9 +55,11 @@ pub enum Family {
     /// behind the tiles); relative to the mean crease length.
     Coincidence,
     /// §2.3: the crease pattern folded flat keeps a layer order (flat-foldability is
-    /// coordinates *and* an order of the layers). Not a row of the Jacobian: a drag step
-    /// that would lose it is halved, then refused ([`crate::solver::run_stage`]), and
-    /// verification judges it on the design's flat state.
+    /// coordinates *and* an order of the layers). As rows, the contacts of the starting
+    /// flat-folded state stay contacts ([`Reference::contacts`]; relative to the mean
+    /// crease length); besides, a drag step that would lose the order is halved, then
+    /// refused ([`crate::solver::run_stage`]), and verification judges the order on the
+    /// design's flat state.
     LayerOrder,
     /// §6.6 and §7's future work (issue 30): along each curved crease, drawn as a chain of
     /// straight creases, the turning angle varies smoothly in the crease pattern and in
@@ -139,7 +143,7 @@ impl Family {
     pub fn is_length(self) -> bool {
         matches!(
             self,
-            Family::BoundaryLength | Family::EdgeLength | Family::Coincidence
+            Family::BoundaryLength | Family::EdgeLength | Family::Coincidence | Family::LayerOrder
         )
     }
 }
@@ -418,8 +422,7 @@ impl ConstraintSet {
                 Family::EdgeLength => lengths::edge_length(mesh, reference, x, out),
                 Family::Coincidence => lengths::coincidence(mesh, reference, x, out),
                 Family::Smoothness => smoothness::smoothness(mesh, reference, c(), x, out),
-                // Judged on the flat-folded state as a whole, never as rows.
-                Family::LayerOrder => {}
+                Family::LayerOrder => contacts::layer_contacts(mesh, reference, x, out),
             }
         };
         if parallel {

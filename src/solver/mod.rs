@@ -19,7 +19,7 @@ pub use drag::{
 };
 pub use error::{Blocker, LinearError, SolverError};
 pub use fold::{fold_toward, FoldReport};
-pub use linear::NormalSolver;
+pub use linear::{NormalSolver, Shift};
 pub use mode::Mode;
 pub use remesh::{collapse_edge, flip_edge, Change, Refusal, RemeshOutcome};
 pub use resist::Resistance;
@@ -175,7 +175,13 @@ impl Solver {
             })? = true;
         }
         let (columns, free) = free_columns(&is_fixed);
-        let reference = Reference::new(&mesh);
+        let mut reference = Reference::new(&mesh);
+        if set
+            .families
+            .contains(&crate::constraints::Family::LayerOrder)
+        {
+            reference.hold_contacts(&mesh);
+        }
         let mut options = options;
         options
             .predict
@@ -301,8 +307,13 @@ impl Solver {
     fn factorise(&mut self, rows: &Rows) -> Result<(), SolverError> {
         self.predictor.forget();
         let columns = &self.columns;
+        let shift = if rows.labels.iter().any(|l| l.0 == Family::LayerOrder) {
+            Shift::EachRow
+        } else {
+            Shift::Largest
+        };
         self.linear
-            .factorise(rows.jacobian_mapped(self.free, |c| columns[c]))?;
+            .factorise_shifted(rows.jacobian_mapped(self.free, |c| columns[c]), shift)?;
         self.factored.clone_from(&rows.labels);
         self.factor_age = 0;
         self.stats.factorisations += 1;

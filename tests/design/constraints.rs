@@ -46,7 +46,11 @@ fn check_family(kind: PatternKind, fold: Option<f64>, family: Family) {
 }
 
 fn check_jacobian(m: &Mesh, x: &[Vec3], family: Family, what: &str) {
-    let reference = Reference::new(m);
+    let mut reference = Reference::new(m);
+    if family == Family::LayerOrder {
+        // The contacts of the generated (unjittered) state, held at the jittered one.
+        reference.hold_contacts(m);
+    }
     let set = ConstraintSet {
         families: vec![family],
     };
@@ -384,5 +388,40 @@ fn smoothness_passes_a_circle_fails_a_jittered_crease_and_is_on_for_curved_creas
                 .contains(&Family::Smoothness),
             "{kind:?}"
         );
+    }
+}
+
+/// The layer-order rows hold the flat-folded state's contacts: they are found on the
+/// crease pattern, vanish at the folded 3D form of the same pattern (the folded image
+/// depends only on the triangles' shapes, which folding keeps), and have exact
+/// Jacobians away from it.
+#[test]
+fn layer_contact_rows_vanish_on_isometric_forms_and_have_exact_jacobians() {
+    for (kind, fold) in [(PatternKind::Waterbomb, 0.3), (PatternKind::Miura, 0.5)] {
+        let mut p = Params::defaults(kind);
+        p.nx = 4;
+        p.ny = 4;
+        // Folded by the solver (the waterbomb has no closed form).
+        let flat = generate(&p).unwrap();
+        let (m, _) = crease::pipeline::fold_mesh(flat, fold, &mut |_, _, _| {}).unwrap();
+        let mut reference = Reference::new(&m);
+        reference.hold_contacts(&m);
+        let set = ConstraintSet {
+            families: vec![Family::LayerOrder],
+        };
+        let rows = set.evaluate(&m, &reference, m.positions());
+        assert!(
+            !reference.contacts.is_empty(),
+            "{kind:?} folds flat with no contacts"
+        );
+        let worst = rows.residuals.iter().fold(0.0f64, |a, r| a.max(r.abs()));
+        assert!(
+            worst < 1e-9,
+            "{kind:?}: contact residual {worst:e} on its own folded form"
+        );
+        for seed in 1..=2 {
+            let (_, x) = perturbed(kind, None, seed);
+            check_jacobian(&m, &x, Family::LayerOrder, &format!("{kind:?} seed {seed}"));
+        }
     }
 }

@@ -917,27 +917,10 @@ fn the_path_from_flat_is_clear_for_the_folded_waterbomb_and_names_where_two_flap
     assert_eq!(path["steps"], 20, "{path}");
 }
 
-#[test]
-fn a_drag_with_layer_order_among_its_conditions_ends_with_a_design_that_has_one() {
-    // waterbomb-curved.toml's drag of the regular waterbomb, with `layer-order` among the
-    // conditions. Without it the drag ends in a design with no order (faces 246, 247,
-    // 261–266 overlap by 7–16 mm: the bundled waterbomb-curved); with it every step that
-    // would lose the order is halved, then refused, and the stage stops saying why.
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let base = root.join("patterns/waterbomb.fold");
-    let script = format!(
-        r#"base = {base:?}
-fold = 0.15
-mode = "design"
-fix = [0, 8, 160]
-conditions = ["developability", "flat-foldability", "angular-inequality", "fold-angle-range", "twist-range", "layer-order"]
-
-[[stage]]
-steps = 40
-moves = [{{ vertex = 80, to = [80.0, 80.0, -30.0] }}]
-"#
-    );
-    let toml = common::scratch_file("layers-keep", "keep.toml", &script);
+/// Runs `deform --script` on `script` (written under `name`): exit code, stderr, the
+/// design written.
+fn deform_script(name: &str, script: &str) -> (i32, String, std::path::PathBuf) {
+    let toml = common::scratch_file("layers-keep", name, script);
     let out = toml.with_extension("fold");
     let (code, _, err) = common::run_crease(&[
         "deform",
@@ -946,20 +929,111 @@ moves = [{{ vertex = 80, to = [80.0, 80.0, -30.0] }}]
         "-o",
         out.to_str().unwrap(),
     ]);
-    assert_eq!(code, 0, "{err}");
-    assert!(
-        err.contains("stopped at step") && err.contains("layer order"),
-        "{err}"
-    );
+    (code, err, out)
+}
+
+#[test]
+fn a_drag_with_layer_order_among_its_conditions_ends_with_a_design_that_has_one() {
+    // waterbomb-curved.toml's drag of the regular waterbomb, with and without
+    // `layer-order` among the conditions. Without it the crease pattern's flat-folded
+    // lines that met edge to edge come to cross, and the design has no order; with it
+    // those contacts are held as rows, and the drag goes as far.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let base = root.join("patterns/waterbomb.fold");
+    let script = |conditions: &str| {
+        format!(
+            r#"base = {base:?}
+fold = 0.15
+mode = "design"
+fix = [0, 8, 160]
+conditions = ["developability", "flat-foldability", "angular-inequality", "fold-angle-range", "twist-range"{conditions}]
+
+[[stage]]
+steps = 40
+moves = [{{ vertex = 80, to = [80.0, 80.0, -30.0] }}]
+"#
+        )
+    };
     let with_order = [
         "--conditions",
         "developability,flat-foldability,layer-order",
     ];
+    let start = crease::io::read(&base).unwrap().flat().unwrap()[80];
+    let mut reached = Vec::new();
+    for (name, extra, keeps) in [
+        ("kept.toml", r#", "layer-order""#, true),
+        ("free.toml", "", false),
+    ] {
+        let (code, err, out) = deform_script(name, &script(extra));
+        assert_eq!(code, 0, "{err}");
+        assert!(!err.contains("stopped at step"), "{err}");
+        let design = crease::io::read(&out).unwrap();
+        let x = design.positions()[80];
+        reached.push((x - crease::mesh::Vec3::new(80.0, 80.0, -30.0)).norm());
+        // The middle went down by most of its 30 mm: a freeform design, not the start.
+        assert!(
+            (x - crease::mesh::Vec3::new(start.x, start.y, 0.0)).norm() > 20.0,
+            "{name}: vertex 80 at {x:?}"
+        );
+        let (code, report) = verify_json(&out, &with_order);
+        let layer = &report["families"]["layer-order"];
+        assert!(layer["rows"].as_u64().unwrap() > 0, "{layer}");
+        assert_eq!(code == 0, keeps, "{name}: {layer}");
+    }
+    // Holding the order costs the drag a little: it ends within 8 mm of its target (it
+    // started 30 mm away; the free drag ends 2.4 mm away, the kept one 5.2 mm).
+    assert!(reached[0] < 8.0, "{reached:?}");
+}
+
+#[test]
+fn a_drag_that_would_lose_the_order_anyway_stops_where_it_still_has_one() {
+    // The strip 30 | 40 | 30 mm, both creases mountain, half folded: each flap folded
+    // flat lies behind the middle panel short of the other's hinge. Widening both flaps
+    // past 40 mm makes each cover the other's hinge, which no contact of the start
+    // foresees (they meet no line there): the step check halves the step that would
+    // lose the order, then stops the stage there, saying why.
+    let strip = common::scratch_file(
+        "layers-keep",
+        "strip.fold",
+        r#"{"file_spec": 1.1, "frame_classes": ["creasePattern"],
+ "vertices_coords": [[0,0],[30,0],[70,0],[100,0],[0,10],[30,10],[70,10],[100,10]],
+ "faces_vertices": [[0,1,5,4],[1,2,6,5],[2,3,7,6]],
+ "edges_vertices": [[0,1],[1,2],[2,3],[3,7],[7,6],[6,5],[5,4],[4,0],[1,5],[2,6]],
+ "edges_assignment": ["B","B","B","B","B","B","B","B","M","M"],
+ "edges_foldAngle": [0,0,0,0,0,0,0,0,-180,-180]}"#,
+    );
+    let script = |conditions: &str| {
+        format!(
+            r#"base = {strip:?}
+fold = 0.5
+mode = "design"
+fix = [1, 2, 5]
+conditions = ["developability", "fold-angle-range", "twist-range"{conditions}]
+
+[[stage]]
+steps = 30
+moves = [{{ vertex = 0, to = [30.0, 0.0, -60.0] }}, {{ vertex = 4, to = [30.0, 10.0, -60.0] }},
+         {{ vertex = 3, to = [70.0, 0.0, -60.0] }}, {{ vertex = 7, to = [70.0, 10.0, -60.0] }}]
+"#
+        )
+    };
+    let flap = |design: &Mesh| (design.positions()[3] - design.positions()[2]).norm();
+    let (code, err, out) = deform_script("strip-kept.toml", &script(r#", "layer-order""#));
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("stopped at step") && err.contains("the layer order would be lost"),
+        "{err}"
+    );
+    let kept = crease::io::read(&out).unwrap();
+    let width = flap(&kept);
+    assert!(width > 35.0 && width <= 40.0 + 1e-6, "flap {width} mm");
+    let with_order = ["--conditions", "developability,layer-order"];
+    assert_eq!(verify_json(&out, &with_order).0, 0);
+    // Without the condition the flaps widen to 60 mm and the design has no order.
+    let (code, err, out) = deform_script("strip-free.toml", &script(""));
+    assert_eq!(code, 0, "{err}");
+    let free = crease::io::read(&out).unwrap();
+    assert!(flap(&free) > 59.0, "flap {} mm", flap(&free));
     let (code, report) = verify_json(&out, &with_order);
-    assert_eq!(code, 0, "{}", report["families"]["layer-order"]);
-    assert!(report["families"]["layer-order"]["rows"].as_u64().unwrap() > 0);
-    // The same design judged with layer-order named: the curved one fails.
-    let curved = root.join("patterns/waterbomb-curved.fold");
-    let (code, report) = verify_json(&curved, &with_order);
     assert_eq!(code, 1, "{}", report["families"]["layer-order"]);
 }
