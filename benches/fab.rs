@@ -1,6 +1,6 @@
 //! `cargo bench --bench fab`: routing quality (pen-up travel and HP-GL bytes for input
 //! order, plain nearest neighbour, and nearest neighbour + 2-opt) on the bundled designs,
-//! and the time of a whole `fab` run on a 100k-triangle Miura-ori.
+//! and the time of a whole `fab` run on a 45k-triangle Miura-ori.
 
 use crease::fab::{route, route::nearest_neighbour_only, score, Toolpath};
 use crease::generate::{generate, Params, PatternKind};
@@ -65,9 +65,11 @@ fn main() {
             c.1
         );
     }
+    // The largest Miura-ori one job may cut: about a stroke per triangle, and a job is
+    // held to 50,000 strokes (`crate::limits`).
     let mut p = Params::defaults(PatternKind::Miura);
-    p.nx = 224;
-    p.ny = 224;
+    p.nx = 150;
+    p.ny = 150;
     p.size = 5.0;
     let mesh = generate(&p).unwrap();
     let big = FabOptions {
