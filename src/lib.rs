@@ -18,6 +18,7 @@ pub mod plotter;
 pub mod solver;
 pub mod studio;
 pub mod surface;
+pub mod tolerance;
 
 #[cfg(test)]
 mod architecture {
@@ -146,7 +147,7 @@ mod architecture {
     /// a module may use only modules of lower layers; modules of one layer do not use
     /// each other.
     const LAYERS: [&[&str]; 11] = [
-        &["limits", "allocator"],
+        &["limits", "allocator", "tolerance"],
         &["mesh"],
         &["geometry", "surface"],
         &["generate", "io"],

@@ -328,13 +328,12 @@ fn shared_lines(
                 .iter()
                 .all(|&v| d.perp(&(w[v] - w[a])).abs() / len <= tolerance)
     };
-    let mut line_of: Vec<usize> = (0..edges.len()).collect();
+    let mut line_of = crate::mesh::UnionFind::new(edges.len());
     for at in edges_at.values() {
         for (i, &e) in at.iter().enumerate() {
             for &f in &at[i + 1..] {
                 if collinear(e, f) {
-                    let (re, rf) = (root(&mut line_of, e), root(&mut line_of, f));
-                    line_of[re.max(rf)] = re.min(rf);
+                    line_of.union(e, f);
                 }
             }
         }
@@ -342,8 +341,7 @@ fn shared_lines(
     let mut lines: std::collections::BTreeMap<usize, Vec<usize>> = Default::default();
     for (e, points) in on_edge.iter().enumerate() {
         if points.len() >= 2 {
-            let r = root(&mut line_of, e);
-            lines.entry(r).or_default().extend(points);
+            lines.entry(line_of.find(e)).or_default().extend(points);
         }
     }
     let mut contacts = Vec::new();
@@ -375,15 +373,6 @@ fn shared_lines(
         );
     }
     contacts
-}
-
-/// The representative of `e`'s set (union–find with path halving).
-fn root(parent: &mut [usize], mut e: usize) -> usize {
-    while parent[e] != e {
-        parent[e] = parent[parent[e]];
-        e = parent[e];
-    }
-    e
 }
 
 /// §2.3 as rows: every contact of the starting flat-folded state

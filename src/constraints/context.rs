@@ -91,16 +91,15 @@ impl Reference {
     }
 
     /// Finds the contacts of the flat-folded state of `mesh`'s crease pattern (its 3D
-    /// form when it has none), for the layer-order rows to hold: vertices within a
-    /// millionth of the pattern's diagonal plus eight times the file's rounding (the
-    /// closure tolerance of `crate::fab::closure_tolerance`) count as touching.
+    /// form when it has none), for the layer-order rows to hold: images within
+    /// [`crate::tolerance::closure_mm`] of each other count as touching.
     pub fn hold_contacts(&mut self, mesh: &Mesh) {
         let at: Vec<Vec3> = match mesh.flat() {
             Some(f) => f.iter().map(|p| Vec3::new(p.x, p.y, 0.0)).collect(),
             None => mesh.positions().to_vec(),
         };
         let (lo, hi) = crate::mesh::bounds(&at);
-        let tolerance = 1e-6 * (hi - lo).norm() + 8.0 * mesh.coordinate_precision;
+        let tolerance = crate::tolerance::closure_mm((hi - lo).norm(), mesh.coordinate_precision);
         self.contacts = super::flat_contacts(mesh, &at, tolerance);
     }
 

@@ -90,14 +90,12 @@ pub struct FlatFolded {
 }
 
 /// The gap (mm) below which the faces of a flat-folded state close up around their
-/// vertices: a millionth of the crease pattern's diagonal (what double precision loses
-/// over a walk round a vertex), plus what the source file's rounding of its coordinates
-/// (`precision`, mm) can open (eight times it: a vertex's image is reached through up to
-/// eight rounded corners on the paper's typical crease counts). Verification and the
-/// studio's x-ray judge closure by this one figure, so the pane and the verdict agree.
+/// vertices, for the crease pattern `flat` from a file rounded to `precision` mm
+/// ([`crate::tolerance::closure_mm`] of its diagonal). Verification and the studio's
+/// x-ray judge closure by this one figure, so the pane and the verdict agree.
 pub fn closure_tolerance(flat: &[Vec2], precision: f64) -> f64 {
     let (lo, hi) = crate::mesh::bounds(flat);
-    1e-6 * (hi - lo).norm() + 8.0 * precision
+    crate::tolerance::closure_mm((hi - lo).norm(), precision)
 }
 
 impl FlatFolded {

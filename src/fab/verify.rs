@@ -388,7 +388,7 @@ fn lies_in_a_plane(mesh: &Mesh) -> bool {
     let k = eig.eigenvalues.imin();
     let normal = eig.eigenvectors.column(k).into_owned();
     let (lo, hi) = mesh.bounding_box();
-    let tolerance = 1e-6 * (hi - lo).norm() + 8.0 * mesh.coordinate_precision;
+    let tolerance = crate::tolerance::closure_mm((hi - lo).norm(), mesh.coordinate_precision);
     x.iter().all(|p| (p - c).dot(&normal).abs() <= tolerance)
 }
 

@@ -288,7 +288,10 @@ fn vertex_conflict(
 fn contact_allowance(mesh: &Mesh, folded: &FlatFolded) -> f64 {
     let (lo, hi) = bounds(folded.triangles.as_flattened());
     (OVERLAP_FRACTION * (hi - lo).norm())
-        .max(2.0 * folded.mismatch + 8.0 * mesh.coordinate_precision)
+        .max(
+            2.0 * folded.mismatch
+                + crate::tolerance::ROUNDING_COMPOUNDED * mesh.coordinate_precision,
+        )
         .clamp(1e-300, MAX_CONTACT)
 }
 

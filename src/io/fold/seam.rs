@@ -50,7 +50,8 @@ pub(super) fn close(
         positions.ok_or("crease:seam needs the tube's 3D frame (a foldedForm frame)")?;
     let n = positions.len();
     let (lo, hi) = crate::mesh::bounds(&positions);
-    let tolerance = 1e-6 * (hi - lo).norm().max(1.0);
+    // The two copies of a seam vertex close up as a walk round the strip would.
+    let tolerance = crate::tolerance::WALK_RELATIVE * (hi - lo).norm().max(1.0);
     // Each pair joins into its lower-numbered vertex: a strip written by crease numbers
     // the tube's own vertices first, so the tube reads back with its own numbering.
     let mut groups = crate::mesh::UnionFind::new(n);
