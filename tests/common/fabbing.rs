@@ -25,6 +25,15 @@ pub fn a3() -> FabOptions {
     }
 }
 
+/// A3 with the draft route: for tests that measure what the files carry, not the
+/// cutting order (the full search is most of a run's time and changes no stroke).
+pub fn a3_draft() -> FabOptions {
+    FabOptions {
+        route: crease::fab::RouteSearch::Draft,
+        ..a3()
+    }
+}
+
 /// The bytes of one file a fabrication run produced.
 pub fn output<'a>(out: &'a crease::pipeline::FabOutput, name: &str) -> &'a [u8] {
     &out.files

@@ -4,7 +4,7 @@
 use crate::common;
 
 use common::fabbing::{
-    a3, designs_and_anchors, job_pieces, near_pairs, output, output_text, patterns,
+    a3, a3_draft, designs_and_anchors, job_pieces, near_pairs, output, output_text, patterns,
     segment_distance,
 };
 use crease::fab::{verify, Report, Tolerances};
@@ -23,7 +23,7 @@ fn sheet_dxf_read_by_an_independent_parser_carries_exactly_the_toolpath() {
     let machine = Machine::load("generic-hpgl").unwrap();
     for path in patterns() {
         let mesh = crease::io::read(&path).unwrap();
-        let out = fabricate(&mesh, &machine, &a3()).unwrap();
+        let out = fabricate(&mesh, &machine, &a3_draft()).unwrap();
         let bytes = output(&out, "sheet.dxf");
         let drawing = dxf::Drawing::load(&mut &bytes[..])
             .unwrap_or_else(|e| panic!("{}: sheet.dxf does not parse: {e}", path.display()));
@@ -118,7 +118,7 @@ fn sheet_gpgl_read_by_an_independent_reader_carries_exactly_the_toolpath() {
     let units = machine.units_per_mm;
     for path in patterns() {
         let mesh = crease::io::read(&path).unwrap();
-        let out = fabricate(&mesh, &machine, &a3()).unwrap();
+        let out = fabricate(&mesh, &machine, &a3_draft()).unwrap();
         assert!(!out.files.iter().any(|f| f.0 == "sheet.hpgl"));
         let job = output_text(&out, "sheet.gpgl");
         let segments = read_gpgl(job);
@@ -172,7 +172,7 @@ fn sheet_gpgl_read_by_an_independent_reader_carries_exactly_the_toolpath() {
 fn a_laser_profile_gets_dxf_and_svg_and_no_cutter_job() {
     let machine = Machine::load("laser-dxf").unwrap();
     let mesh = crease::io::read(&patterns()[0]).unwrap();
-    let out = fabricate(&mesh, &machine, &a3()).unwrap();
+    let out = fabricate(&mesh, &machine, &a3_draft()).unwrap();
     let names: Vec<&str> = out.files.iter().map(|f| f.0.as_str()).collect();
     assert!(
         names.contains(&"sheet.dxf") && names.contains(&"sheet.svg"),
@@ -344,7 +344,7 @@ fn sheet_svg_holds_only_what_is_cut_or_scored_one_path_per_line() {
     let machine = Machine::load("generic-hpgl").unwrap();
     for path in patterns() {
         let mesh = crease::io::read(&path).unwrap();
-        let out = fabricate(&mesh, &machine, &a3()).unwrap();
+        let out = fabricate(&mesh, &machine, &a3_draft()).unwrap();
         let svg = output_text(&out, "sheet.svg");
         let name = path.display();
         assert!(!svg.contains("<rect") && !svg.contains("<line"), "{name}");
@@ -635,10 +635,19 @@ fn check_job(
     let (mesh, verification) = design;
     // At the machine's own media, as a maker runs it; scaled to fit where the design is
     // larger. Cut even where verification objects: the job is what is measured here.
+    // The full route search on one profile of each protocol (the job a maker cuts by
+    // default); the draft route on the others, whose writers quantise the same strokes.
+    let route = if matches!(machine.name.as_str(), n if n.starts_with("Generic HP-GL") || n.contains("Cameo"))
+    {
+        crease::fab::RouteSearch::Full
+    } else {
+        crease::fab::RouteSearch::Draft
+    };
     let run = |fit| {
         let options = FabOptions {
             force: true,
             fit,
+            route,
             ..Default::default()
         };
         fabricate_verified(mesh, verification.clone(), machine, &options)
@@ -1096,7 +1105,7 @@ fn the_pdf_page_as_cut_draws_exactly_the_dashes_of_sheet_svg() {
     // cut black, mountain red, valley blue), each within 2 µm, none left over.
     let machine = Machine::load("generic-hpgl").unwrap();
     let mesh = crease::io::read(&patterns()[0].with_file_name("miura-bent.fold")).unwrap();
-    let out = fabricate(&mesh, &machine, &a3()).unwrap();
+    let out = fabricate(&mesh, &machine, &a3_draft()).unwrap();
     let h = out.toolpath.media.height;
     let mut from_svg: Vec<(String, [f64; 2], [f64; 2])> =
         svg_segments(output_text(&out, "sheet.svg"))
