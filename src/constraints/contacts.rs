@@ -105,7 +105,8 @@ fn place(
     with_gradient: bool,
 ) {
     let (p, q) = (x[b] - x[a], x[c] - x[a]);
-    let l2 = p.norm_squared();
+    // A collapsed edge (zero length) places its apex on it rather than at NaN.
+    let l2 = p.norm_squared().max(f64::MIN_POSITIVE);
     let s = q.dot(&p) / l2;
     let n = p.cross(&q);
     let h = n.norm() / l2;

@@ -90,17 +90,16 @@ impl Reference {
         }
     }
 
-    /// Finds the contacts of the flat-folded state of `mesh`'s crease pattern (its 3D
-    /// form when it has none), for the layer-order rows to hold: images within
-    /// [`crate::tolerance::closure_mm`] of each other count as touching.
+    /// Finds the contacts of the flat-folded state of `mesh` as it stands, for the
+    /// layer-order rows to hold: images within [`crate::tolerance::closure_mm`] of each
+    /// other count as touching. The image is built from the 3D triangles, so this is the
+    /// current design's own crease pattern folded flat even where the stored one is
+    /// stale (the studio keeps the pattern it opened while the form is dragged).
     pub fn hold_contacts(&mut self, mesh: &Mesh) {
-        let at: Vec<Vec3> = match mesh.flat() {
-            Some(f) => f.iter().map(|p| Vec3::new(p.x, p.y, 0.0)).collect(),
-            None => mesh.positions().to_vec(),
-        };
-        let (lo, hi) = crate::mesh::bounds(&at);
+        let at = mesh.positions();
+        let (lo, hi) = crate::mesh::bounds(at);
         let tolerance = crate::tolerance::closure_mm((hi - lo).norm(), mesh.coordinate_precision);
-        self.contacts = super::flat_contacts(mesh, &at, tolerance);
+        self.contacts = super::flat_contacts(mesh, at, tolerance);
     }
 
     /// Whether the assignment can fold flat at all: every interior vertex has an even
