@@ -1,6 +1,7 @@
-//! Tolerances that more than one module judges by, each named with its unit and kept with
-//! the reason for its size: two modules asking the same question ("do the layers close?",
-//! "do these images touch?") must get the same answer.
+//! The named tolerances, each with its unit in its name (or "relative" to a stated size)
+//! and the reason for its size, in one place: two modules asking the same question ("do
+//! the layers close?", "do these images touch?") must get the same answer, and a reader
+//! should find every such figure here rather than as a bare exponent in the code.
 
 /// Of the design's diagonal, what double precision loses over a walk of reflections and
 /// rotations round a vertex or across a pattern (relative, dimensionless).
@@ -18,6 +19,28 @@ pub const ROUNDING_COMPOUNDED: f64 = 8.0;
 pub fn closure_mm(diagonal_mm: f64, rounding_mm: f64) -> f64 {
     WALK_RELATIVE * diagonal_mm + ROUNDING_COMPOUNDED * rounding_mm
 }
+
+/// The residual a design is polished to before it is saved or handed on (radians, or
+/// relative for lengths): four orders below the solver's working 1e-8, so the design's
+/// unfolding is isometric to about 1e-12 and verification's 1e-6 is far away.
+pub const SAVED_RESIDUAL: f64 = 1e-12;
+
+/// Of the design's bounding-box diagonal (relative): faces closer than this touch rather
+/// than cross, in the self-intersection check. Layers of a flat-folded state lie on each
+/// other to rounding, about 1e-12 of the size; a real crossing is far deeper.
+pub const SELF_CONTACT_RELATIVE: f64 = 1e-9;
+
+/// Of the flat-folded pattern's size (relative): overlaps thinner than this are contact,
+/// not overlap, in the layer solver (before the file's rounding is allowed for).
+pub const LAYER_OVERLAP_RELATIVE: f64 = 1e-7;
+
+/// Of a drawing's diagonal (relative): points of a crease-pattern drawing (SVG, `.cp`)
+/// closer than this are one vertex; drawings snap lines by eye, not to 1e-12.
+pub const POINT_MERGE_RELATIVE: f64 = 1e-4;
+
+/// Radians: a synthetic edge folded less than this, plus what the file's coordinate
+/// rounding can turn its faces by, still joins one flat polygon when FOLD is written.
+pub const FLAT_POLYGON_RADIANS: f64 = 1e-9;
 
 #[cfg(test)]
 mod tests {

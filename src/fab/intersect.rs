@@ -8,15 +8,12 @@
 //! the other, its ends strictly on opposite sides of that triangle's plane. Faces that
 //! only touch — layers stacked in a plane, as in a flat-folded state, or a vertex resting
 //! on a panel — are not crossings (that is the layer order's business). "Strictly" means
-//! by more than [`CONTACT_FRACTION`] of the design's size, so rounding never decides.
+//! by more than [`SELF_CONTACT_RELATIVE`] of the design's size, so rounding never decides.
 //! Candidate pairs come from a bounding-volume hierarchy of axis-aligned boxes (median
 //! split), so the check is O(n log n) in the number of faces.
 
 use crate::mesh::{Mesh, Vec3};
-
-/// Distances below this fraction of the design's bounding-box diagonal count as contact,
-/// not crossing.
-pub const CONTACT_FRACTION: f64 = 1e-9;
+use crate::tolerance::SELF_CONTACT_RELATIVE;
 
 /// Two faces that pass through each other.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -35,7 +32,7 @@ pub fn self_intersections(mesh: &Mesh) -> Vec<Crossing> {
     let x = mesh.positions();
     let faces = mesh.faces();
     let (lo, hi) = mesh.bounding_box();
-    let eps = CONTACT_FRACTION * (hi - lo).norm().max(1e-300);
+    let eps = SELF_CONTACT_RELATIVE * (hi - lo).norm().max(1e-300);
     let boxes: Vec<Aabb> = faces
         .iter()
         .map(|f| Aabb::around(f.iter().map(|&v| x[v]), eps))
@@ -333,7 +330,7 @@ mod tests {
         let x = mesh.positions();
         let faces = mesh.faces();
         let (lo, hi) = mesh.bounding_box();
-        let eps = CONTACT_FRACTION * (hi - lo).norm();
+        let eps = SELF_CONTACT_RELATIVE * (hi - lo).norm();
         let mut out = Vec::new();
         for a in 0..faces.len() {
             for b in a + 1..faces.len() {

@@ -368,7 +368,7 @@ fn self_intersection(mesh: &Mesh) -> FamilyReport {
     report.rows = mesh.faces().len();
     report.basis = format!(
         "any crossing deeper than {:.0e} of the design's size (contact is not a crossing)",
-        super::intersect::CONTACT_FRACTION
+        crate::tolerance::SELF_CONTACT_RELATIVE
     );
     report
 }

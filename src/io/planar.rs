@@ -5,9 +5,6 @@
 use crate::mesh::{edge_key, triangulate_polygon, Assignment, Edge, MeshParts, Vec2};
 use std::collections::HashMap;
 
-/// Points closer than this fraction of the drawing's diagonal are merged.
-pub const MERGE_TOLERANCE: f64 = 1e-4;
-
 /// One drawn line of a crease pattern.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Segment {
@@ -126,7 +123,7 @@ pub fn mesh_from_segments(segments: &[Segment]) -> Result<(MeshParts, PlanarRepo
     ))
 }
 
-/// The distance within which points are one: [`MERGE_TOLERANCE`] of the drawing's
+/// The distance within which points are one: [`crate::tolerance::POINT_MERGE_RELATIVE`] of the drawing's
 /// diagonal. Refuses coordinates that are not finite or lie beyond a kilometre, and a
 /// drawing of zero size.
 fn merge_tolerance(segments: &[Segment]) -> Result<f64, String> {
@@ -154,7 +151,7 @@ fn merge_tolerance(segments: &[Segment]) -> Result<f64, String> {
     if diag == 0.0 {
         return Err("all lines have zero length".into());
     }
-    Ok(MERGE_TOLERANCE * diag)
+    Ok(crate::tolerance::POINT_MERGE_RELATIVE * diag)
 }
 
 /// One segment per pair of end points, the one that wins by priority: a line drawn again

@@ -255,7 +255,7 @@ fn pull(
         Stop::Converged => None,
         _ => fitter.resistance(solver)?,
     };
-    solver.polish(crate::solver::SAVED_TOLERANCE);
+    solver.polish(crate::tolerance::SAVED_RESIDUAL);
     Ok(FitPhase {
         stage_target: stage.target_name.clone(),
         surface: stage.options.surface,

@@ -365,7 +365,7 @@ fn fold_phase(
 ) -> Result<(Mesh, FoldReport), PipelineError> {
     let mut solver = Solver::new(mesh, Mode::folding_set(), anchor, options.clone())?;
     let report = fold_toward(&mut solver, amount, 4000, &mut |k| progress(phase, k, 4000))?;
-    solver.polish(crate::solver::SAVED_TOLERANCE);
+    solver.polish(crate::tolerance::SAVED_RESIDUAL);
     Ok((solver.into_mesh(), report))
 }
 
@@ -402,7 +402,7 @@ fn drag_phase(
             },
         )?);
     }
-    solver.polish(crate::solver::SAVED_TOLERANCE);
+    solver.polish(crate::tolerance::SAVED_RESIDUAL);
     Ok(drags)
 }
 

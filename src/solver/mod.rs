@@ -28,11 +28,6 @@ use crate::constraints::{ConstraintSet, Family, Reference, Rows};
 use crate::mesh::{Mesh, Vec3};
 use predict::Predictor;
 
-/// The residual a design is polished to before it is saved or handed on (radians, or
-/// relative for lengths): four orders below the solver's working 1e-8, so the design's
-/// unfolding is isometric to about 1e-12 and verification's 1e-6 is far away.
-pub const SAVED_TOLERANCE: f64 = 1e-12;
-
 /// Steps a factorisation of J Jᵀ may serve projections before it is recomputed.
 pub const MAX_FACTOR_AGE: usize = 16;
 

@@ -97,9 +97,6 @@ impl Hasher for PairHasher {
     }
 }
 
-/// Overlaps thinner than this fraction of the pattern's size are contact, not overlap.
-const OVERLAP_FRACTION: f64 = 1e-7;
-
 /// The most the contact allowance may be (mm): a sheet of 80 g/m² paper is about 0.1 mm
 /// thick, so an overlap deeper than that is a collision however coarse the file's
 /// rounding, never a sliver.
@@ -287,7 +284,7 @@ fn vertex_conflict(
 /// loses; never more than [`MAX_CONTACT`], a paper's thickness.
 fn contact_allowance(mesh: &Mesh, folded: &FlatFolded) -> f64 {
     let (lo, hi) = bounds(folded.triangles.as_flattened());
-    (OVERLAP_FRACTION * (hi - lo).norm())
+    (crate::tolerance::LAYER_OVERLAP_RELATIVE * (hi - lo).norm())
         .max(
             2.0 * folded.mismatch
                 + crate::tolerance::ROUNDING_COMPOUNDED * mesh.coordinate_precision,

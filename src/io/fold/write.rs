@@ -8,19 +8,16 @@
 
 use super::{angle_to_fold, unit_scale};
 use crate::mesh::{polygon_faces, Assignment, Mesh, SourceRecord};
+use crate::tolerance::FLAT_POLYGON_RADIANS;
 use std::fmt::Write as _;
 
-/// A synthetic edge folded less than this (radians), plus what the file's coordinate
-/// rounding can turn its faces by, still joins one flat polygon.
-const FLAT_POLYGON: f64 = 1e-9;
-
-/// How far edge `e` may fold and still lie flat: [`FLAT_POLYGON`] plus the rounding
+/// How far edge `e` may fold and still lie flat: [`FLAT_POLYGON_RADIANS`] plus the rounding
 /// bound of its dihedral angle (each edge of its two faces turns by up to 2√3·p/ℓ when
 /// coordinates are rounded to ±p, as verify's bound).
 fn flat_tolerance(mesh: &Mesh, e: usize) -> f64 {
     let p = mesh.coordinate_precision;
     if p <= 0.0 {
-        return FLAT_POLYGON;
+        return FLAT_POLYGON_RADIANS;
     }
     let topo = mesh.topology();
     let x = mesh.positions();
@@ -33,7 +30,7 @@ fn flat_tolerance(mesh: &Mesh, e: usize) -> f64 {
             2.0 * 3f64.sqrt() * p / (x[b] - x[a]).norm()
         })
         .sum();
-    FLAT_POLYGON + turn
+    FLAT_POLYGON_RADIANS + turn
 }
 
 /// Serialises a mesh as FOLD 1.1 text. Deterministic: the same mesh gives the same bytes.

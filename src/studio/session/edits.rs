@@ -176,7 +176,7 @@ impl Session {
     pub(super) fn finished(&mut self) -> Result<Mesh, Refusal> {
         self.release();
         if let Some(s) = self.solver.as_mut() {
-            s.polish(crate::solver::SAVED_TOLERANCE);
+            s.polish(crate::tolerance::SAVED_RESIDUAL);
         }
         let mut mesh = self.current();
         pipeline::finish_design(&mut mesh, self.design.relaid)
