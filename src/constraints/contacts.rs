@@ -13,7 +13,7 @@
 //! every crease that folds flat (target an odd multiple of π). Its derivative is carried
 //! along the walk (forward mode), so the rows' Jacobian is exact.
 
-use super::context::flips;
+use super::context::mirrored_edges;
 use super::{Element, Family, Reference, Rows};
 use crate::mesh::{Mesh, Vec2, Vec3};
 use nalgebra::{Matrix2, Matrix2x3};
@@ -58,19 +58,6 @@ struct FoldedImages {
 /// The quarter turn J: J·(x, y) = (−y, x).
 fn quarter_turn() -> Matrix2<f64> {
     Matrix2::new(0.0, -1.0, 1.0, 0.0)
-}
-
-/// Whether each edge is mirrored across when folded flat, or `None` when some crease
-/// aims at a partial fold (the flat-folded state is not what the pattern describes).
-fn mirrored_edges(mesh: &Mesh) -> Option<Vec<bool>> {
-    mesh.edges()
-        .iter()
-        .map(|e| {
-            let turns = e.target / std::f64::consts::PI;
-            ((turns - turns.round()).abs() < 1e-9)
-                .then(|| flips(e.target) && !e.assignment.is_boundary())
-        })
-        .collect()
 }
 
 /// `Σ coefficient · gradient` over sparse gradients, summed by vertex.
@@ -142,7 +129,7 @@ fn place(
 /// The flat-folded image of `mesh` at 3D positions `x` (disks only; `None` when a crease
 /// aims at a partial fold). Every triangle keeps its shape; the walk starts at face 0.
 fn folded_images(mesh: &Mesh, x: &[Vec3], with_gradient: bool) -> Option<FoldedImages> {
-    let mirrored = mirrored_edges(mesh)?;
+    let mirrored = mirrored_edges(mesh).ok()?;
     let faces = mesh.faces();
     let topo = mesh.topology();
     let n = mesh.vertex_count();

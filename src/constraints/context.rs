@@ -12,6 +12,34 @@ pub fn flips(target: f64) -> bool {
     (target - k * PI).abs() < 1e-9 && (k as i64).rem_euclid(2) == 1
 }
 
+/// Whether an edge is folded completely (target ±π) in the flat-folded state: `None` for
+/// a partial fold. Merged creases (§4) may target other odd multiples of π, which fold
+/// flat as well.
+pub fn folds_flat(target: f64) -> Option<bool> {
+    let turns = target / PI;
+    let nearest = turns.round();
+    if (turns - nearest).abs() > 1e-9 {
+        return None;
+    }
+    Some(nearest as i64 % 2 != 0)
+}
+
+/// Whether each edge is mirrored across when the pattern is folded flat (a fold of an odd
+/// multiple of π that is not the paper's boundary), or the first edge that aims at a
+/// partial fold, where the flat-folded state is not what the pattern describes. The
+/// layer-order rows and the x-ray (`crate::fab::flat_folded`) both walk by it.
+pub fn mirrored_edges(mesh: &Mesh) -> Result<Vec<bool>, usize> {
+    mesh.edges()
+        .iter()
+        .enumerate()
+        .map(|(i, e)| {
+            folds_flat(e.target)
+                .map(|odd| odd && !e.assignment.is_boundary())
+                .ok_or(i)
+        })
+        .collect()
+}
+
 /// Reference data for one mesh, computed once.
 #[derive(Clone, Debug)]
 pub struct Reference {
@@ -88,6 +116,17 @@ impl Reference {
             odd_vertex,
             contacts: Vec::new(),
         }
+    }
+
+    /// The reference of `mesh` for solving under `set`: [`Reference::new`], with the
+    /// layer-order contacts held when `set` has that family (a solver's start and each
+    /// remesh both take it so).
+    pub fn for_conditions(mesh: &Mesh, set: &super::ConstraintSet) -> Reference {
+        let mut reference = Reference::new(mesh);
+        if set.families.contains(&super::Family::LayerOrder) {
+            reference.hold_contacts(mesh);
+        }
+        reference
     }
 
     /// Finds the contacts of the flat-folded state of `mesh` as it stands, for the
@@ -187,4 +226,19 @@ fn straight_pieces(mesh: &Mesh, angle_sum: &[f64]) -> Vec<Vec<usize>> {
     }
     pieces.retain(|p| !p.is_empty());
     pieces
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_odd_multiples_of_pi_fold_flat() {
+        assert_eq!(folds_flat(PI), Some(true));
+        assert_eq!(folds_flat(-PI), Some(true));
+        assert_eq!(folds_flat(3.0 * PI), Some(true));
+        assert_eq!(folds_flat(0.0), Some(false));
+        assert_eq!(folds_flat(2.0 * PI), Some(false));
+        assert_eq!(folds_flat(PI / 2.0), None);
+    }
 }

@@ -13,7 +13,7 @@ mod smoothness;
 pub use angles::{tracked_fold_angle, FoldAngles};
 pub use chains::{crease_chains, has_curved_creases, CreaseChain};
 pub use contacts::{flat_contacts, Contact, MAX_CONTACT_FACES};
-pub use context::{flips, Reference};
+pub use context::{flips, folds_flat, mirrored_edges, Reference};
 pub use smoothness::{largest_second_differences, MAX_SECOND_DIFFERENCE};
 
 use crate::mesh::{Mesh, Vec3};

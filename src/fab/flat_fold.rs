@@ -9,6 +9,7 @@
 //! [`FlatFolded::mismatch`] measures the worst gap and names its vertex, which makes a
 //! pattern that does not fold flat visible.
 
+use crate::constraints::mirrored_edges;
 use crate::mesh::{Mesh, Vec2};
 use std::collections::VecDeque;
 use std::f64::consts::PI;
@@ -137,17 +138,6 @@ pub enum NotFlatFoldable {
     },
 }
 
-/// Whether an edge is folded completely (target ±π) in the flat-folded state. Merged
-/// creases (§4) may target other odd multiples of π, which fold flat as well.
-pub(crate) fn folds_flat(target: f64) -> Option<bool> {
-    let turns = target / PI;
-    let nearest = turns.round();
-    if (turns - nearest).abs() > 1e-9 {
-        return None;
-    }
-    Some(nearest as i64 % 2 != 0)
-}
-
 /// The flat-folded state of `mesh`'s crease pattern (`flat` overrides the stored pattern,
 /// e.g. one freshly unfolded from a design being varied). Fails when a crease targets a
 /// partial fold.
@@ -158,18 +148,10 @@ pub fn flat_folded(mesh: &Mesh, flat: Option<&[Vec2]>) -> Result<FlatFolded, Not
     let cp = flat
         .or_else(|| mesh.flat())
         .ok_or(NotFlatFoldable::NoCreasePattern)?;
-    let mut reflects = Vec::with_capacity(mesh.edges().len());
-    for (i, e) in mesh.edges().iter().enumerate() {
-        match folds_flat(e.target) {
-            Some(r) => reflects.push(r && !e.assignment.is_boundary()),
-            None => {
-                return Err(NotFlatFoldable::PartialTarget {
-                    edge: i,
-                    degrees: e.target.to_degrees(),
-                })
-            }
-        }
-    }
+    let reflects = mirrored_edges(mesh).map_err(|edge| NotFlatFoldable::PartialTarget {
+        edge,
+        degrees: mesh.edges()[edge].target.to_degrees(),
+    })?;
     let faces = mesh.faces();
     let topo = mesh.topology();
     let centre = cp.iter().sum::<Vec2>() / cp.len().max(1) as f64;
@@ -281,15 +263,5 @@ mod tests {
         let u = (q - p).normalize();
         let side = |w: Vec2| u.perp(&(w - p));
         assert!((side(m) + side(z)).abs() < 1e-12);
-    }
-
-    #[test]
-    fn only_odd_multiples_of_pi_fold_flat() {
-        assert_eq!(folds_flat(PI), Some(true));
-        assert_eq!(folds_flat(-PI), Some(true));
-        assert_eq!(folds_flat(3.0 * PI), Some(true));
-        assert_eq!(folds_flat(0.0), Some(false));
-        assert_eq!(folds_flat(2.0 * PI), Some(false));
-        assert_eq!(folds_flat(PI / 2.0), None);
     }
 }

@@ -553,7 +553,7 @@ fn maekawa(mesh: &Mesh) -> Vec<FamilyReport> {
             let edge = &mesh.edges()[e];
             match edge.assignment {
                 Assignment::Mountain | Assignment::Valley => {
-                    let odd = super::flat_fold::folds_flat(edge.target) == Some(true);
+                    let odd = crate::constraints::folds_flat(edge.target) == Some(true);
                     let drawn = mesh.has_3d() || (edge.fold_angle - edge.target).abs() < 1e-6;
                     is_partial |= !(odd && drawn);
                     sum += edge.target;

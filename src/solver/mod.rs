@@ -170,13 +170,7 @@ impl Solver {
             })? = true;
         }
         let (columns, free) = free_columns(&is_fixed);
-        let mut reference = Reference::new(&mesh);
-        if set
-            .families
-            .contains(&crate::constraints::Family::LayerOrder)
-        {
-            reference.hold_contacts(&mesh);
-        }
+        let reference = Reference::for_conditions(&mesh, &set);
         let mut options = options;
         options
             .predict

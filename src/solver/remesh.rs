@@ -372,14 +372,7 @@ impl Solver {
             }
         }
         let (columns, free) = free_columns(&fixed);
-        self.reference = Reference::new(&change.mesh);
-        if self
-            .set
-            .families
-            .contains(&crate::constraints::Family::LayerOrder)
-        {
-            self.reference.hold_contacts(&change.mesh);
-        }
+        self.reference = Reference::for_conditions(&change.mesh, &self.set);
         self.mesh = change.mesh;
         self.x = change.positions;
         self.fixed = fixed;

@@ -21,7 +21,8 @@ mod geometry;
 mod search;
 
 use super::budget::{Budget, OverBudget, TRIPLES_PER_CONSTRAINT};
-use super::flat_fold::{folds_flat, FlatFolded};
+use super::flat_fold::FlatFolded;
+use crate::constraints::folds_flat;
 use crate::mesh::bounds;
 use crate::mesh::{Assignment, Mesh, UnionFind, Vec2};
 use geometry::{collinear_overlap, crosses, overlap_depth, ClipScratch, PairOverlap};
