@@ -11,6 +11,8 @@ mod anchors;
 mod constraints;
 #[path = "design/design_scripts.rs"]
 mod design_scripts;
+#[path = "design/errors.rs"]
+mod errors;
 #[path = "design/fit.rs"]
 mod fit;
 #[path = "design/flat_fold.rs"]

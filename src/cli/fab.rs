@@ -76,9 +76,9 @@ pub fn fab(args: FabArgs) -> Result<u8, String> {
     let mesh = io::read(&args.design).map_err(|e| e.to_string())?;
     let result = match crease::pipeline::fabricate(&mesh, &machine, &options) {
         Ok(r) => r,
-        Err(crease::pipeline::FabError::Input(m)) => return Err(m),
-        Err(crease::pipeline::FabError::Rejected(r)) => {
-            eprintln!("error: {r}");
+        Err(e) if e.is_input() => return Err(e.to_string()),
+        Err(rejected) => {
+            eprintln!("error: {rejected}");
             eprintln!("nothing was written");
             return Ok(1);
         }

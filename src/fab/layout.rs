@@ -141,7 +141,10 @@ pub enum LayoutError {
         /// Media height.
         media_h: f64,
     },
-    /// A bad option.
+    /// An option outside its range ([`crate::limits`]).
+    #[error(transparent)]
+    Range(#[from] crate::limits::OutOfRange),
+    /// Options that do not make a layout together.
     #[error("{0}")]
     Bad(String),
 }
@@ -255,13 +258,9 @@ pub fn layout(
 fn check_sizes(sizing: Sizing, margin: f64) -> Result<(), LayoutError> {
     use crate::limits::{MARGIN, SHEET_WIDTH};
     if let Sizing::Width(w) = sizing {
-        SHEET_WIDTH
-            .check("--width", w)
-            .map_err(|e| LayoutError::Bad(e.to_string()))?;
+        SHEET_WIDTH.check("--width", w)?;
     }
-    MARGIN
-        .check("--margin", margin)
-        .map_err(|e| LayoutError::Bad(e.to_string()))?;
+    MARGIN.check("--margin", margin)?;
     Ok(())
 }
 

@@ -349,7 +349,7 @@ impl PrintLayout {
             match layout(flat, lines, &region, 0.0, sizing) {
                 Ok(sheet) => placed.push(sheet.moved(self.page.clone(), r.lo)),
                 Err(LayoutError::TooLarge { .. }) => {}
-                Err(LayoutError::Bad(m)) => return Err(m),
+                Err(e) => return Err(e.to_string()),
             }
         }
         let best = match sizing {

@@ -169,7 +169,10 @@ impl Params {
 /// Why a pattern cannot be generated.
 #[derive(Debug, thiserror::Error)]
 pub enum GenerateError {
-    /// A parameter is out of its range.
+    /// A parameter outside its range ([`crate::limits`]).
+    #[error(transparent)]
+    Range(#[from] crate::limits::OutOfRange),
+    /// Parameters that do not make the pattern together.
     #[error("{0}")]
     BadParameter(String),
     /// The generated mesh failed validation (a bug, reported rather than hidden).
@@ -190,9 +193,7 @@ pub fn generate(p: &Params) -> Result<Mesh, GenerateError> {
             ));
         }
     }
-    crate::limits::ALPHA
-        .check("alpha", p.alpha)
-        .map_err(|e| GenerateError::BadParameter(e.to_string()))?;
+    crate::limits::ALPHA.check("alpha", p.alpha)?;
     let mut mesh = match p.kind {
         PatternKind::Miura => miura(p)?,
         PatternKind::Waterbomb => waterbomb(p)?,
@@ -218,19 +219,14 @@ pub fn generate(p: &Params) -> Result<Mesh, GenerateError> {
 /// and the fold amount.
 fn check_ranges(p: &Params) -> Result<(), GenerateError> {
     use crate::limits::{CELLS, CELLS_IN_ALL, FRACTION, LENGTH, MIURA_ANGLE, PATTERN_EXTENT};
-    let bad = |e: crate::limits::OutOfRange| GenerateError::BadParameter(e.to_string());
-    CELLS.check_count("nx", p.nx as u64).map_err(bad)?;
-    CELLS.check_count("ny", p.ny as u64).map_err(bad)?;
-    CELLS_IN_ALL
-        .check_count("nx × ny", p.nx as u64 * p.ny as u64)
-        .map_err(bad)?;
-    LENGTH.check("size", p.size).map_err(bad)?;
-    PATTERN_EXTENT
-        .check("size × cells", p.size * p.nx.max(p.ny) as f64)
-        .map_err(bad)?;
-    MIURA_ANGLE.check("angle", p.angle_deg).map_err(bad)?;
+    CELLS.check_count("nx", p.nx as u64)?;
+    CELLS.check_count("ny", p.ny as u64)?;
+    CELLS_IN_ALL.check_count("nx × ny", p.nx as u64 * p.ny as u64)?;
+    LENGTH.check("size", p.size)?;
+    PATTERN_EXTENT.check("size × cells", p.size * p.nx.max(p.ny) as f64)?;
+    MIURA_ANGLE.check("angle", p.angle_deg)?;
     if let Some(t) = p.fold {
-        FRACTION.check("fold", t).map_err(bad)?;
+        FRACTION.check("fold", t)?;
     }
     Ok(())
 }

@@ -2,9 +2,10 @@
 //! 2 mountain, 3 valley, 0 auxiliary, 4 unassigned.
 
 use super::planar::{mesh_from_segments, Segment};
+use super::FileCause;
 use crate::mesh::{split_along_cuts, Assignment, Mesh, Vec2};
 
-pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, String> {
+pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, FileCause> {
     let mut segments = Vec::new();
     for (i, line) in text.lines().enumerate() {
         let line = line.trim();
@@ -19,7 +20,7 @@ pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, String> {
             )
         };
         if fields.len() != 5 {
-            return Err(bad());
+            return Err(bad().into());
         }
         let assignment = match fields[0] {
             "0" => Assignment::Flat,
@@ -28,10 +29,7 @@ pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, String> {
             "3" => Assignment::Valley,
             "4" => Assignment::Unassigned,
             t => {
-                return Err(format!(
-                    "line {}: unknown line type {t} (expected 0–4)",
-                    i + 1
-                ))
+                return Err(format!("line {}: unknown line type {t} (expected 0–4)", i + 1).into())
             }
         };
         let v: Vec<f64> = fields[1..]
@@ -49,7 +47,7 @@ pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, String> {
     let (mut parts, report) = mesh_from_segments(&segments)?;
     super::svg_read::report_notes(&report, notes);
     split_along_cuts(&mut parts);
-    let mut mesh = Mesh::new(parts).map_err(|e| e.to_string())?;
+    let mut mesh = Mesh::new(parts)?;
     mesh.coordinate_precision = super::decimal_quantum(text);
     Ok(mesh)
 }

@@ -24,15 +24,62 @@ pub struct FileError {
     /// The file.
     pub path: PathBuf,
     /// What is wrong with it.
-    pub cause: String,
+    #[source]
+    pub cause: FileCause,
+}
+
+/// Why a file could not be read or written.
+#[derive(Debug, thiserror::Error)]
+pub enum FileCause {
+    /// The system refused (no such file, no permission, disk full).
+    #[error(transparent)]
+    Io(#[from] std::io::Error),
+    /// The same, for a file read whole before its format is known (a target surface).
+    #[error("cannot read it: {0}")]
+    Unreadable(#[source] std::io::Error),
+    /// What it holds is not what its format allows; the message says where and why.
+    #[error("{0}")]
+    Content(String),
+    /// FOLD text that is not JSON of FOLD's shape.
+    #[error("not valid FOLD JSON: {0}")]
+    Json(#[source] serde_json::Error),
+    /// A value outside its range ([`crate::limits`]).
+    #[error(transparent)]
+    Range(#[from] crate::limits::OutOfRange),
+    /// What it describes is not a valid mesh.
+    #[error(transparent)]
+    Mesh(#[from] crate::mesh::MeshError),
+    /// A tube's seam that does not join the strip's ends.
+    #[error(transparent)]
+    Seam(#[from] crate::mesh::SeamError),
+}
+
+impl From<String> for FileCause {
+    fn from(message: String) -> Self {
+        FileCause::Content(message)
+    }
+}
+
+impl From<&str> for FileCause {
+    fn from(message: &str) -> Self {
+        FileCause::Content(message.to_string())
+    }
 }
 
 impl FileError {
-    /// An error about `path`.
+    /// An error about the content of `path`.
     pub fn new(path: &Path, cause: impl Into<String>) -> Self {
         FileError {
             path: path.to_path_buf(),
-            cause: cause.into(),
+            cause: FileCause::Content(cause.into()),
+        }
+    }
+
+    /// The system's refusal to read or write `path`, kept as the cause.
+    pub fn io(path: &Path, cause: std::io::Error) -> Self {
+        FileError {
+            path: path.to_path_buf(),
+            cause: FileCause::Io(cause),
         }
     }
 }
@@ -196,7 +243,7 @@ pub fn read(path: &Path) -> Result<Mesh, FileError> {
 /// Reads a pattern file and reports what import changed.
 pub fn read_with_notes(path: &Path) -> Result<Imported, FileError> {
     Format::from_path(path)?;
-    let bytes = std::fs::read(path).map_err(|e| FileError::new(path, e.to_string()))?;
+    let bytes = std::fs::read(path).map_err(|e| FileError::io(path, e))?;
     read_bytes(path, bytes)
 }
 
@@ -206,7 +253,10 @@ pub fn read_bytes(path: &Path, bytes: Vec<u8>) -> Result<Imported, FileError> {
     let format = Format::from_path(path)?;
     let text =
         String::from_utf8(bytes).map_err(|_| FileError::new(path, "the file is not UTF-8 text"))?;
-    let err = |cause: String| FileError::new(path, cause);
+    let err = |cause: FileCause| FileError {
+        path: path.to_path_buf(),
+        cause,
+    };
     let mut notes = Vec::new();
     let mesh = match format {
         Format::Fold => fold::parse(&text).map_err(err)?,
@@ -238,7 +288,7 @@ pub fn write(mesh: &Mesh, path: &Path) -> Result<(), FileError> {
 /// and only when all are written are they renamed into place. A failure removes the
 /// temporary files, so a run never leaves a partial set behind.
 pub fn write_all_atomic(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<(), FileError> {
-    std::fs::create_dir_all(dir).map_err(|e| FileError::new(dir, e.to_string()))?;
+    std::fs::create_dir_all(dir).map_err(|e| FileError::io(dir, e))?;
     let temp = |name: &str| dir.join(format!(".{name}.{}.tmp", std::process::id()));
     let mut written = Vec::new();
     for (name, bytes) in files {
@@ -248,7 +298,7 @@ pub fn write_all_atomic(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<(), F
             for w in &written {
                 let _ = std::fs::remove_file(w);
             }
-            return Err(FileError::new(&dir.join(name), e.to_string()));
+            return Err(FileError::io(&dir.join(name), e));
         }
         written.push(t);
     }
@@ -268,8 +318,7 @@ pub fn write_all_atomic(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<(), F
         ));
     }
     for ((name, _), t) in files.iter().zip(&written) {
-        std::fs::rename(t, dir.join(name))
-            .map_err(|e| FileError::new(&dir.join(name), e.to_string()))?;
+        std::fs::rename(t, dir.join(name)).map_err(|e| FileError::io(&dir.join(name), e))?;
     }
     Ok(())
 }
@@ -277,7 +326,7 @@ pub fn write_all_atomic(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<(), F
 /// Writes bytes to `path` through a temporary file in the same folder and a rename, so
 /// readers never see a partial file. Creates missing parent folders.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), FileError> {
-    let err = |e: std::io::Error| FileError::new(path, e.to_string());
+    let err = |e: std::io::Error| FileError::io(path, e);
     if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
         std::fs::create_dir_all(parent).map_err(err)?;
     }

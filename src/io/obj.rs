@@ -2,6 +2,7 @@
 //! crease pattern scaled to [0, 1] by its longer side, `f a/a b/b c/c`, and one
 //! `#e i j TYPE 0` line per edge (TYPE 0 border, 1 flat, 2 valley, 3 mountain).
 
+use super::FileCause;
 use crate::mesh::{Assignment, Edge, Mesh, MeshParts, Vec2, Vec3};
 use std::fmt::Write as _;
 
@@ -46,7 +47,7 @@ pub fn to_string(mesh: &Mesh) -> String {
 }
 
 /// Reads Freeform Origami OBJ; the crease pattern (`vt`) is scaled back to millimetres.
-pub fn parse(text: &str) -> Result<Mesh, String> {
+pub fn parse(text: &str) -> Result<Mesh, FileCause> {
     let mut positions = Vec::new();
     let mut uv = Vec::new();
     let mut faces = Vec::new();
@@ -81,20 +82,20 @@ pub fn parse(text: &str) -> Result<Mesh, String> {
             }
             Some("f") => {
                 if f.len() != 4 {
-                    return Err(format!("line {}: only triangles are supported", i + 1));
+                    return Err(format!("line {}: only triangles are supported", i + 1).into());
                 }
                 faces.push([index(f[1])?, index(f[2])?, index(f[3])?]);
             }
             Some("#e") => {
                 if f.len() < 4 {
-                    return Err(bad());
+                    return Err(bad().into());
                 }
                 let assignment = match f[3] {
                     "0" => Assignment::Boundary,
                     "1" => Assignment::Flat,
                     "2" => Assignment::Valley,
                     "3" => Assignment::Mountain,
-                    _ => return Err(bad()),
+                    _ => return Err(bad().into()),
                 };
                 edges.push(Edge::new(index(f[1])?, index(f[2])?, assignment));
             }

@@ -6,6 +6,7 @@
 use super::planar::{mesh_from_segments, PlanarReport, Segment};
 use super::svg_path::flatten_path;
 use super::svg_transform::{number_list, parse_transform, Affine};
+use super::FileCause;
 use crate::mesh::{split_along_cuts, Assignment, Mesh, Vec2};
 use std::f64::consts::PI;
 use svg::node::element::tag::Type;
@@ -156,7 +157,7 @@ type Attributes = std::collections::HashMap<String, svg::node::Value>;
 
 /// Reads an Origami Simulator style SVG (stroke colour gives the crease type, opacity
 /// the fold angle) into a mesh in mm, with notes on anything read by assumption.
-pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, String> {
+pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, FileCause> {
     if text.trim().is_empty() {
         return Err("the file is empty".into());
     }
@@ -164,7 +165,7 @@ pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, String> {
     let (mut parts, report) = mesh_from_segments(&drawing.segments)?;
     report_notes(&report, notes);
     split_along_cuts(&mut parts);
-    let mut mesh = Mesh::new(parts).map_err(|e| e.to_string())?;
+    let mut mesh = Mesh::new(parts)?;
     // A point of a relative path command adds a rounded offset to a rounded start: twice
     // the rounding of one number.
     mesh.coordinate_precision =

@@ -3,7 +3,7 @@
 //! polygons is refused rather than triangulated by guesswork, since the fit measures its
 //! distances to exactly these triangles. Writing is OBJ or binary STL.
 
-use super::FileError;
+use super::{FileCause, FileError};
 use crate::limits;
 use crate::mesh::Vec3;
 use crate::surface::TriSurface;
@@ -15,7 +15,11 @@ const MAX_BYTES: u64 = 256 << 20;
 /// Reads a target surface, the format chosen by the extension (`.obj`, `.stl`).
 pub fn read_target(path: &Path) -> Result<TriSurface, FileError> {
     let bad = |cause: String| FileError::new(path, cause);
-    let meta = std::fs::metadata(path).map_err(|e| bad(format!("cannot read it: {e}")))?;
+    let unreadable = |e| FileError {
+        path: path.to_path_buf(),
+        cause: FileCause::Unreadable(e),
+    };
+    let meta = std::fs::metadata(path).map_err(unreadable)?;
     if meta.is_dir() {
         return Err(bad(
             "is a directory, not a target surface (.obj or .stl)".into()
@@ -28,7 +32,7 @@ pub fn read_target(path: &Path) -> Result<TriSurface, FileError> {
             MAX_BYTES >> 20
         )));
     }
-    let bytes = std::fs::read(path).map_err(|e| bad(format!("cannot read it: {e}")))?;
+    let bytes = std::fs::read(path).map_err(unreadable)?;
     read_target_bytes(path, &bytes)
 }
 
@@ -160,8 +164,7 @@ pub fn write_target(surface: &TriSurface, path: &Path, comment: &str) -> Result<
                 })
                 .collect();
             let mut out = Vec::new();
-            stl_io::write_stl(&mut out, triangles.iter())
-                .map_err(|e| FileError::new(path, e.to_string()))?;
+            stl_io::write_stl(&mut out, triangles.iter()).map_err(|e| FileError::io(path, e))?;
             out
         }
         _ => {

@@ -197,12 +197,10 @@ pub fn fabricate_verified(
 
 /// A tube's strip with its glue tab `--tab` wide (range-checked here), `None` for a sheet.
 fn tube_of(mesh: &Mesh, options: &FabOptions) -> Result<Option<TubeStrip>, FabError> {
-    let tab_mm = crate::limits::LENGTH
-        .check(
-            "--tab",
-            options.tab.unwrap_or(super::fab_options::GLUE_TAB_MM),
-        )
-        .map_err(|e| FabError::Input(e.to_string()))?;
+    let tab_mm = crate::limits::LENGTH.check(
+        "--tab",
+        options.tab.unwrap_or(super::fab_options::GLUE_TAB_MM),
+    )?;
     super::tube::tube_strip(mesh, tab_mm).map_err(|e| FabError::Rejected(Rejected(e)))
 }
 
@@ -431,9 +429,7 @@ fn sizing_of(options: &FabOptions) -> Result<crate::fab::Sizing, FabError> {
     use crate::fab::Sizing;
     if let Some(w) = options.width {
         // Below the range's 5 mm every stroke is shorter than a blade's dash.
-        crate::limits::SHEET_WIDTH
-            .check("--width", w)
-            .map_err(|e| FabError::Input(e.to_string()))?;
+        crate::limits::SHEET_WIDTH.check("--width", w)?;
     }
     match (options.fit, options.width) {
         (true, Some(_)) => Err(FabError::Input(
@@ -497,7 +493,7 @@ fn lay_out(
             let margin = margin.max(crate::output::pdf::TILE_MARGIN_MM);
             crate::fab::layout::layout_tiled(flat, lines, media, margin, TILE_OVERLAP_MM, sizing)
                 .map(|s| (s, true))
-                .map_err(|e| FabError::Input(e.to_string()))
+                .map_err(FabError::Layout)
         }
         Err(e @ LayoutError::TooLarge { .. }) => {
             let why = if band > 0.0 {
@@ -507,7 +503,7 @@ fn lay_out(
             };
             Err(FabError::Rejected(Rejected(format!("{e}{why}"))))
         }
-        Err(LayoutError::Bad(m)) => Err(FabError::Input(m)),
+        Err(e) => Err(FabError::Layout(e)),
     }
 }
 
@@ -638,9 +634,22 @@ pub enum FabError {
     /// Bad option or profile.
     #[error("{0}")]
     Input(String),
+    /// An option outside its range ([`crate::limits`]).
+    #[error(transparent)]
+    Range(#[from] crate::limits::OutOfRange),
+    /// Options the layout cannot meet (a bad margin, a tiling that does not fit).
+    #[error(transparent)]
+    Layout(crate::fab::LayoutError),
     /// The design was refused.
     #[error(transparent)]
     Rejected(#[from] Rejected),
+}
+
+impl FabError {
+    /// Bad input (exit 2, the studio's 400) rather than a design refused (exit 1).
+    pub fn is_input(&self) -> bool {
+        !matches!(self, FabError::Rejected(_))
+    }
 }
 
 /// The layer order FOLD tools expect beside a crease pattern that folds flat (every crease

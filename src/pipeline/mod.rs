@@ -38,6 +38,12 @@ pub enum PipelineError {
     /// A bad argument or script entry.
     #[error("{0}")]
     Input(String),
+    /// A value outside its range ([`crate::limits`]).
+    #[error(transparent)]
+    Range(#[from] crate::limits::OutOfRange),
+    /// A file the job names (a script's base design, a fit's target) that cannot be read.
+    #[error(transparent)]
+    File(#[from] crate::io::FileError),
     /// The solver failed.
     #[error(transparent)]
     Solver(#[from] SolverError),
@@ -52,6 +58,8 @@ impl PipelineError {
         matches!(
             self,
             PipelineError::Input(_)
+                | PipelineError::Range(_)
+                | PipelineError::File(_)
                 | PipelineError::Solver(
                     SolverError::UnknownVertex { .. } | SolverError::NotADisk { .. }
                 )
@@ -131,8 +139,7 @@ impl DesignJob {
     ) -> Result<DesignJob, PipelineError> {
         let mesh = match (mesh, &script.base) {
             (Some(m), _) => m,
-            (None, Some(base)) => crate::io::read(&script_dir.join(base))
-                .map_err(|e| PipelineError::Input(e.to_string()))?,
+            (None, Some(base)) => crate::io::read(&script_dir.join(base))?,
             (None, None) => {
                 return Err(PipelineError::Input(
                     "the script names no base pattern and none was given".into(),
@@ -249,15 +256,12 @@ fn add_stats(total: &mut Stats, more: &Stats) {
 
 /// A fit's step count and goal within their ranges.
 fn check_fit(stage: &FitStage) -> Result<(), PipelineError> {
-    let bad = |e: crate::limits::OutOfRange| PipelineError::Input(e.to_string());
-    crate::limits::STEPS
-        .check_count("--steps", stage.options.max_steps as u64)
-        .map_err(bad)?;
+    crate::limits::STEPS.check_count("--steps", stage.options.max_steps as u64)?;
     if let Some(g) = stage.options.goal {
-        crate::limits::FIT_GOAL.check("--within", g).map_err(bad)?;
+        crate::limits::FIT_GOAL.check("--within", g)?;
     }
     if let Some(r) = stage.options.remesh {
-        crate::limits::REMESH.check("--remesh", r).map_err(bad)?;
+        crate::limits::REMESH.check("--remesh", r)?;
     }
     Ok(())
 }
@@ -268,7 +272,7 @@ fn fit_from_script(
     script_dir: &Path,
 ) -> Result<FitStage, PipelineError> {
     let path = script_dir.join(&f.target);
-    let target = crate::io::read_target(&path).map_err(|e| PipelineError::Input(e.to_string()))?;
+    let target = crate::io::read_target(&path)?;
     let mut options = crate::fit::FitOptions::default();
     if let Some(s) = &f.surface {
         options.surface = crate::fit::SurfaceChoice::parse(s).map_err(PipelineError::Input)?;
@@ -292,9 +296,7 @@ fn check_options(
     fixed: [&Option<Vec<usize>>; 2],
 ) -> Result<(), PipelineError> {
     if let Some(r) = remesh {
-        crate::limits::REMESH
-            .check("remesh", r)
-            .map_err(|e| PipelineError::Input(e.to_string()))?;
+        crate::limits::REMESH.check("remesh", r)?;
     }
     let n = mesh.vertex_count();
     for list in fixed {
@@ -318,9 +320,7 @@ pub fn fold_mesh(
     amount: f64,
     progress: Progress,
 ) -> Result<(Mesh, FoldReport), PipelineError> {
-    crate::limits::FRACTION
-        .check("fold amount", amount)
-        .map_err(|e| PipelineError::Input(e.to_string()))?;
+    crate::limits::FRACTION.check("fold amount", amount)?;
     let anchor = Solver::default_fixed(&mesh, &[]);
     let (mut mesh, report) =
         fold_phase(mesh, amount, &anchor, &Options::default(), "fold", progress)?;
@@ -343,9 +343,7 @@ fn first_fold(
 ) -> Result<(Mesh, Option<FoldReport>), PipelineError> {
     let (amount, phase) = match fold {
         Some(amount) => {
-            crate::limits::FRACTION
-                .check("fold amount", amount)
-                .map_err(|e| PipelineError::Input(e.to_string()))?;
+            crate::limits::FRACTION.check("fold amount", amount)?;
             (amount, "fold")
         }
         None if moves && is_flat_start(&mesh) => (LEAVE_FLAT_AMOUNT, "leave flat"),
@@ -381,9 +379,7 @@ fn drag_phase(
 ) -> Result<Vec<DragReport>, PipelineError> {
     solver.correct()?;
     let radius = radius.unwrap_or_else(|| crate::solver::default_radius(solver.mesh().positions()));
-    crate::limits::RADIUS
-        .check("--radius", radius)
-        .map_err(|e| PipelineError::Input(e.to_string()))?;
+    crate::limits::RADIUS.check("--radius", radius)?;
     let total: usize = stages.iter().map(|s| s.steps).sum();
     let mut done = 0;
     let mut drags = Vec::new();
@@ -491,9 +487,7 @@ pub fn is_flat_start(mesh: &Mesh) -> bool {
 /// Gives every untwisted facet line (target 0, flat or join) the twist allowance α of
 /// §2.4, which must lie in [0, 1).
 pub fn set_alpha(mesh: &mut Mesh, alpha: f64) -> Result<(), PipelineError> {
-    crate::limits::ALPHA
-        .check("alpha", alpha)
-        .map_err(|e| PipelineError::Input(e.to_string()))?;
+    crate::limits::ALPHA.check("alpha", alpha)?;
     for e in mesh.edges_mut() {
         if e.target == 0.0 && matches!(e.assignment, Assignment::Flat | Assignment::Join) {
             e.alpha = alpha;
@@ -537,13 +531,9 @@ fn check_targets(
         .iter()
         .map(|s| s.steps)
         .fold(0, usize::saturating_add);
-    crate::limits::STEPS
-        .check_count("steps in all", total as u64)
-        .map_err(|e| PipelineError::Input(e.to_string()))?;
+    crate::limits::STEPS.check_count("steps in all", total as u64)?;
     for stage in stages {
-        crate::limits::STEPS
-            .check_count("steps", stage.steps as u64)
-            .map_err(|e| PipelineError::Input(e.to_string()))?;
+        crate::limits::STEPS.check_count("steps", stage.steps as u64)?;
         for (k, m) in stage.moves.iter().enumerate() {
             if stage.moves[..k].iter().any(|o| o.vertex == m.vertex) {
                 return Err(PipelineError::Input(format!(

@@ -220,7 +220,9 @@ fn absurd_tube_requests_are_refused_saying_why() {
         serde_json::from_str(&crease::io::fold::to_string(&m)).unwrap();
     // Join the first seam vertex to the ring's far side instead of its copy.
     json["crease:seam"][0][1][0] = serde_json::json!(4);
-    let e = crease::io::fold::parse(&json.to_string()).expect_err("a bad seam is refused");
+    let e = crease::io::fold::parse(&json.to_string())
+        .expect_err("a bad seam is refused")
+        .to_string();
     assert!(e.contains("crease:seam"), "{e}");
 }
 

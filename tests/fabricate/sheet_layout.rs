@@ -281,7 +281,7 @@ fn width_is_the_laid_out_width_and_fit_fills_the_media_within_the_margin() {
     ] {
         assert!(matches!(
             fabricate(&mesh, &machine, &options),
-            Err(FabError::Input(_))
+            Err(e) if e.is_input()
         ));
     }
 }

@@ -111,7 +111,7 @@ fn mountains_from_the_back_are_mirrored_into_a_second_job() {
                 ..two_sided()
             }
         ),
-        Err(FabError::Input(_))
+        Err(e) if e.is_input()
     ));
 }
 

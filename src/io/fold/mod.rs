@@ -3,6 +3,7 @@
 //! positive. This module is the one place where they are converted to the paper's radians.
 
 use super::planar::{mesh_from_segments, Segment};
+use super::FileCause;
 use crate::mesh::{
     split_along_cuts, triangulate_polygon, Assignment, Edge, Mesh, MeshParts, Vec2, Vec3,
 };
@@ -167,13 +168,12 @@ fn planar_layout(points: &[Vec3], faces: &[Vec<usize>]) -> Option<Vec<Vec2>> {
 }
 
 /// Parses FOLD text into a mesh. Errors are causes without the file name.
-pub fn parse(text: &str) -> Result<Mesh, String> {
+pub fn parse(text: &str) -> Result<Mesh, FileCause> {
     if text.trim().is_empty() {
         return Err("the file is empty".into());
     }
-    let invalid = |e: serde_json::Error| format!("not valid FOLD JSON: {e}");
-    let frame: Frame = serde_json::from_str(text).map_err(invalid)?;
-    let file: FileFields = serde_json::from_str(text).map_err(invalid)?;
+    let frame: Frame = serde_json::from_str(text).map_err(FileCause::Json)?;
+    let file: FileFields = serde_json::from_str(text).map_err(FileCause::Json)?;
     let file_title = file.file_title;
     let frames = frames_of(frame, file.file_frames.unwrap_or_default())?;
     let top = &frames[0];
@@ -194,14 +194,14 @@ pub fn parse(text: &str) -> Result<Mesh, String> {
         (parts, tube_seam) = (tube, Some(seam));
     }
     split_along_cuts(&mut parts);
-    let mut mesh = Mesh::new(parts).map_err(|e| e.to_string())?;
+    let mut mesh = Mesh::new(parts)?;
     // The file's own rounding, or the rounding of the file it was converted from as
     // recorded (`crease:coordinatePrecision`, in the frame's unit), whichever is coarser.
     let scale = unit_scale(top.frame_unit.as_deref())?;
     let recorded = match top.coordinate_precision {
-        Some(p) => crate::limits::COORDINATE_PRECISION
-            .check("crease:coordinatePrecision", p * scale)
-            .map_err(|e| e.to_string())?,
+        Some(p) => {
+            crate::limits::COORDINATE_PRECISION.check("crease:coordinatePrecision", p * scale)?
+        }
         None => 0.0,
     };
     mesh.coordinate_precision =
@@ -219,7 +219,7 @@ pub fn parse(text: &str) -> Result<Mesh, String> {
             return Err("crease:seam does not close the strip into a tube".into());
         }
         mesh.seam = seam;
-        mesh.seam_edges().map_err(|e| e.to_string())?;
+        mesh.seam_edges()?;
         // The file describes the strip; the tube is written back from its own geometry.
         return Ok(mesh);
     }

@@ -7,7 +7,7 @@ use crate::constraints::ConstraintSet;
 use crate::fab;
 use crate::generate::{self, Params, PatternKind};
 use crate::mesh::Mesh;
-use crate::pipeline::{self, FabError, FabOptions};
+use crate::pipeline::{self, FabOptions};
 use crate::solver::{FoldReport, Mode};
 use std::path::Path;
 
@@ -230,10 +230,10 @@ impl Session {
                 self.message = format!("fabricated for {}", machine.name);
                 Ok(Reply::Json(reply))
             }
-            Err(FabError::Input(m)) => Err(Refusal::bad(in_page_words(&m))),
+            Err(e) if e.is_input() => Err(Refusal::bad(in_page_words(&e.to_string()))),
             // Only a failed verification is what "cut anyway" overrides, and its message
             // says so (in the page's words); a sheet too large for the media is not.
-            Err(FabError::Rejected(r)) => Err(Refusal::failed(in_page_words(&r.to_string()))),
+            Err(rejected) => Err(Refusal::failed(in_page_words(&rejected.to_string()))),
         }
     }
 }

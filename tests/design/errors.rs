@@ -1,0 +1,102 @@
+//! Errors keep their causes as typed values a caller can inspect (`source()`), and say the
+//! same one line they said when the causes were strings.
+
+use crease::generate::{generate, GenerateError, Params, PatternKind};
+use crease::io::{self, FileCause};
+use crease::limits::OutOfRange;
+use crease::mesh::MeshError;
+use crease::pipeline::{FabError, PipelineError};
+use std::error::Error as _;
+use std::path::Path;
+
+#[test]
+fn a_missing_file_keeps_the_systems_refusal() {
+    let path = Path::new("no-such-dir-for-crease/design.fold");
+    let e = io::read(path).expect_err("nothing there");
+    let io_error = e
+        .source()
+        .and_then(|s| s.downcast_ref::<FileCause>())
+        .and_then(|c| match c {
+            FileCause::Io(io) => Some(io),
+            _ => None,
+        })
+        .expect("the cause is the system's error");
+    assert_eq!(io_error.kind(), std::io::ErrorKind::NotFound);
+    let line = e.to_string();
+    assert!(
+        line.starts_with("no-such-dir-for-crease/design.fold: "),
+        "{line}"
+    );
+    assert!(!line.contains('\n'), "{line}");
+}
+
+#[test]
+fn bad_fold_json_keeps_the_parsers_position() {
+    let e = io::read_bytes(
+        Path::new("bad.fold"),
+        b"{\"vertices_coords\": [[0, 0],".to_vec(),
+    )
+    .err()
+    .expect("truncated JSON is refused");
+    let FileCause::Json(json) = &e.cause else {
+        panic!("not a JSON cause: {e}")
+    };
+    assert!(json.is_eof(), "{json}");
+    assert!(
+        e.to_string().starts_with("bad.fold: not valid FOLD JSON: "),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_fold_file_of_a_broken_mesh_names_the_face() {
+    // A triangle of three collinear points: only the mesh's own validation sees it.
+    let text = r#"{"vertices_coords": [[0,0],[1,0],[2,0]], "faces_vertices": [[0,1,2]],
+                  "edges_vertices": [[0,1],[1,2],[2,0]], "edges_assignment": ["B","B","B"]}"#;
+    let e = io::read_bytes(Path::new("broken.fold"), text.as_bytes().to_vec())
+        .err()
+        .expect("refused");
+    match &e.cause {
+        FileCause::Mesh(MeshError::DegenerateFace { face, .. }) => assert_eq!(*face, 0),
+        other => panic!("not the mesh's error: {other:?}"),
+    }
+}
+
+#[test]
+fn an_absurd_size_is_a_range_error_with_its_value() {
+    let mut p = Params::square(PatternKind::Resch, 4, 10.0);
+    p.size = 1e308;
+    match generate(&p) {
+        Err(GenerateError::Range(OutOfRange { value, input, .. })) => {
+            assert_eq!(value, 1e308);
+            assert_eq!(input, "size");
+        }
+        other => panic!("not a range error: {:?}", other.err()),
+    }
+}
+
+#[test]
+fn a_scripts_unreadable_base_is_a_file_error_and_bad_input() {
+    let script = crease::solver::Script::parse("base = \"missing.fold\"\n").unwrap();
+    let dir = std::env::temp_dir().join(format!("crease-errors-{}", std::process::id()));
+    let e = crease::pipeline::DesignJob::from_script(&script, &dir, None).expect_err("no base");
+    assert!(matches!(e, PipelineError::File(_)), "{e:?}");
+    assert!(e.is_input_error());
+    assert!(e.to_string().contains("missing.fold"), "{e}");
+}
+
+#[test]
+fn a_width_out_of_range_is_bad_input_not_a_refused_design() {
+    let mesh = generate(&Params::square(PatternKind::Miura, 2, 20.0)).unwrap();
+    let machine = crease::plotter::Machine::load("generic-hpgl").unwrap();
+    let options = crease::pipeline::FabOptions {
+        width: Some(1e9),
+        ..Default::default()
+    };
+    let e = crease::pipeline::fabricate(&mesh, &machine, &options)
+        .err()
+        .expect("refused");
+    assert!(matches!(e, FabError::Range(_)), "{e:?}");
+    assert!(e.is_input());
+    assert!(e.to_string().starts_with("--width = "), "{e}");
+}
