@@ -38,6 +38,9 @@ pub enum SeamError {
     /// The declared seam does not run from one rim to the other as one path.
     #[error("the seam does not cut the tube into one strip: {0}")]
     NotAStrip(String),
+    /// Cut along the seam, the strip is not a valid mesh.
+    #[error("the seam does not cut the tube into one strip: {0}")]
+    StripInvalid(#[source] super::MeshError),
     /// The surface is not a tube.
     #[error("the design is not a tube (it has {loops} boundary loop(s) and χ = {euler}); only a tube has a seam")]
     NotATube {
@@ -133,7 +136,7 @@ impl Mesh {
             // Face l has a → b counter-clockwise: the paper is left of a → b there.
             sides.push([[copy(l, a), copy(l, b)], [copy(r, a), copy(r, b)]]);
         }
-        let mut sheet = Mesh::new(parts).map_err(|e| SeamError::NotAStrip(e.to_string()))?;
+        let mut sheet = Mesh::new(parts).map_err(SeamError::StripInvalid)?;
         let s = sheet.shape();
         if !s.is_disk {
             return Err(SeamError::NotAStrip(format!(

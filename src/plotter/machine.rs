@@ -154,6 +154,14 @@ pub enum MachineError {
         /// Profiles found.
         known: String,
     },
+    /// The profile file could not be read.
+    #[error("{path}: {source}")]
+    Unreadable {
+        /// The file.
+        path: String,
+        /// The system's refusal.
+        source: std::io::Error,
+    },
     /// The profile file is wrong.
     #[error("{path}: {cause}")]
     Invalid {
@@ -217,7 +225,10 @@ impl Machine {
             path: path.display().to_string(),
             cause,
         };
-        let text = std::fs::read_to_string(&path).map_err(|e| invalid(e.to_string()))?;
+        let text = std::fs::read_to_string(&path).map_err(|source| MachineError::Unreadable {
+            path: path.display().to_string(),
+            source,
+        })?;
         Machine::parse(&text).map_err(invalid)
     }
 

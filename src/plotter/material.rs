@@ -69,6 +69,35 @@ pub fn search_path() -> Vec<PathBuf> {
     dirs
 }
 
+/// Why a material cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum MaterialError {
+    /// No such material.
+    #[error("--material {name}: no such material (known: {known}; or give a path to a .toml)")]
+    Unknown {
+        /// What was asked for.
+        name: String,
+        /// Materials found.
+        known: String,
+    },
+    /// The material file could not be read.
+    #[error("{}: {source}", path.display())]
+    Unreadable {
+        /// The file.
+        path: PathBuf,
+        /// The system's refusal.
+        source: std::io::Error,
+    },
+    /// The material file is wrong; the cause names the key.
+    #[error("{}: {cause}", path.display())]
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong, naming the key.
+        cause: String,
+    },
+}
+
 /// Names of the materials found, sorted, each once.
 pub fn known_materials() -> Vec<String> {
     super::lookup::toml_names(&search_path())
@@ -77,17 +106,19 @@ pub fn known_materials() -> Vec<String> {
 impl Material {
     /// Loads a material by name (from [`search_path`]) or by path; errors name the file
     /// and the key.
-    pub fn load(name_or_path: &str) -> Result<Material, String> {
+    pub fn load(name_or_path: &str) -> Result<Material, MaterialError> {
         let path = super::lookup::find_toml(name_or_path, &search_path());
         let Some(path) = path else {
-            return Err(format!(
-                "--material {name_or_path}: no such material (known: {}; or give a path to a .toml)",
-                known_materials().join(", ")
-            ));
+            return Err(MaterialError::Unknown {
+                name: name_or_path.to_string(),
+                known: known_materials().join(", "),
+            });
         };
-        let text =
-            std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-        Material::parse(&text).map_err(|e| format!("{}: {e}", path.display()))
+        let text = std::fs::read_to_string(&path).map_err(|source| MaterialError::Unreadable {
+            path: path.clone(),
+            source,
+        })?;
+        Material::parse(&text).map_err(|cause| MaterialError::Invalid { path, cause })
     }
 
     /// Parses and checks material text: each refusal names its key.

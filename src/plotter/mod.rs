@@ -13,7 +13,7 @@ pub mod stream;
 
 pub use emulator::{Emulator, EmulatorConfig, EmulatorState, Flow};
 pub use machine::{Machine, MachineError};
-pub use material::Material;
+pub use material::{Material, MaterialError};
 pub use stream::{stream, FlowMode, Journal, Progress, StreamError, StreamOptions, StreamReport};
 
 /// The language a plotter speaks, which decides how the sender asks it anything.

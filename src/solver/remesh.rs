@@ -57,7 +57,7 @@ pub enum Refusal {
     NotFlippable(usize),
     /// The result failed validation.
     #[error("the result is not a valid mesh: {0}")]
-    Invalid(String),
+    Invalid(#[source] crate::mesh::MeshError),
 }
 
 /// A planned change: the new mesh parts, positions, and where each old vertex went.
@@ -145,7 +145,7 @@ pub fn collapse_edge(
         faces,
         edges: merged_edges(mesh, e, &old_to_new),
     })
-    .map_err(|err| Refusal::Invalid(err.to_string()))?;
+    .map_err(Refusal::Invalid)?;
     if !has_3d {
         new.set_positions(positions.clone());
     }
@@ -327,7 +327,7 @@ pub fn flip_edge(mesh: &Mesh, x: &[Vec3], e: usize) -> Result<Change, Refusal> {
         faces,
         edges,
     })
-    .map_err(|err| Refusal::Invalid(err.to_string()))?;
+    .map_err(Refusal::Invalid)?;
     new.title = mesh.title.clone();
     new.coordinate_precision = mesh.coordinate_precision;
     new.source = mesh.source.clone();

@@ -100,3 +100,41 @@ fn a_width_out_of_range_is_bad_input_not_a_refused_design() {
     assert!(e.is_input());
     assert!(e.to_string().starts_with("--width = "), "{e}");
 }
+
+#[test]
+fn profile_and_material_files_keep_what_went_wrong() {
+    use crease::plotter::{Machine, MachineError, Material, MaterialError};
+    let dir = std::env::temp_dir().join(format!("crease-errors-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // Not UTF-8: the system's read refuses it, and that refusal is the cause.
+    let binary = dir.join("binary.toml");
+    std::fs::write(&binary, [0xff, 0xfe, 0x00]).unwrap();
+    let name = binary.to_str().unwrap();
+    match Material::load(name) {
+        Err(MaterialError::Unreadable { source, .. }) => {
+            assert_eq!(source.kind(), std::io::ErrorKind::InvalidData)
+        }
+        other => panic!("not unreadable: {:?}", other.err()),
+    }
+    match Machine::load(name) {
+        Err(e @ MachineError::Unreadable { .. }) => {
+            assert!(e.source().is_some());
+            assert!(e.to_string().starts_with(name), "{e}");
+        }
+        other => panic!("not unreadable: {:?}", other.err()),
+    }
+    // Readable but wrong: the message names the key.
+    let thin = dir.join("thin.toml");
+    std::fs::write(
+        &thin,
+        "name = \"thin\"\nthickness_mm = 0\nclearance_mm = 0.1\nforce_scale = 1\nspeed_scale = 1\n[dash]\nmountain = [1, 1]\nvalley = [1, 1]\n",
+    )
+    .unwrap();
+    match Material::load(thin.to_str().unwrap()) {
+        Err(MaterialError::Invalid { cause, path }) => {
+            assert_eq!(path, thin);
+            assert!(cause.contains("thickness_mm"), "{cause}");
+        }
+        other => panic!("not invalid: {:?}", other.err()),
+    }
+}
