@@ -20,8 +20,24 @@ pub fn closure_mm(diagonal_mm: f64, rounding_mm: f64) -> f64 {
     WALK_RELATIVE * diagonal_mm + ROUNDING_COMPOUNDED * rounding_mm
 }
 
+/// The residual verification accepts (radians for the angle conditions, relative to the
+/// rest length for lengths): what paper, a blade and a scanner cannot tell apart, and
+/// the figure a fold angle must come within of its target to count as drawn there.
+pub const VERIFIED_RESIDUAL: f64 = 1e-6;
+
+/// The residual the solver works to on every step (radians, or relative for lengths):
+/// two orders below [`VERIFIED_RESIDUAL`], so a solved design always verifies, and no
+/// tighter, since each order costs Newton iterations on every step of a drag.
+pub const SOLVER_RESIDUAL: f64 = 1e-8;
+
+/// Radians: two angles this close are the same angle but for the rounding of the
+/// arithmetic that made them (a target read in degrees and turned to radians, a sum of
+/// sector angles): a target is a multiple of π, a boundary angle sum is π, a crease is
+/// not driven.
+pub const SAME_ANGLE_RADIANS: f64 = 1e-9;
+
 /// The residual a design is polished to before it is saved or handed on (radians, or
-/// relative for lengths): four orders below the solver's working 1e-8, so the design's
+/// relative for lengths): four orders below [`SOLVER_RESIDUAL`], so the design's
 /// unfolding is isometric to about 1e-12 and verification's 1e-6 is far away.
 pub const SAVED_RESIDUAL: f64 = 1e-12;
 

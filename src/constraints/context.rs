@@ -4,12 +4,13 @@
 
 use crate::geometry::{fold_angle, sector_angle};
 use crate::mesh::{Mesh, Vec3};
+use crate::tolerance::{SAME_ANGLE_RADIANS, VERIFIED_RESIDUAL};
 use std::f64::consts::PI;
 
 /// Whether a target angle folds the paper over (an odd multiple of π), flipping σ.
 pub fn flips(target: f64) -> bool {
     let k = (target / PI).round();
-    (target - k * PI).abs() < 1e-9 && (k as i64).rem_euclid(2) == 1
+    (target - k * PI).abs() < SAME_ANGLE_RADIANS && (k as i64).rem_euclid(2) == 1
 }
 
 /// Whether an edge is folded completely (target ±π) in the flat-folded state: `None` for
@@ -18,7 +19,7 @@ pub fn flips(target: f64) -> bool {
 pub fn folds_flat(target: f64) -> Option<bool> {
     let turns = target / PI;
     let nearest = turns.round();
-    if (turns - nearest).abs() > 1e-9 {
+    if (target - nearest * PI).abs() > SAME_ANGLE_RADIANS {
         return None;
     }
     Some(nearest as i64 % 2 != 0)
@@ -196,7 +197,7 @@ fn initial_folds(mesh: &Mesh) -> Vec<f64> {
         .map(|(e, edge)| {
             let raw = fold_angle(mesh.positions(), mesh.faces(), topo, e, edge.vertices);
             // A flat-folded source (|ρ| near π) takes the sign its target asks for.
-            if (raw.abs() - PI).abs() < 1e-6 && edge.target != 0.0 {
+            if (raw.abs() - PI).abs() < VERIFIED_RESIDUAL && edge.target != 0.0 {
                 edge.target.signum() * raw.abs()
             } else {
                 raw
@@ -211,7 +212,7 @@ fn straight_pieces(mesh: &Mesh, angle_sum: &[f64]) -> Vec<Vec<usize>> {
     let mut pieces = Vec::new();
     for lp in &topo.boundary_loops {
         let m = lp.len();
-        let corner = |v: usize| (angle_sum[v] - PI).abs() > 1e-9;
+        let corner = |v: usize| (angle_sum[v] - PI).abs() > SAME_ANGLE_RADIANS;
         let start = (0..m).find(|&i| corner(lp[i])).unwrap_or(0);
         let mut current = Vec::new();
         for step in 0..m {

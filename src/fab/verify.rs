@@ -6,6 +6,7 @@ use super::budget::Budget;
 use super::rounding::RoundingBounds;
 use crate::constraints::{ConstraintSet, Element, Family, Reference};
 use crate::mesh::{Assignment, Mesh};
+use crate::tolerance::VERIFIED_RESIDUAL;
 use serde_json::{json, Value};
 use std::f64::consts::PI;
 use std::fmt;
@@ -25,8 +26,8 @@ pub struct Tolerances {
 impl Default for Tolerances {
     fn default() -> Self {
         Tolerances {
-            angle: 1e-6,
-            length: 1e-6,
+            angle: VERIFIED_RESIDUAL,
+            length: VERIFIED_RESIDUAL,
             rounding: true,
         }
     }
@@ -554,7 +555,8 @@ fn maekawa(mesh: &Mesh) -> Vec<FamilyReport> {
             match edge.assignment {
                 Assignment::Mountain | Assignment::Valley => {
                     let odd = crate::constraints::folds_flat(edge.target) == Some(true);
-                    let drawn = mesh.has_3d() || (edge.fold_angle - edge.target).abs() < 1e-6;
+                    let drawn =
+                        mesh.has_3d() || (edge.fold_angle - edge.target).abs() < VERIFIED_RESIDUAL;
                     is_partial |= !(odd && drawn);
                     sum += edge.target;
                     creases += 1;

@@ -480,7 +480,7 @@ pub fn is_flat_start(mesh: &Mesh) -> bool {
     creases.peek().is_some()
         && creases.all(|e| {
             tracked_fold_angle(mesh, &reference, mesh.positions(), e)
-                .is_none_or(|(rho, _)| rho.abs() < 1e-6)
+                .is_none_or(|(rho, _)| rho.abs() < crate::tolerance::VERIFIED_RESIDUAL)
         })
 }
 

@@ -80,7 +80,7 @@ pub fn folding_path(design: &Mesh, progress: Progress) -> Result<PathReport, Pip
     let mut driven = 0;
     for (edge, shaped) in start.edges_mut().iter_mut().zip(angles.edges()) {
         edge.fold_angle = 0.0;
-        edge.target = if shaped.fold_angle.abs() > 1e-9 {
+        edge.target = if shaped.fold_angle.abs() > crate::tolerance::SAME_ANGLE_RADIANS {
             driven += 1;
             shaped.fold_angle
         } else {

@@ -66,8 +66,7 @@ pub struct Options {
 impl Default for Options {
     fn default() -> Self {
         Options {
-            // Two orders below verification's 1e-6, so a solved design always verifies.
-            tolerance: 1e-8,
+            tolerance: crate::tolerance::SOLVER_RESIDUAL,
             max_newton: 20,
             max_halvings: 6,
             predict: None,
