@@ -3,8 +3,9 @@
 use super::{design_failure, parse_drag, progress_bar, DragArg};
 use crease::constraints::ConstraintSet;
 use crease::io;
+use crease::pipeline::Script;
 use crease::pipeline::{run_design, DesignJob, DesignOutcome};
-use crease::solver::{Mode, Script, Stage};
+use crease::solver::{Mode, Stage};
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]

@@ -1,6 +1,6 @@
 //! Whole jobs that chain the stages (solver → fab), shared by the CLI and the tests so
 //! both run exactly the same thing: folding a pattern, running a design script
-//! (this file), and fabricating a design ([`fabricate`]).
+//! ([`Script`], run here), and fabricating a design ([`fabricate`]).
 
 mod fab_options;
 mod fab_report;
@@ -8,6 +8,7 @@ mod fabricate;
 mod fit;
 mod path;
 mod report_json;
+mod script;
 mod tube;
 
 pub use fab_options::{FabOptions, GLUE_TAB_MM, MIN_WIDTH_MM, TILE_OVERLAP_MM};
@@ -21,13 +22,14 @@ pub use report_json::{
     FabReport, HingeFold, HingeReport, MediaReport, PlotterReport, SheetReport, TwoSidedReport,
     UnscoredCrease,
 };
+pub use script::{Script, ScriptFit};
 
 use crate::constraints::{tracked_fold_angle, ConstraintSet, Family, Reference};
 use crate::fab::{unfold, UnfoldError};
 use crate::mesh::{Assignment, Mesh, Vec3};
 use crate::solver::{
-    fold_toward, run_stage, DragReport, FoldReport, Mode, Options, Script, Solver, SolverError,
-    Stage, Stats,
+    fold_toward, run_stage, DragReport, FoldReport, Mode, Options, Solver, SolverError, Stage,
+    Stats,
 };
 use std::path::Path;
 
@@ -267,10 +269,7 @@ fn check_fit(stage: &FitStage) -> Result<(), PipelineError> {
 }
 
 /// A script's `[fit]` as a stage, its target read relative to `script_dir`.
-fn fit_from_script(
-    f: &crate::solver::ScriptFit,
-    script_dir: &Path,
-) -> Result<FitStage, PipelineError> {
+fn fit_from_script(f: &ScriptFit, script_dir: &Path) -> Result<FitStage, PipelineError> {
     let path = script_dir.join(&f.target);
     let target = crate::io::read_target(&path)?;
     let mut options = crate::fit::FitOptions::default();

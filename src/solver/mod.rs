@@ -14,8 +14,8 @@ mod remesh;
 mod resist;
 
 pub use drag::{
-    default_radius, mean_edge, pointer_step, pull, run_stage, DragReport, Move, PointerStep,
-    Script, ScriptFit, Stage, StepCheck, KEEP_HALVINGS, POINTER_STEP_CAP,
+    default_radius, mean_edge, pointer_step, pull, run_stage, DragReport, Move, PointerStep, Stage,
+    StepCheck, KEEP_HALVINGS, POINTER_STEP_CAP,
 };
 pub use error::{Blocker, LinearError, SolverError};
 pub use fold::{fold_toward, FoldReport};

@@ -77,7 +77,7 @@ fn an_absurd_size_is_a_range_error_with_its_value() {
 
 #[test]
 fn a_scripts_unreadable_base_is_a_file_error_and_bad_input() {
-    let script = crease::solver::Script::parse("base = \"missing.fold\"\n").unwrap();
+    let script = crease::pipeline::Script::parse("base = \"missing.fold\"\n").unwrap();
     let dir = std::env::temp_dir().join(format!("crease-errors-{}", std::process::id()));
     let e = crease::pipeline::DesignJob::from_script(&script, &dir, None).expect_err("no base");
     assert!(matches!(e, PipelineError::File(_)), "{e:?}");

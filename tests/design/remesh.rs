@@ -184,7 +184,7 @@ fn locked_and_protected_topology_is_kept() {
 #[test]
 fn the_scripted_collapse_has_fewer_vertices_and_verifies() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns");
-    let script = crease::solver::Script::parse(
+    let script = crease::pipeline::Script::parse(
         &std::fs::read_to_string(dir.join("miura-collapse.toml")).unwrap(),
     )
     .unwrap();

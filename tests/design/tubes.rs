@@ -248,8 +248,8 @@ fn ring_normal(m: &Mesh, ring: std::ops::Range<usize>) -> Vec3 {
 
 #[test]
 fn the_bent_tube_rebuilds_from_its_script_closed_and_bent_30_degrees() {
+    use crease::pipeline::Script;
     use crease::pipeline::{run_design, DesignJob};
-    use crease::solver::Script;
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns");
     let text = std::fs::read_to_string(dir.join("waterbomb-tube-bent.toml")).unwrap();
     let script = Script::parse(&text).unwrap();
@@ -314,8 +314,8 @@ fn tube_of_defaults() -> Mesh {
 
 #[test]
 fn the_vase_flares_from_its_script_and_its_strip_becomes_a_fan() {
+    use crease::pipeline::Script;
     use crease::pipeline::{run_design, DesignJob};
-    use crease::solver::Script;
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns");
     let text = std::fs::read_to_string(dir.join("waterbomb-tube-vase.toml")).unwrap();
     let script = Script::parse(&text).unwrap();
