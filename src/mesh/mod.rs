@@ -19,7 +19,7 @@ pub use cuts::split_along_cuts;
 pub use error::MeshError;
 pub use info::MeshInfo;
 pub use seam::{seam_keys, SeamError, Strip};
-pub use source::{polygon_faces, Fingerprint, SourceRecord};
+pub use source::{polygon_faces, Fingerprint, SourceAttachment};
 pub use topology::{Topology, TopologySummary, VertexFan};
 pub use triangulate::triangulate_polygon;
 pub use union_find::UnionFind;
@@ -185,7 +185,7 @@ pub struct Mesh {
     /// 0 when exact. Verification does not count rounding as a design error.
     pub coordinate_precision: f64,
     /// What the source file had beyond the mesh, kept for lossless conversion.
-    pub source: Option<std::sync::Arc<SourceRecord>>,
+    pub source: Option<SourceAttachment>,
 }
 
 /// Largest coordinate a design may have, mm: a kilometre is beyond any sheet of paper,

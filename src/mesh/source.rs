@@ -1,28 +1,36 @@
-//! What a source file had that crease does not model, kept with the mesh so that
-//! converting a file loses nothing (FOLD metadata, polygon faces, `faceOrders`, …).
+//! What a source file had that crease does not model, carried with the mesh so that
+//! converting a file loses nothing (FOLD metadata, polygon faces, `faceOrders`, …): an
+//! opaque attachment the format's reader makes and its writer reads; the mesh's own
+//! fingerprint, to tell whether the file's per-element fields still describe it; and the
+//! polygons its synthetic edges join.
 
 use super::{Mesh, Vec2, Vec3};
-use serde_json::Value;
+use std::any::Any;
+use std::sync::Arc;
 
-/// The parts of a source file carried through unchanged.
-#[derive(Clone, Debug, PartialEq, Default)]
-pub struct SourceRecord {
-    /// The file's faces as it listed them (polygons), before triangulation.
-    pub polygons: Vec<Vec<usize>>,
-    /// Descriptive fields that stay true whatever happens to the geometry (`file_author`,
-    /// `file_description`, `frame_description`, …), by name.
-    pub metadata: Vec<(String, Value)>,
-    /// Fields indexed by vertex, edge or face, or derived from the geometry (`faceOrders`,
-    /// `vertices_flatUnfoldCoords`, …): written back only while the mesh is unchanged.
-    pub extras: Vec<(String, Value)>,
-    /// The frame unit exactly as given (`None` when the file gave none).
-    pub unit: Option<String>,
-    /// The file's own `vertices_coords`, `frame_classes` and `frame_attributes`, written
-    /// back verbatim while the mesh is unchanged (a flat pattern some tools store in the
-    /// xz-plane as "3D" keeps its axes).
-    pub frame: Vec<(String, Value)>,
-    /// The mesh as imported, to tell whether `extras` still describe it.
-    pub imported: Fingerprint,
+/// What a source file had beyond the mesh, kept with it so that converting a file loses
+/// nothing, and opaque to the mesh: the format that read the file attaches its own record
+/// (FOLD's is `io::fold::SourceRecord`) and reads it back when writing; the mesh only
+/// carries it along (a clone shares it).
+#[derive(Clone)]
+pub struct SourceAttachment(Arc<dyn Any + Send + Sync>);
+
+impl SourceAttachment {
+    /// Attaches a format's record.
+    pub fn new<T: Any + Send + Sync>(record: T) -> Self {
+        SourceAttachment(Arc::new(record))
+    }
+
+    /// The record, if it is a `T` (a file read by another format has another record).
+    pub fn get<T: Any>(&self) -> Option<&T> {
+        self.0.downcast_ref()
+    }
+}
+
+impl std::fmt::Debug for SourceAttachment {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("SourceAttachment(..)")
+    }
 }
 
 /// Faces and positions of a mesh at one moment.
@@ -41,13 +49,6 @@ impl Fingerprint {
             positions: mesh.positions().to_vec(),
             flat: mesh.flat().map(<[Vec2]>::to_vec),
         }
-    }
-}
-
-impl SourceRecord {
-    /// Whether the per-element `extras` still describe `mesh`: same faces, same positions.
-    pub fn describes(&self, mesh: &Mesh) -> bool {
-        self.imported == Fingerprint::of(mesh)
     }
 }
 

@@ -5,7 +5,8 @@
 use super::planar::{mesh_from_segments, Segment};
 use super::FileCause;
 use crate::mesh::{
-    split_along_cuts, triangulate_polygon, Assignment, Edge, Mesh, MeshParts, Vec2, Vec3,
+    split_along_cuts, triangulate_polygon, Assignment, Edge, Mesh, MeshParts, SourceAttachment,
+    Vec2, Vec3,
 };
 use serde::Deserialize;
 use source::{coordinate_arrays, keep_file_numbering, source_record};
@@ -13,6 +14,7 @@ use source::{coordinate_arrays, keep_file_numbering, source_record};
 mod seam;
 mod source;
 mod write;
+pub use source::SourceRecord;
 pub use write::{to_string, to_string_with_orders};
 
 /// FOLD degrees (valley positive) to paper radians (mountain positive).
@@ -223,7 +225,7 @@ pub fn parse(text: &str) -> Result<Mesh, FileCause> {
         // The file describes the strip; the tube is written back from its own geometry.
         return Ok(mesh);
     }
-    mesh.source = Some(std::sync::Arc::new(source_record(
+    mesh.source = Some(SourceAttachment::new(source_record(
         text,
         &mesh,
         face_lists,

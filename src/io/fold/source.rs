@@ -1,7 +1,41 @@
 //! What a FOLD file has beyond the mesh crease builds from it, read so that writing it
 //! back loses nothing: its fields, its coordinates' text, its vertex numbers.
 
-use crate::mesh::{Fingerprint, Mesh, MeshParts, SourceRecord, Vec2};
+use crate::mesh::{Fingerprint, Mesh, MeshParts, Vec2};
+use serde_json::Value;
+
+/// The parts of a source file carried through unchanged.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct SourceRecord {
+    /// The file's faces as it listed them (polygons), before triangulation.
+    pub polygons: Vec<Vec<usize>>,
+    /// Descriptive fields that stay true whatever happens to the geometry (`file_author`,
+    /// `file_description`, `frame_description`, …), by name.
+    pub metadata: Vec<(String, Value)>,
+    /// Fields indexed by vertex, edge or face, or derived from the geometry (`faceOrders`,
+    /// `vertices_flatUnfoldCoords`, …): written back only while the mesh is unchanged.
+    pub extras: Vec<(String, Value)>,
+    /// The frame unit exactly as given (`None` when the file gave none).
+    pub unit: Option<String>,
+    /// The file's own `vertices_coords`, `frame_classes` and `frame_attributes`, written
+    /// back verbatim while the mesh is unchanged (a flat pattern some tools store in the
+    /// xz-plane as "3D" keeps its axes).
+    pub frame: Vec<(String, Value)>,
+    /// The mesh as imported, to tell whether `extras` still describe it.
+    pub imported: Fingerprint,
+}
+
+impl SourceRecord {
+    /// Whether the per-element `extras` still describe `mesh`: same faces, same positions.
+    pub fn describes(&self, mesh: &Mesh) -> bool {
+        self.imported == Fingerprint::of(mesh)
+    }
+
+    /// The FOLD record attached to `mesh`, if it was read from a FOLD file.
+    pub fn of(mesh: &Mesh) -> Option<&SourceRecord> {
+        mesh.source.as_ref().and_then(|s| s.get::<SourceRecord>())
+    }
+}
 
 /// The text of every `vertices_coords` array in a FOLD file (a file's rounding shows in
 /// its coordinates; fold angles and metadata are written with other precisions).

@@ -6,8 +6,9 @@
 //! triangulate them are left out again while they lie flat) and, while the geometry is
 //! unchanged, its other fields such as `faceOrders`.
 
+use super::source::SourceRecord;
 use super::{angle_to_fold, unit_scale};
-use crate::mesh::{polygon_faces, Assignment, Mesh, SourceRecord};
+use crate::mesh::{polygon_faces, Assignment, Mesh};
 use crate::tolerance::FLAT_POLYGON_RADIANS;
 use std::fmt::Write as _;
 
@@ -52,7 +53,7 @@ pub fn to_string_with_orders(mesh: &Mesh, orders: Option<&[[i64; 3]]>) -> String
 }
 
 fn write(mesh: &Mesh, orders: Option<&[[i64; 3]]>, seam: Option<Vec<String>>) -> String {
-    let source: Option<&SourceRecord> = mesh.source.as_deref();
+    let source = SourceRecord::of(mesh);
     let mut w = Fields(String::from("{\n"));
     let scale = write_frame(&mut w, mesh, source);
     let faces = Faces::of(mesh);
@@ -313,7 +314,7 @@ impl Faces {
         }
         let mut polygons: Vec<Vec<usize>> = merged.into_iter().map(|(p, _)| p).collect();
         // Give back the file's own vertex order where the polygon is the file's.
-        let source = mesh.source.as_deref().map(|s| &s.polygons);
+        let source = SourceRecord::of(mesh).map(|s| &s.polygons);
         let mut as_in_source = source.is_some_and(|s| s.len() == polygons.len());
         if let Some(src) = source.filter(|_| as_in_source) {
             for (p, s) in polygons.iter_mut().zip(src) {
