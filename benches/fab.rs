@@ -4,9 +4,9 @@
 
 use crease::fab::{route, route::nearest_neighbour_only, score, Toolpath};
 use crease::generate::{generate, Params, PatternKind};
+use crease::machine::Machine;
 use crease::output::hpgl;
 use crease::pipeline::{fabricate, FabOptions};
-use crease::plotter::Machine;
 use std::path::Path;
 use std::time::Instant;
 

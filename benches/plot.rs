@@ -9,7 +9,7 @@ use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
 fn main() {
-    let machine = crease::plotter::Machine::load("generic-hpgl").unwrap();
+    let machine = crease::machine::Machine::load("generic-hpgl").unwrap();
     let mesh =
         crease::io::read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura-bent.fold"))
             .unwrap();

@@ -11,6 +11,7 @@ pub mod generate;
 pub mod geometry;
 pub mod io;
 pub mod limits;
+pub mod machine;
 pub mod mesh;
 pub mod output;
 pub mod pipeline;
@@ -146,7 +147,7 @@ mod architecture {
     /// The library's top-level modules by layer, lowest first (ARCHITECTURE.md, "Layers"):
     /// a module may use only modules of lower layers; modules of one layer do not use
     /// each other.
-    const LAYERS: [&[&str]; 11] = [
+    const LAYERS: [&[&str]; 12] = [
         &["limits", "allocator", "tolerance"],
         &["mesh"],
         &["geometry", "surface"],
@@ -154,6 +155,7 @@ mod architecture {
         &["constraints"],
         &["solver", "fab"],
         &["fit", "output"],
+        &["machine"],
         &["plotter"],
         &["pipeline"],
         &["studio"],

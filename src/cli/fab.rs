@@ -68,10 +68,10 @@ pub struct FabArgs {
 }
 
 pub fn fab(args: FabArgs) -> Result<u8, String> {
-    let mut machine = crease::plotter::Machine::load(&args.machine).map_err(|e| e.to_string())?;
+    let mut machine = crease::machine::Machine::load(&args.machine).map_err(|e| e.to_string())?;
     if let Some(name) = &args.material {
         machine = machine
-            .with_material(&crease::plotter::Material::load(name).map_err(|e| e.to_string())?);
+            .with_material(&crease::machine::Material::load(name).map_err(|e| e.to_string())?);
     }
     let options = options_of(&args)?;
     let mesh = io::read(&args.design).map_err(|e| e.to_string())?;

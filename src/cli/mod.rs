@@ -273,8 +273,8 @@ pub fn convert(input: &Path, output: &Path) -> Result<u8, String> {
 /// `crease materials`: the materials `--material` can name, with what they set.
 pub fn materials() -> Result<u8, String> {
     let mut table = String::new();
-    for name in crease::plotter::material::known_materials() {
-        match crease::plotter::Material::load(&name) {
+    for name in crease::machine::known_materials() {
+        match crease::machine::Material::load(&name) {
             Ok(m) => table.push_str(&format!(
                 "{name:<22} {:>5.2} mm  mountain {:?} valley {:?}  clearance {} mm  force x{} speed x{}  {}\n",
                 m.thickness_mm,
@@ -294,8 +294,8 @@ pub fn materials() -> Result<u8, String> {
 
 pub fn machines() -> Result<u8, String> {
     let mut table = String::new();
-    for name in crease::plotter::machine::known_machines() {
-        match crease::plotter::Machine::load(&name) {
+    for name in crease::machine::known_machines() {
+        match crease::machine::Machine::load(&name) {
             Ok(m) => table.push_str(&format!(
                 "{name:<18} {:<6} {:<8} {}\n",
                 m.protocol, m.media, m.name

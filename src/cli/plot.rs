@@ -88,7 +88,7 @@ struct LineSettings {
 
 impl LineSettings {
     fn from_profile(name: &str, source: &str) -> Result<LineSettings, String> {
-        let m = crease::plotter::Machine::load(name).map_err(|e| e.to_string())?;
+        let m = crease::machine::Machine::load(name).map_err(|e| e.to_string())?;
         let line = m.serial_line().ok_or_else(|| {
             format!(
                 "{name} ({}) takes its job as a file (connection = \"{}\"), not over a serial port: send it with the machine's own software",

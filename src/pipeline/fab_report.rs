@@ -4,7 +4,7 @@
 use super::fab_options::{FabOptions, TILE_OVERLAP_MM};
 use super::report_json::{MediaReport, PlotterReport, SheetReport, TwoSidedReport, UnscoredCrease};
 use crate::fab::{Media, Sheet, ShortFolds, Toolpath};
-use crate::plotter::Machine;
+use crate::machine::Machine;
 use std::collections::BTreeMap;
 
 /// One fabrication run's results, as the report and the summary describe them.

@@ -57,7 +57,7 @@ pub struct Rejected(pub String);
 /// fabrication half of the brief). Nothing is written here; see [`crate::io::write_all_atomic`].
 pub fn fabricate(
     mesh: &Mesh,
-    machine: &crate::plotter::Machine,
+    machine: &crate::machine::Machine,
     options: &FabOptions,
 ) -> Result<FabOutput, FabError> {
     use crate::fab::{verify, Tolerances};
@@ -70,7 +70,7 @@ pub fn fabricate(
 pub fn fabricate_verified(
     mesh: &Mesh,
     verification: crate::fab::Report,
-    machine: &crate::plotter::Machine,
+    machine: &crate::machine::Machine,
     options: &FabOptions,
 ) -> Result<FabOutput, FabError> {
     use crate::fab::{score_lines, Media};
@@ -262,7 +262,7 @@ fn check_stroke_count(count: usize) -> Result<(), FabError> {
 
 /// A machine driven by its design software (Cricut) takes sheet.svg as its job, layered
 /// by operation; the others get a layer per line kind.
-fn svg_layers(machine: &crate::plotter::Machine) -> crate::output::svg::Layers {
+fn svg_layers(machine: &crate::machine::Machine) -> crate::output::svg::Layers {
     if machine.protocol == "svg" {
         crate::output::svg::Layers::ByOperation
     } else {
@@ -275,7 +275,7 @@ fn svg_layers(machine: &crate::plotter::Machine) -> crate::output::svg::Layers {
 fn hinge_of(
     mesh: &Mesh,
     sheet: &crate::fab::Sheet,
-    machine: &crate::plotter::Machine,
+    machine: &crate::machine::Machine,
     tiled: bool,
 ) -> Result<Option<crate::fab::hinge::HingeGaps>, FabError> {
     match machine.hinge_thickness_mm {
@@ -309,7 +309,7 @@ fn print_pdf(
 /// print-and-cut run the marks' family's steps.
 fn next_steps_of(
     print: Option<&crate::fab::print_and_cut::PrintLayout>,
-    machine: &crate::plotter::Machine,
+    machine: &crate::machine::Machine,
     jobs_written: &[(String, Vec<u8>)],
 ) -> Option<NextSteps> {
     match print {
@@ -405,7 +405,7 @@ fn too_far_warning(gaps: &crate::fab::hinge::HingeGaps) -> Option<String> {
 /// every stroke would round to a point or nothing on the job.
 fn check_cuttable(
     sheet: &crate::fab::Sheet,
-    machine: &crate::plotter::Machine,
+    machine: &crate::machine::Machine,
 ) -> Result<(), FabError> {
     let across = sheet.size[0].max(sheet.size[1]);
     let step = 1.0 / machine.units_per_mm;
@@ -511,7 +511,7 @@ fn lay_out(
 /// machine's marks on the media asked for (default a4 for Silhouette, letter for Cricut).
 /// A machine that finds no marks, or a run also two-sided or tiled, is refused.
 fn print_layout(
-    machine: &crate::plotter::Machine,
+    machine: &crate::machine::Machine,
     options: &FabOptions,
 ) -> Result<Option<crate::fab::print_and_cut::PrintLayout>, FabError> {
     use crate::fab::print_and_cut::{MarkFamily, PrintLayout};
@@ -711,7 +711,7 @@ fn sides(
 /// The cutter's own job (sheet.hpgl or sheet.gpgl, and its `-back` twin for a two-sided
 /// job) in the machine's protocol; nothing for a laser, which takes sheet.dxf or sheet.svg.
 fn cutter_jobs(
-    machine: &crate::plotter::Machine,
+    machine: &crate::machine::Machine,
     front: &crate::fab::Toolpath,
     back: Option<&crate::fab::Toolpath>,
     marks: Option<&crate::fab::print_and_cut::MarkFrame>,

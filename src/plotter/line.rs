@@ -60,21 +60,11 @@ pub struct StreamOptions {
 }
 
 impl StreamOptions {
-    /// Bytes per second the line carries: a tenth of the baud rate on a serial port (8N1),
-    /// and for a USB device node a conservative 100 kB/s (full-speed USB bulk transfers
-    /// run several times faster).
+    /// Bytes per second the line carries ([`crate::machine::line_bytes_per_second`]).
     pub fn line_rate(&self) -> f64 {
-        if self.device {
-            DEVICE_BYTES_PER_S
-        } else {
-            f64::from(self.baud.max(1)) / 10.0
-        }
+        crate::machine::line_bytes_per_second(self.device, self.baud)
     }
 }
-
-/// Bytes per second a USB device node takes: far more than a cutter cuts, so the cutter
-/// sets the pace (a USB 1.1 printer-class link moves about 1 MB/s).
-pub const DEVICE_BYTES_PER_S: f64 = 100_000.0;
 
 /// What went wrong while plotting. The journal is kept in every case.
 #[derive(Debug, thiserror::Error)]

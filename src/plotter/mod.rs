@@ -1,19 +1,15 @@
-//! Plotters and cutters: machine profiles (`machines/*.toml`), streaming a job over a serial
-//! port with flow control, progress and resume, and an emulated plotter on a pty.
+//! Plotters and cutters on the line: streaming a job over a serial port or a USB device
+//! node with flow control, progress and resume, and an emulated plotter on a pty. The
+//! machines' profiles are data, in [`crate::machine`].
 
 pub mod emulator;
 mod journal;
 mod line;
 mod link;
-mod lookup;
-pub mod machine;
-pub mod material;
 mod session;
 pub mod stream;
 
 pub use emulator::{Emulator, EmulatorConfig, EmulatorState, Flow};
-pub use machine::{Machine, MachineError};
-pub use material::{Material, MaterialError};
 pub use stream::{stream, FlowMode, Journal, Progress, StreamError, StreamOptions, StreamReport};
 
 /// The language a plotter speaks, which decides how the sender asks it anything.

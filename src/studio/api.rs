@@ -272,7 +272,7 @@ fn meta() -> serde_json::Value {
     json!({
         "families": Family::ALL.iter().map(|f| f.name()).collect::<Vec<_>>(),
         "patterns": patterns,
-        "machines": crate::plotter::machine::known_machines(),
+        "machines": crate::machine::known_machines(),
         "formats": ["fold", "cp", "svg", "obj"],
     })
 }

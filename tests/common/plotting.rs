@@ -12,7 +12,7 @@ pub fn scratch(name: &str) -> PathBuf {
 /// A real job: a bundled design's cutter job (sheet.hpgl or sheet.gpgl, as `machine`
 /// speaks) from the fabrication pipeline, on A3.
 pub fn cutter_job(design: &str, machine: &str) -> String {
-    let machine = crease::plotter::Machine::load(machine).unwrap();
+    let machine = crease::machine::Machine::load(machine).unwrap();
     let mesh = crease::io::read(
         &Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("patterns")

@@ -88,7 +88,7 @@ fn a_scripts_unreadable_base_is_a_file_error_and_bad_input() {
 #[test]
 fn a_width_out_of_range_is_bad_input_not_a_refused_design() {
     let mesh = generate(&Params::square(PatternKind::Miura, 2, 20.0)).unwrap();
-    let machine = crease::plotter::Machine::load("generic-hpgl").unwrap();
+    let machine = crease::machine::Machine::load("generic-hpgl").unwrap();
     let options = crease::pipeline::FabOptions {
         width: Some(1e9),
         ..Default::default()
@@ -103,7 +103,7 @@ fn a_width_out_of_range_is_bad_input_not_a_refused_design() {
 
 #[test]
 fn profile_and_material_files_keep_what_went_wrong() {
-    use crease::plotter::{Machine, MachineError, Material, MaterialError};
+    use crease::machine::{Machine, MachineError, Material, MaterialError};
     let dir = std::env::temp_dir().join(format!("crease-errors-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     // Not UTF-8: the system's read refuses it, and that refusal is the cause.

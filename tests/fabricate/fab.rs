@@ -7,10 +7,10 @@ use crate::common;
 use common::fabbing::{a3, distance_to_segment, output, output_text, patterns};
 use common::run_crease;
 use crease::fab::{LineKind, Stroke};
+use crease::machine::Machine;
 use crease::mesh::{Mesh, Vec2};
 use crease::output::hpgl;
 use crease::pipeline::{fabricate, FabOptions};
-use crease::plotter::Machine;
 use std::path::Path;
 
 /// Vertices where three or more scored creases or cuts meet, on the sheet.

@@ -5,7 +5,7 @@ use crate::common;
 
 use common::run_crease;
 use crease::fab::LineKind;
-use crease::plotter::Machine;
+use crease::machine::Machine;
 use std::path::Path;
 
 fn generic() -> String {
@@ -60,7 +60,7 @@ fn every_field_out_of_range_is_refused_naming_its_key() {
 #[test]
 fn protocols_and_connections_are_checked_naming_their_key() {
     // Every bundled profile loads, whatever its protocol.
-    for name in crease::plotter::machine::known_machines() {
+    for name in crease::machine::known_machines() {
         Machine::load(&name).unwrap_or_else(|e| panic!("{name}: {e}"));
     }
     let text = generic();
@@ -212,8 +212,8 @@ fn each_shipped_material_sets_dash_force_and_clearance_as_its_file_says() {
     // each fold kind is the material's cut, consecutive dashes of a line are its gap
     // apart, the clearance is its own, the job's forces (FS) are the profile's times its
     // force_scale, and report.json names it.
-    use crease::plotter::Material;
-    let names = crease::plotter::material::known_materials();
+    use crease::machine::Material;
+    let names = crease::machine::known_materials();
     assert!(names.len() >= 4, "{names:?}");
     let base = Machine::load("generic-hpgl").unwrap();
     let mesh =
@@ -291,7 +291,7 @@ fn each_shipped_material_sets_dash_force_and_clearance_as_its_file_says() {
 
 #[test]
 fn a_bad_material_file_is_refused_naming_its_key() {
-    use crease::plotter::Material;
+    use crease::machine::Material;
     let good = std::fs::read_to_string(
         Path::new(env!("CARGO_MANIFEST_DIR")).join("materials/paper-80gsm.toml"),
     )
@@ -346,7 +346,7 @@ fn a_bad_material_file_is_refused_naming_its_key() {
     // `crease materials` lists each shipped material by name.
     let (code, list, _) = run_crease(&["materials"]);
     assert_eq!(code, 0);
-    for name in crease::plotter::material::known_materials() {
+    for name in crease::machine::known_materials() {
         assert!(
             list.lines().any(|l| l.starts_with(&name)),
             "{name} missing: {list}"
@@ -363,7 +363,7 @@ fn thick_board_is_cut_as_panels_set_back_from_each_valley_by_half_its_gap() {
     // every mountain longer than 20 mm (they take no gap: the membrane is on their
     // inside).
     use crease::mesh::{Vec2, Vec3};
-    let material = crease::plotter::Material::load("corrugated-3mm").unwrap();
+    let material = crease::machine::Material::load("corrugated-3mm").unwrap();
     assert!(material.hinge_gap);
     let h = material.thickness_mm;
     let machine = Machine::load("generic-hpgl")

@@ -6,9 +6,9 @@ use crate::common;
 
 use common::fabbing::{distance_to_segment, output, output_text, patterns};
 use crease::fab::{LineKind, Stroke};
+use crease::machine::Machine;
 use crease::mesh::Vec2;
 use crease::pipeline::{fabricate, FabOptions, FabOutput};
-use crease::plotter::Machine;
 
 fn print_and_cut(design: &str, machine: &str, extra: FabOptions) -> FabOutput {
     let mesh = crease::io::read(&patterns()[0].with_file_name(design)).unwrap();

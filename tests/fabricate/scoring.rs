@@ -7,9 +7,9 @@ use common::fabbing::{
     a3, designs_and_anchors, near_pairs, output, output_text, patterns, segment_distance,
 };
 use crease::fab::{LineKind, Stroke};
+use crease::machine::Machine;
 use crease::mesh::Vec2;
 use crease::pipeline::{fabricate, FabOptions};
-use crease::plotter::Machine;
 use std::path::Path;
 
 #[test]

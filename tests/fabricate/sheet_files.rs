@@ -9,10 +9,10 @@ use common::fabbing::{
 };
 use crease::fab::{verify, Report, Tolerances};
 use crease::fab::{LineKind, Stroke};
+use crease::machine::Machine;
 use crease::mesh::{Mesh, Vec2, Vec3};
 use crease::output::hpgl;
 use crease::pipeline::{fabricate, fabricate_verified, FabOptions};
-use crease::plotter::Machine;
 use std::path::Path;
 
 #[test]
@@ -606,7 +606,7 @@ fn check_previews(out: &crease::pipeline::FabOutput, mesh: &Mesh, what: &str) {
 
 /// The cutter profiles (those that write a job for the machine).
 fn cutter_profiles() -> Vec<Machine> {
-    let profiles: Vec<Machine> = crease::plotter::machine::known_machines()
+    let profiles: Vec<Machine> = crease::machine::known_machines()
         .iter()
         .map(|name| Machine::load(name).unwrap())
         .filter(|m| matches!(m.protocol.as_str(), "hpgl" | "gpgl"))

@@ -7,9 +7,9 @@ use crate::common;
 use common::fabbing::{a3, output, patterns};
 use common::run_crease;
 use crease::fab::RouteSearch;
+use crease::machine::Machine;
 use crease::mesh::Vec2;
 use crease::pipeline::{fabricate, FabError, FabOptions};
-use crease::plotter::Machine;
 use std::path::Path;
 
 #[test]

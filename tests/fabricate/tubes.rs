@@ -5,9 +5,9 @@ use crate::common;
 
 use common::fabbing::{a3, output_text};
 use crease::fab::LineKind;
+use crease::machine::Machine;
 use crease::mesh::{distance_to_segment, Mesh, UnionFind, Vec2};
 use crease::pipeline::{fabricate, FabOptions, FabReport};
-use crease::plotter::Machine;
 use std::collections::HashSet;
 use std::path::Path;
 

@@ -5,9 +5,9 @@
 use crate::common;
 
 use crease::fab::{LineKind, Stroke};
+use crease::machine::Machine;
 use crease::mesh::Vec2;
 use crease::pipeline::{fabricate, FabError, FabOptions};
-use crease::plotter::Machine;
 use std::path::Path;
 
 fn design(name: &str) -> crease::mesh::Mesh {

@@ -395,7 +395,7 @@ fn fabricate_writes_every_file_fab_writes_and_serves_them() {
     let files: Vec<String> = serde_json::from_value(r["files"].clone()).unwrap();
     // The same set `crease fab` writes for the same design and machine.
     let mesh = miura();
-    let machine = crease::plotter::Machine::load("generic-hpgl").unwrap();
+    let machine = crease::machine::Machine::load("generic-hpgl").unwrap();
     let options = crease::pipeline::FabOptions {
         media: Some(crease::fab::Media::parse("a4").unwrap()),
         ..Default::default()

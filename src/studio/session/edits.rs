@@ -187,7 +187,7 @@ impl Session {
 
     pub(super) fn fabricate(&mut self, r: FabRequest) -> Result<Reply, Refusal> {
         // A name the page was offered, never a path: a request opens no file it names.
-        let known = crate::plotter::machine::known_machines();
+        let known = crate::machine::known_machines();
         if !known.contains(&r.machine) {
             return Err(Refusal::bad(format!(
                 "machine \"{}\" is not one of the studio's machines ({}); profiles in other places are for `crease fab --machine PATH`",
@@ -195,7 +195,7 @@ impl Session {
                 known.join(", ")
             )));
         }
-        let machine = crate::plotter::Machine::load(&r.machine)
+        let machine = crate::machine::Machine::load(&r.machine)
             .map_err(|e| Refusal::bad(format!("machine: {e}")))?;
         let media = r
             .media

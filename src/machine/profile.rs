@@ -135,11 +135,22 @@ pub struct SerialLine {
 impl SerialLine {
     /// Bytes the line carries per second: a serial byte is 10 bits on the wire.
     pub fn bytes_per_second(&self) -> f64 {
-        if self.device {
-            super::line::DEVICE_BYTES_PER_S
-        } else {
-            f64::from(self.baud.max(1)) / 10.0
-        }
+        line_bytes_per_second(self.device, self.baud)
+    }
+}
+
+/// Bytes per second a USB device node takes: far more than a cutter cuts, so the cutter
+/// sets the pace (a USB 1.1 printer-class link moves about 1 MB/s).
+pub const DEVICE_BYTES_PER_S: f64 = 100_000.0;
+
+/// Bytes per second a line carries: a tenth of the baud rate on a serial port (8N1: a
+/// byte is 10 bits on the wire), and for a USB device node a conservative
+/// [`DEVICE_BYTES_PER_S`] (full-speed USB bulk transfers run several times faster).
+pub fn line_bytes_per_second(device: bool, baud: u32) -> f64 {
+    if device {
+        DEVICE_BYTES_PER_S
+    } else {
+        f64::from(baud.max(1)) / 10.0
     }
 }
 

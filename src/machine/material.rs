@@ -3,7 +3,7 @@
 //! lays them over a machine. A machine profile's forces and speeds are set for 250 g/m²
 //! cardstock, the reference every material file is relative to.
 
-use super::machine::{text, Machine};
+use super::profile::{text, Machine};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 

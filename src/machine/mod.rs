@@ -1,0 +1,14 @@
+//! Machines and materials as data: a plotter's or cutter's profile (`machines/*.toml`:
+//! protocol, connection, media, tools and their dash codes, the steps for the maker's own
+//! software) and a sheet's material (`materials/*.toml`) laid over it, each checked
+//! against the range of every key when read. Sending a job to the machine is `plotter`'s.
+
+mod lookup;
+pub mod material;
+mod profile;
+
+pub use material::{known_materials, Material, MaterialError};
+pub use profile::{
+    known_machines, line_bytes_per_second, search_path, Machine, MachineError, SerialLine,
+    DEVICE_BYTES_PER_S, MAX_PEN, MIN_DASH_MM, STANDARD_BAUDS,
+};
