@@ -81,14 +81,19 @@ pub fn mean_edge(mesh: &crate::mesh::Mesh, x: &[Vec3]) -> f64 {
 /// short steps toward wherever the pointer is.
 pub const POINTER_STEP_CAP: f64 = 0.1;
 
+/// How near the pointer a dragged vertex counts as arrived, in mean edge lengths; within
+/// a step of the pointer, a step that brings it less than this nearer counts as held.
+pub const ARRIVED_EDGES: f64 = 1e-3;
+
 /// What one step of a pointer drag did.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum PointerStep {
     /// The vertex moved; it may go on.
     Moved,
-    /// The vertex is where the pointer is (within a thousandth of the mean edge).
+    /// The vertex is where the pointer is (within [`ARRIVED_EDGES`] of the mean edge).
     Arrived,
-    /// The step was taken but the vertex barely moved toward the pointer: the
+    /// The step was taken but the vertex barely moved toward the pointer (or, within a
+    /// step of it, came less than [`ARRIVED_EDGES`] of the mean edge nearer): the
     /// conditions hold it there.
     Held,
 }
@@ -105,7 +110,7 @@ pub fn pointer_step(
     let x = solver.positions();
     let gap = target - x[v];
     let mean = mean_edge(solver.mesh(), x);
-    if gap.norm() < 1e-3 * mean {
+    if gap.norm() < ARRIVED_EDGES * mean {
         return Ok(PointerStep::Arrived);
     }
     let share = if gap.norm() > POINTER_STEP_CAP * mean {
@@ -118,7 +123,13 @@ pub fn pointer_step(
     let before = x[v];
     solver.step(&wish)?;
     let progress = (solver.positions()[v] - before).dot(&share) / share.norm();
-    Ok(if progress < 1e-3 * share.norm() {
+    // Held when the conditions pass almost none of the pull; or when, within one step's
+    // reach of the pointer, a step brings the vertex less than the arrival distance
+    // nearer: it is creeping toward the pointer by ever smaller steps as the conditions
+    // pass ever less of the pull (a layer-order drag of the waterbomb closed its last
+    // 0.1 mm at 0.001 mm a step and never reported itself settled).
+    let creeping = gap.norm() <= POINTER_STEP_CAP * mean && progress < ARRIVED_EDGES * mean;
+    Ok(if progress < 1e-3 * share.norm() || creeping {
         PointerStep::Held
     } else {
         PointerStep::Moved

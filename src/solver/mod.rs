@@ -15,7 +15,7 @@ mod resist;
 
 pub use drag::{
     default_radius, mean_edge, pointer_step, pull, run_stage, DragReport, Move, PointerStep, Stage,
-    StepCheck, KEEP_HALVINGS, POINTER_STEP_CAP,
+    StepCheck, ARRIVED_EDGES, KEEP_HALVINGS, POINTER_STEP_CAP,
 };
 pub use error::{Blocker, LinearError, SolverError};
 pub use fold::{fold_toward, FoldReport};
