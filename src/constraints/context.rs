@@ -9,16 +9,14 @@ use std::f64::consts::PI;
 
 /// Whether a target angle folds the paper over (an odd multiple of π), flipping σ.
 pub fn flips(target: f64) -> bool {
-    let k = (target / PI).round();
-    (target - k * PI).abs() < SAME_ANGLE_RADIANS && (k as i64).rem_euclid(2) == 1
+    folds_flat(target) == Some(true)
 }
 
 /// Whether an edge is folded completely (target ±π) in the flat-folded state: `None` for
 /// a partial fold. Merged creases (§4) may target other odd multiples of π, which fold
 /// flat as well.
 pub fn folds_flat(target: f64) -> Option<bool> {
-    let turns = target / PI;
-    let nearest = turns.round();
+    let nearest = (target / PI).round();
     if (target - nearest * PI).abs() > SAME_ANGLE_RADIANS {
         return None;
     }

@@ -67,19 +67,12 @@ impl From<&str> for FileCause {
 }
 
 impl FileError {
-    /// An error about the content of `path`.
-    pub fn new(path: &Path, cause: impl Into<String>) -> Self {
+    /// An error about `path`: a message about its content, the system's `io::Error`, or
+    /// any other [`FileCause`].
+    pub fn new(path: &Path, cause: impl Into<FileCause>) -> Self {
         FileError {
             path: path.to_path_buf(),
-            cause: FileCause::Content(cause.into()),
-        }
-    }
-
-    /// The system's refusal to read or write `path`, kept as the cause.
-    pub fn io(path: &Path, cause: std::io::Error) -> Self {
-        FileError {
-            path: path.to_path_buf(),
-            cause: FileCause::Io(cause),
+            cause: cause.into(),
         }
     }
 }
@@ -243,7 +236,7 @@ pub fn read(path: &Path) -> Result<Mesh, FileError> {
 /// Reads a pattern file and reports what import changed.
 pub fn read_with_notes(path: &Path) -> Result<Imported, FileError> {
     Format::from_path(path)?;
-    let bytes = std::fs::read(path).map_err(|e| FileError::io(path, e))?;
+    let bytes = std::fs::read(path).map_err(|e| FileError::new(path, e))?;
     read_bytes(path, bytes)
 }
 
@@ -253,10 +246,7 @@ pub fn read_bytes(path: &Path, bytes: Vec<u8>) -> Result<Imported, FileError> {
     let format = Format::from_path(path)?;
     let text =
         String::from_utf8(bytes).map_err(|_| FileError::new(path, "the file is not UTF-8 text"))?;
-    let err = |cause: FileCause| FileError {
-        path: path.to_path_buf(),
-        cause,
-    };
+    let err = |cause: FileCause| FileError::new(path, cause);
     let mut notes = Vec::new();
     let mesh = match format {
         Format::Fold => fold::parse(&text).map_err(err)?,
@@ -288,7 +278,7 @@ pub fn write(mesh: &Mesh, path: &Path) -> Result<(), FileError> {
 /// and only when all are written are they renamed into place. A failure removes the
 /// temporary files, so a run never leaves a partial set behind.
 pub fn write_all_atomic(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<(), FileError> {
-    std::fs::create_dir_all(dir).map_err(|e| FileError::io(dir, e))?;
+    std::fs::create_dir_all(dir).map_err(|e| FileError::new(dir, e))?;
     let temp = |name: &str| dir.join(format!(".{name}.{}.tmp", std::process::id()));
     let mut written = Vec::new();
     for (name, bytes) in files {
@@ -298,7 +288,7 @@ pub fn write_all_atomic(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<(), F
             for w in &written {
                 let _ = std::fs::remove_file(w);
             }
-            return Err(FileError::io(&dir.join(name), e));
+            return Err(FileError::new(&dir.join(name), e));
         }
         written.push(t);
     }
@@ -318,7 +308,7 @@ pub fn write_all_atomic(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<(), F
         ));
     }
     for ((name, _), t) in files.iter().zip(&written) {
-        std::fs::rename(t, dir.join(name)).map_err(|e| FileError::io(&dir.join(name), e))?;
+        std::fs::rename(t, dir.join(name)).map_err(|e| FileError::new(&dir.join(name), e))?;
     }
     Ok(())
 }
@@ -326,7 +316,7 @@ pub fn write_all_atomic(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<(), F
 /// Writes bytes to `path` through a temporary file in the same folder and a rename, so
 /// readers never see a partial file. Creates missing parent folders.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), FileError> {
-    let err = |e: std::io::Error| FileError::io(path, e);
+    let err = |e: std::io::Error| FileError::new(path, e);
     if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
         std::fs::create_dir_all(parent).map_err(err)?;
     }

@@ -15,10 +15,7 @@ const MAX_BYTES: u64 = 256 << 20;
 /// Reads a target surface, the format chosen by the extension (`.obj`, `.stl`).
 pub fn read_target(path: &Path) -> Result<TriSurface, FileError> {
     let bad = |cause: String| FileError::new(path, cause);
-    let unreadable = |e| FileError {
-        path: path.to_path_buf(),
-        cause: FileCause::Unreadable(e),
-    };
+    let unreadable = |e| FileError::new(path, FileCause::Unreadable(e));
     let meta = std::fs::metadata(path).map_err(unreadable)?;
     if meta.is_dir() {
         return Err(bad(
@@ -164,7 +161,7 @@ pub fn write_target(surface: &TriSurface, path: &Path, comment: &str) -> Result<
                 })
                 .collect();
             let mut out = Vec::new();
-            stl_io::write_stl(&mut out, triangles.iter()).map_err(|e| FileError::io(path, e))?;
+            stl_io::write_stl(&mut out, triangles.iter()).map_err(|e| FileError::new(path, e))?;
             out
         }
         _ => {
