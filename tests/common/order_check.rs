@@ -23,6 +23,21 @@ struct Edge {
     angle: f64,
 }
 
+/// The box around some points, as (lowest corner, highest corner).
+fn bounds(points: &[P]) -> (P, P) {
+    points.iter().fold((points[0], points[0]), |(lo, hi), p| {
+        (
+            [lo[0].min(p[0]), lo[1].min(p[1])],
+            [hi[0].max(p[0]), hi[1].max(p[1])],
+        )
+    })
+}
+
+/// `p` lies in the box `b` grown by `margin`.
+fn in_box(b: &(P, P), p: P, margin: f64) -> bool {
+    (0..2).all(|i| p[i] >= b.0[i] - margin && p[i] <= b.1[i] + margin)
+}
+
 fn sub(a: P, b: P) -> P {
     [a[0] - b[0], a[1] - b[1]]
 }
@@ -40,9 +55,16 @@ pub struct Folded {
     faces: Vec<Vec<usize>>,
     /// Each edge: its vertices, the faces across it and its fold angle in degrees.
     edges: Vec<Edge>,
-    /// above[(f, g)]: f lies higher (+z) than g, from `faceOrders`.
-    above: std::collections::HashMap<(usize, usize), bool>,
+    /// above[f·F + g]: Some(true) when f lies higher (+z) than g, from `faceOrders`
+    /// (F faces; a table, not a map, since the sampling reads it for every pair of
+    /// faces stacked over every sample point).
+    above: Vec<Option<bool>>,
     size: f64,
+    /// Each polygon's box: a point outside it is outside the polygon (only what makes
+    /// the sampling below fast; the tests are the same).
+    boxes: Vec<(P, P)>,
+    /// Each edge's folded image, seen from its face `a`.
+    images: Vec<(P, P)>,
 }
 
 fn coords(v: &Value) -> Vec<P> {
@@ -168,7 +190,7 @@ impl Folded {
                 (m[0][0] * m[1][1] - m[0][1] * m[1][0] > 0.0) == (area > 0.0)
             })
             .collect::<Vec<_>>();
-        let edges = ev
+        let edges: Vec<Edge> = ev
             .iter()
             .enumerate()
             .map(|(e, &vertices)| Edge {
@@ -179,22 +201,30 @@ impl Folded {
                 angle: angles[e],
             })
             .collect();
-        let mut above = std::collections::HashMap::new();
+        let count = faces.len();
+        let mut above = vec![None; count * count];
         let orders: Vec<[i64; 3]> =
             serde_json::from_value(json["faceOrders"].clone()).expect("faceOrders");
         for [f, g, s] in orders {
             let (f, g) = (f as usize, g as usize);
             let f_above = (s > 0) == up[g];
-            above.insert((f, g), f_above);
-            above.insert((g, f), !f_above);
+            above[f * count + g] = Some(f_above);
+            above[g * count + f] = Some(!f_above);
         }
         let all: Vec<P> = polygons.iter().flatten().copied().collect();
-        let (mut lo, mut hi) = (all[0], all[0]);
-        for p in &all {
-            lo = [lo[0].min(p[0]), lo[1].min(p[1])];
-            hi = [hi[0].max(p[0]), hi[1].max(p[1])];
-        }
+        let (lo, hi) = bounds(&all);
         let size = (sub(hi, lo)[0].powi(2) + sub(hi, lo)[1].powi(2)).sqrt();
+        let boxes = polygons.iter().map(|poly| bounds(poly)).collect();
+        let images = edges
+            .iter()
+            .map(|e| {
+                let image = |v: usize| {
+                    let k = faces[e.a].iter().position(|&x| x == v).unwrap();
+                    polygons[e.a][k]
+                };
+                (image(e.vertices[0]), image(e.vertices[1]))
+            })
+            .collect();
         Some(Folded {
             polygons,
             faces,
@@ -202,13 +232,15 @@ impl Folded {
             edges,
             above,
             size,
+            boxes,
+            images,
         })
     }
 
     /// Faces whose interior holds `p` by more than `margin`.
     fn over(&self, p: P, margin: f64) -> Vec<usize> {
         (0..self.polygons.len())
-            .filter(|&f| inside(&self.polygons[f], p, margin))
+            .filter(|&f| in_box(&self.boxes[f], p, margin) && inside(&self.polygons[f], p, margin))
             .collect()
     }
 
@@ -219,7 +251,8 @@ impl Folded {
         // rounding leaves where layers meet edge to edge.
         let margin = 1e-5 * self.size;
         let step = 1e-4 * self.size;
-        let above = |f: usize, g: usize| self.above.get(&(f, g)).copied();
+        let count = self.polygons.len();
+        let above = |f: usize, g: usize| self.above[f * count + g];
         // Levels over a point: each face's count of faces below it, when a total order.
         let levels = |stack: &[usize], bad: &mut Vec<String>| -> Option<Vec<usize>> {
             let mut below = Vec::new();
@@ -303,11 +336,11 @@ impl Folded {
     ) {
         // Edge e's folded image (seen from its face a) passes through `at`.
         let on_line = |e: &Edge| {
-            let image = |v: usize| {
-                let k = self.faces[e.a].iter().position(|&x| x == v).unwrap();
-                self.polygons[e.a][k]
-            };
-            let (p, q) = (image(e.vertices[0]), image(e.vertices[1]));
+            let (p, q) = self.images[e.id];
+            let reach = 1e-6 * self.size;
+            if !in_box(&bounds(&[p, q]), at, reach) {
+                return false;
+            }
             let d = sub(q, p);
             let len = (d[0] * d[0] + d[1] * d[1]).sqrt();
             let t = (sub(at, p)[0] * d[0] + sub(at, p)[1] * d[1]) / (len * len);
