@@ -352,15 +352,6 @@ pub struct RemeshOutcome {
 }
 
 impl Solver {
-    /// Mean edge length at the current positions.
-    fn mean_edge(&self) -> f64 {
-        let e = self.mesh.edges();
-        e.iter()
-            .map(|e| (self.x[e.vertices[1]] - self.x[e.vertices[0]]).norm())
-            .sum::<f64>()
-            / e.len().max(1) as f64
-    }
-
     /// Takes over a changed mesh: adjacency, references, fixed vertices and the linear
     /// algebra are rebuilt; fold-angle branches are read off the current positions.
     fn adopt(&mut self, change: Change) {
@@ -397,7 +388,7 @@ impl Solver {
         let mut protect: Vec<usize> = protected.to_vec();
         for _ in 0..16 {
             protect.extend((0..self.x.len()).filter(|&v| self.fixed[v]));
-            let mean = self.mean_edge();
+            let mean = super::mean_edge(&self.mesh, &self.x);
             let mut short: Vec<(f64, usize)> = self
                 .mesh
                 .edges()
