@@ -6,7 +6,7 @@ use super::lines::CreaseLine;
 use crate::mesh::{bounds, Vec2};
 
 /// A sheet of media.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Media {
     /// Name as given ("a4", "300x200mm").
     pub name: String,

@@ -145,6 +145,34 @@ impl Rect {
     }
 }
 
+/// `report.json`'s `print_and_cut`: the layout a print-and-cut sheet was made with
+/// ([`PrintLayout::report`]).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct PrintReport {
+    /// The marks' family ([`MarkFamily::name`]).
+    pub family: String,
+    /// The page the sheet is printed on.
+    pub page: Media,
+    /// The Silhouette marks; none for Cricut, whose frame Design Space draws.
+    pub marks: Option<MarksReport>,
+}
+
+/// Where the Silhouette marks are printed and how large ([`MarkFrame`]), mm.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct MarksReport {
+    /// The frame's origin (the square's top-left corner) from the page's top-left
+    /// corner, x right and y down.
+    pub origin_from_top_left_mm: [f64; 2],
+    /// The frame's width and length ([`MarkFrame::size`]).
+    pub frame_mm: [f64; 2],
+    /// The origin square's side ([`SQUARE_MM`]).
+    pub square_mm: f64,
+    /// The corner marks' arms ([`ARM_MM`]).
+    pub arm_mm: f64,
+    /// The marks' line width ([`LINE_MM`]).
+    pub line_mm: f64,
+}
+
 /// The Silhouette marks' frame on a page.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MarkFrame {
@@ -313,21 +341,18 @@ impl PrintLayout {
 
     /// What report.json says of the layout: the marks' family, the page, and for
     /// Silhouette the frame (origin from the page's top-left corner, mm) and mark sizes.
-    pub fn to_json(&self) -> serde_json::Value {
-        let marks = self.frame.as_ref().map(|f| {
-            serde_json::json!({
-                "origin_from_top_left_mm": [f.origin.x, self.page.height - f.origin.y],
-                "frame_mm": f.size,
-                "square_mm": SQUARE_MM,
-                "arm_mm": ARM_MM,
-                "line_mm": LINE_MM,
-            })
-        });
-        serde_json::json!({
-            "family": self.family.name(),
-            "page": self.page,
-            "marks": marks,
-        })
+    pub fn report(&self) -> PrintReport {
+        PrintReport {
+            family: self.family.name().to_string(),
+            page: self.page.clone(),
+            marks: self.frame.as_ref().map(|f| MarksReport {
+                origin_from_top_left_mm: [f.origin.x, self.page.height - f.origin.y],
+                frame_mm: f.size,
+                square_mm: SQUARE_MM,
+                arm_mm: ARM_MM,
+                line_mm: LINE_MM,
+            }),
+        }
     }
 
     /// The flat pattern laid out in one of the regions (`--fit`: the one that allows the

@@ -155,7 +155,7 @@ pub fn fabricate_verified(
         next_steps: next_steps.clone(),
         print_and_cut: print
             .as_ref()
-            .map(crate::fab::print_and_cut::PrintLayout::to_json),
+            .map(crate::fab::print_and_cut::PrintLayout::report),
         hinge: hinge.as_ref().map(|g| hinge_report(g, mesh)),
         seam,
     };
@@ -588,20 +588,24 @@ fn sheet_files(
 fn preview_files(
     mesh: &Mesh,
     front: &crate::fab::Toolpath,
-) -> Result<(Files, serde_json::Value), FabError> {
+) -> Result<(Files, super::PreviewsReport), FabError> {
     use crate::output::png;
     let sheet = png::sheet(front).map_err(FabError::Input)?;
     let design = png::design(mesh).map_err(FabError::Input)?;
     let camera = png::DesignCamera::framing(mesh.positions());
     let scale = png::sheet_px_per_mm(front);
-    let report = serde_json::json!({
-        "sheet.png": { "px_per_mm": scale, "stroke_px": png::sheet_stroke_px(scale) },
-        "design.png": {
-            "size_px": png::DESIGN_SIZE_PX,
-            "view": png::design_view().as_slice(),
-            "px_per_mm": camera.px_per_mm,
+    let view = png::design_view();
+    let report = super::PreviewsReport {
+        sheet: super::SheetPreview {
+            px_per_mm: scale,
+            stroke_px: png::sheet_stroke_px(scale),
         },
-    });
+        design: super::DesignPreview {
+            size_px: png::DESIGN_SIZE_PX,
+            view: [view.x, view.y, view.z],
+            px_per_mm: camera.px_per_mm,
+        },
+    };
     Ok((
         vec![
             ("sheet.png".to_string(), sheet),

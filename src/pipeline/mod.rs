@@ -19,8 +19,8 @@ pub use fabricate::{
 pub use fit::{BlockedBy, ConditionResidual, Distances, FitReport, FitStage, PlacementRecord};
 pub use path::{folding_path, PathCollision, PathReport, PATH_STEPS};
 pub use report_json::{
-    FabReport, HingeFold, HingeReport, MediaReport, PlotterReport, SheetReport, TwoSidedReport,
-    UnscoredCrease,
+    DesignPreview, FabReport, HingeFold, HingeReport, MediaReport, PlotterReport, PreviewsReport,
+    SheetPreview, SheetReport, TwoSidedReport, UnscoredCrease,
 };
 pub use script::{Script, ScriptFit};
 

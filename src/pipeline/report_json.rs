@@ -14,17 +14,47 @@ pub struct FabReport {
     /// The sheet and its jobs.
     pub sheet: SheetReport,
     /// How the preview pictures were drawn (scales, the design's view).
-    pub previews: serde_json::Value,
+    pub previews: PreviewsReport,
     /// What the maker does in the machine's own software, if the profile says.
     pub next_steps: Option<super::NextSteps>,
-    /// A print-and-cut sheet's marks and placement
-    /// ([`crate::fab::print_and_cut::PrintLayout::to_json`]).
-    pub print_and_cut: Option<serde_json::Value>,
+    /// A print-and-cut sheet's marks and placement.
+    pub print_and_cut: Option<crate::fab::print_and_cut::PrintReport>,
     /// The hinge gaps of a panels-on-membrane sheet.
     pub hinge: Option<HingeReport>,
     /// A tube's seam: which edge of the strip is glued to which.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub seam: Option<SeamReport>,
+}
+
+/// `report.json`'s `previews`: how `sheet.png` and `design.png` were drawn.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PreviewsReport {
+    /// The toolpath's picture.
+    #[serde(rename = "sheet.png")]
+    pub sheet: SheetPreview,
+    /// The 3D design's picture.
+    #[serde(rename = "design.png")]
+    pub design: DesignPreview,
+}
+
+/// How `sheet.png` was drawn ([`crate::output::png::sheet`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SheetPreview {
+    /// Pixels per sheet millimetre.
+    pub px_per_mm: f64,
+    /// The strokes' width, pixels.
+    pub stroke_px: f64,
+}
+
+/// How `design.png` was drawn ([`crate::output::png::design`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DesignPreview {
+    /// Width and height, pixels.
+    pub size_px: [u32; 2],
+    /// The direction the design is seen from.
+    pub view: [f64; 3],
+    /// Pixels per design millimetre.
+    pub px_per_mm: f64,
 }
 
 /// A tube's seam on the sheet (issue 31): the strip's side with the glue tab and the side

@@ -533,8 +533,8 @@ fn read_png(bytes: &[u8]) -> (u32, u32, Vec<[u8; 3]>) {
 /// stated size and shows paper and, where the design has them, red and blue creases.
 fn check_previews(out: &crease::pipeline::FabOutput, mesh: &Mesh, what: &str) {
     let previews = &out.report.previews;
-    let scale = previews["sheet.png"]["px_per_mm"].as_f64().unwrap();
-    let width = previews["sheet.png"]["stroke_px"].as_f64().unwrap();
+    let scale = previews.sheet.px_per_mm;
+    let width = previews.sheet.stroke_px;
     let (w, h, pixels) = read_png(output(out, "sheet.png"));
     let media = &out.toolpath.media;
     assert_eq!(
@@ -575,15 +575,7 @@ fn check_previews(out: &crease::pipeline::FabOutput, mesh: &Mesh, what: &str) {
         );
     }
     let (w, h, pixels) = read_png(output(out, "design.png"));
-    let size = &previews["design.png"]["size_px"];
-    assert_eq!(
-        [w, h],
-        [
-            size[0].as_u64().unwrap() as u32,
-            size[1].as_u64().unwrap() as u32
-        ],
-        "{what}: design.png"
-    );
+    assert_eq!([w, h], previews.design.size_px, "{what}: design.png");
     let background = pixels[0];
     let paper = pixels.iter().filter(|&&p| p != background).count();
     assert!(
