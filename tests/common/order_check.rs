@@ -51,8 +51,6 @@ pub struct Folded {
     pub polygons: Vec<Vec<P>>,
     /// Whether the face's front (its crease-pattern orientation) faces +z once folded.
     pub up: Vec<bool>,
-    /// Each face's vertices (file numbering), as its polygon lists them.
-    faces: Vec<Vec<usize>>,
     /// Each edge: its vertices, the faces across it and its fold angle in degrees.
     edges: Vec<Edge>,
     /// above[f·F + g]: Some(true) when f lies higher (+z) than g, from `faceOrders`
@@ -227,7 +225,6 @@ impl Folded {
             .collect();
         Some(Folded {
             polygons,
-            faces,
             up,
             edges,
             above,
@@ -344,7 +341,7 @@ impl Folded {
             let d = sub(q, p);
             let len = (d[0] * d[0] + d[1] * d[1]).sqrt();
             let t = (sub(at, p)[0] * d[0] + sub(at, p)[1] * d[1]) / (len * len);
-            cross(d, sub(at, p)).abs() / len < 1e-6 * self.size && t > 0.0 && t < 1.0
+            cross(d, sub(at, p)).abs() / len < reach && t > 0.0 && t < 1.0
         };
         // Pass-throughs: (level on the left, level on the right).
         let mut through: Vec<(usize, usize, String)> = Vec::new();
