@@ -120,6 +120,9 @@ struct Factor {
     /// The factor's values, overwritten in place by each refactorisation: allocating
     /// them afresh cost page faults worth half a factorisation.
     values: Vec<f64>,
+    /// A single-precision copy of `values`, made at the first single-precision solve
+    /// after a factorisation (see [`NormalSolver::set_single_precision`]); empty until then.
+    single: Vec<f32>,
     factor_scratch: MemBuffer,
     solve_scratch: MemBuffer,
     ready: bool,
@@ -132,6 +135,8 @@ pub struct NormalSolver {
     /// Systems of at least this many rows are ordered by nested dissection
     /// ([`NESTED_DISSECTION_ROWS`]; lowered by tests to reach that path on small systems).
     nested_dissection_rows: usize,
+    /// Whether solves read the factor in single precision.
+    single_precision: bool,
 }
 
 impl Default for NormalSolver {
@@ -140,6 +145,7 @@ impl Default for NormalSolver {
             factor: None,
             jacobian: CsMat::zero((0, 0)),
             nested_dissection_rows: NESTED_DISSECTION_ROWS,
+            single_precision: false,
         }
     }
 }
@@ -161,6 +167,7 @@ impl NormalSolver {
         self.jacobian = jacobian;
         if let Some(f) = &mut self.factor {
             f.ready = false;
+            f.single.clear();
         }
         if m == 0 {
             return Ok(());
@@ -205,9 +212,32 @@ impl NormalSolver {
         &self.jacobian
     }
 
+    /// Whether the solves that follow read a single-precision copy of the factor: half
+    /// the bytes a solve streams from memory, which is what bounds it. Its rounding (a
+    /// relative 1e-7 or so of each solution) is for Newton corrections that stop well
+    /// above it (a pointer drag's, see `LIVE_RESIDUAL`): the chord iteration removes it
+    /// with the rest of the residual. Projections and corrections to the solver's own
+    /// tolerance solve in double precision.
+    pub fn set_single_precision(&mut self, on: bool) {
+        self.single_precision = on;
+    }
+
     /// y = (J Jᵀ + λI)⁻¹ b.
     pub fn solve(&mut self, b: &[f64]) -> Vec<f64> {
         match &mut self.factor {
+            Some(f) if f.ready && self.single_precision => {
+                if f.single.is_empty() {
+                    f.single.extend(f.values.iter().map(|&v| v as f32));
+                }
+                let mut rhs = Mat::<f32>::from_fn(b.len(), 1, |i, _| b[i] as f32);
+                LltRef::new(&f.symbolic, &f.single).solve_in_place_with_conj(
+                    Conj::No,
+                    rhs.as_mut(),
+                    faer::get_global_parallelism(),
+                    MemStack::new(&mut f.solve_scratch),
+                );
+                (0..b.len()).map(|i| f64::from(rhs[(i, 0)])).collect()
+            }
             // Not ready: no rows (nothing to solve) or a failed factorisation.
             Some(f) if f.ready => {
                 let mut rhs = Mat::<f64>::from_fn(b.len(), 1, |i, _| b[i]);
@@ -277,12 +307,18 @@ impl Factor {
             symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
         )
         .map_err(|e| LinearError(format!("{e:?}")))?;
-        let solve_scratch = MemBuffer::try_new(symbolic.solve_in_place_scratch::<f64>(1, par))
-            .map_err(|e| LinearError(format!("{e:?}")))?;
+        // Either precision's solve (see `NormalSolver::set_single_precision`).
+        let solve_scratch = MemBuffer::try_new(
+            symbolic
+                .solve_in_place_scratch::<f64>(1, par)
+                .or(symbolic.solve_in_place_scratch::<f32>(1, par)),
+        )
+        .map_err(|e| LinearError(format!("{e:?}")))?;
         Ok(Factor {
             col_ptr: a.col_ptr.clone(),
             row_idx: a.row_idx.clone(),
             values: vec![0.0; symbolic.len_val()],
+            single: Vec::new(),
             symbolic,
             factor_scratch,
             solve_scratch,
@@ -385,6 +421,54 @@ mod tests {
             .map(|(a, d)| (a - d).abs())
             .fold(0.0, f64::max);
         assert!(gap < 1e-13, "solutions differ by {gap}");
+    }
+
+    #[test]
+    fn single_precision_solves_are_accurate_to_single_precision_and_refine_to_double() {
+        // J on a 30 × 30 grid, each row its cell and the cells beside (as above).
+        let k = 30;
+        let mut t = TriMat::new((k * k, k * k));
+        for c in 0..k * k {
+            t.add_triplet(c, c, 4.0);
+            for d in [1, k] {
+                if c + d < k * k && (d == k || c % k + 1 < k) {
+                    t.add_triplet(c, c + d, -1.0 + 0.01 * (c % 7) as f64);
+                }
+            }
+        }
+        let mut s = NormalSolver::default();
+        s.factorise(t.to_csr()).unwrap();
+        let b: Vec<f64> = (0..k * k).map(|i| (i as f64 * 0.37).sin()).collect();
+        let exact = s.solve(&b);
+        let error = |y: &[f64]| {
+            let scale = exact.iter().fold(0.0, |a: f64, v| a.max(v.abs()));
+            y.iter()
+                .zip(&exact)
+                .map(|(a, e)| (a - e).abs())
+                .fold(0.0, f64::max)
+                / scale
+        };
+        s.set_single_precision(true);
+        let once = s.solve(&b);
+        // Single precision's rounding, no more: a relative 6e-8 per operation.
+        assert!(
+            error(&once) > 1e-12 && error(&once) < 1e-5,
+            "{:e}",
+            error(&once)
+        );
+        // What a chord iteration does with it: each solve removes all but that rounding
+        // of what is left, so a few reach double precision.
+        let mut y = vec![0.0; b.len()];
+        for _ in 0..4 {
+            let jjt_y = s.apply(&s.apply_transpose(&y));
+            let r: Vec<f64> = b.iter().zip(&jjt_y).map(|(b, a)| b - a).collect();
+            for (yi, d) in y.iter_mut().zip(s.solve(&r)) {
+                *yi += d;
+            }
+        }
+        assert!(error(&y) < 1e-10, "{:e}", error(&y));
+        s.set_single_precision(false);
+        assert_eq!(s.solve(&b), exact);
     }
 
     #[test]

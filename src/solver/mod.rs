@@ -14,8 +14,8 @@ mod remesh;
 mod resist;
 
 pub use drag::{
-    default_radius, mean_edge, pointer_step, pull, run_stage, DragReport, Move, PointerStep, Stage,
-    StepCheck, ARRIVED_EDGES, KEEP_HALVINGS, POINTER_STEP_CAP,
+    default_radius, mean_edge, pointer_release, pointer_step, pull, run_stage, DragReport, Move,
+    PointerStep, Stage, StepCheck, ARRIVED_EDGES, KEEP_HALVINGS, POINTER_STEP_CAP,
 };
 pub use error::{Blocker, LinearError, SolverError};
 pub use fold::{fold_toward, FoldReport};
@@ -141,6 +141,8 @@ pub struct Solver {
     predictor: Predictor,
     /// The settings, with [`Options::predict`] decided for this mesh.
     options: Options,
+    /// Whether the step under way is a [`Solver::live_step`].
+    live: bool,
     /// Work done so far.
     pub stats: Stats,
 }
@@ -189,6 +191,7 @@ impl Solver {
             accepted_folds: None,
             predictor: Predictor::default(),
             options,
+            live: false,
             stats: Stats::default(),
         })
     }
@@ -246,6 +249,11 @@ impl Solver {
     /// Current positions.
     pub fn positions(&self) -> &[Vec3] {
         &self.x
+    }
+
+    /// The residual each step is corrected to ([`Options::tolerance`]).
+    pub fn tolerance(&self) -> f64 {
+        self.options.tolerance
     }
 
     /// The conditions being held.
@@ -434,6 +442,23 @@ impl Solver {
         // Inactive inequality rows are 0, so the active rows' max is the residual.
         self.stats.worst_residual = self.stats.worst_residual.max(newton.1);
         moved
+    }
+
+    /// [`Solver::step`] solved to what a screen shows, for a drag the user is steering:
+    /// corrected to [`LIVE_RESIDUAL`](crate::tolerance::LIVE_RESIDUAL) (or the solver's
+    /// tolerance if looser), every solve with a single-precision copy of the factor (see
+    /// [`NormalSolver::set_single_precision`]). A state reached this way is brought back
+    /// to the solver's tolerance by [`Solver::polish`] when the drag ends.
+    pub fn live_step(&mut self, dx0: &[Vec3]) -> Result<Vec<Vec3>, SolverError> {
+        let tolerance = self.options.tolerance;
+        self.options.tolerance = tolerance.max(crate::tolerance::LIVE_RESIDUAL);
+        self.linear.set_single_precision(true);
+        self.live = true;
+        let motion = self.step(dx0);
+        self.live = false;
+        self.linear.set_single_precision(false);
+        self.options.tolerance = tolerance;
+        motion
     }
 
     /// One Euler step (§3): project `dx0` into the null space, move, correct. A step

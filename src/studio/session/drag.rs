@@ -7,7 +7,7 @@ use crate::constraints::Family;
 use crate::mesh::Vec3;
 use crate::pipeline;
 use crate::pipeline::StepOrder;
-use crate::solver::{pointer_step, Mode, Options, PointerStep, Solver};
+use crate::solver::{pointer_release, pointer_step, Mode, Options, PointerStep, Solver};
 
 /// Time a pointer drag's step may spend confirming the layer order (`layer-order` among
 /// the conditions) before it is let through and left to the analysis: long enough for a
@@ -226,7 +226,19 @@ impl Session {
             if !d.moved {
                 self.history.pop();
             }
-            if self.blocked.is_none() {
+            let settled = match (d.moved, self.solver.as_mut()) {
+                (true, Some(solver)) => pointer_release(solver),
+                _ => true,
+            };
+            if !settled {
+                self.message = format!(
+                    "released vertex {}: the design holds its conditions to {:.0e} (a drag's live precision), not the usual {:.0e}; undo the drag if it must be exact",
+                    d.vertex,
+                    crate::tolerance::LIVE_RESIDUAL,
+                    crate::tolerance::SOLVER_RESIDUAL
+                );
+            }
+            if self.blocked.is_none() && settled {
                 self.message = format!("released vertex {}", d.vertex);
             }
             self.versions.positions += 1;
