@@ -377,10 +377,8 @@ mod tests {
         assert!(s.project(&dx).iter().all(|v| v.abs() < 1e-10));
     }
 
-    #[test]
-    fn a_factor_ordered_by_nested_dissection_solves_as_the_amd_one_does() {
-        // A well-conditioned J on a 30 × 30 grid: each row its cell and the cells beside.
-        let k = 30;
+    /// A well-conditioned J on a `k` × `k` grid: each row its cell and the cells beside.
+    fn grid_jacobian(k: usize) -> CsMat<f64> {
         let mut t = TriMat::new((k * k, k * k));
         for c in 0..k * k {
             t.add_triplet(c, c, 4.0);
@@ -390,7 +388,13 @@ mod tests {
                 }
             }
         }
-        let j: CsMat<f64> = t.to_csr();
+        t.to_csr()
+    }
+
+    #[test]
+    fn a_factor_ordered_by_nested_dissection_solves_as_the_amd_one_does() {
+        let k = 30;
+        let j = grid_jacobian(k);
         let mut amd = NormalSolver::default();
         amd.factorise(j.clone()).unwrap();
         let mut dissected = NormalSolver {
@@ -425,19 +429,9 @@ mod tests {
 
     #[test]
     fn single_precision_solves_are_accurate_to_single_precision_and_refine_to_double() {
-        // J on a 30 × 30 grid, each row its cell and the cells beside (as above).
         let k = 30;
-        let mut t = TriMat::new((k * k, k * k));
-        for c in 0..k * k {
-            t.add_triplet(c, c, 4.0);
-            for d in [1, k] {
-                if c + d < k * k && (d == k || c % k + 1 < k) {
-                    t.add_triplet(c, c + d, -1.0 + 0.01 * (c % 7) as f64);
-                }
-            }
-        }
         let mut s = NormalSolver::default();
-        s.factorise(t.to_csr()).unwrap();
+        s.factorise(grid_jacobian(k)).unwrap();
         let b: Vec<f64> = (0..k * k).map(|i| (i as f64 * 0.37).sin()).collect();
         let exact = s.solve(&b);
         let error = |y: &[f64]| {

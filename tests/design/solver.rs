@@ -197,6 +197,15 @@ fn corner_path(
     s
 }
 
+/// How far apart the same vertex of two solvers' sheets is, at most (mm).
+fn farthest_apart(a: &Solver, b: &Solver) -> f64 {
+    a.positions()
+        .iter()
+        .zip(b.positions())
+        .map(|(p, q)| (p - q).norm())
+        .fold(0.0, f64::max)
+}
+
 #[test]
 fn predicting_the_correction_saves_newton_iterations_and_keeps_every_condition() {
     let (plain, predicted) = (
@@ -230,12 +239,7 @@ fn predicting_the_correction_saves_newton_iterations_and_keeps_every_condition()
     // The paths differ by the tangential part of each prediction and by the lean of a
     // projection through a factor up to 48 steps old instead of 16: after 2 mm of drag
     // the two sheets are 3 µm apart, far below what a sheet of paper shows.
-    let apart = plain
-        .positions()
-        .iter()
-        .zip(predicted.positions())
-        .map(|(p, q)| (p - q).norm())
-        .fold(0.0, f64::max);
+    let apart = farthest_apart(&plain, &predicted);
     assert!(
         apart > 0.0 && apart < 1e-2,
         "the two paths end {apart:e} mm apart"
@@ -343,12 +347,7 @@ fn a_pointer_drag_on_a_large_mesh_steps_live_near_the_full_steps_path_and_its_re
     // steps with and without the predictor end 0.06 mm apart). Every state on either
     // path keeps the conditions.
     let moved = (live.positions()[v] - start).norm();
-    let apart = live
-        .positions()
-        .iter()
-        .zip(full.positions())
-        .map(|(p, q)| (p - q).norm())
-        .fold(0.0, f64::max);
+    let apart = farthest_apart(&live, &full);
     assert!(moved > 20.0, "the vertex moved {moved} mm");
     assert!(
         apart < 0.05 * moved,
