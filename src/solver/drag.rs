@@ -107,7 +107,7 @@ pub enum PointerStep {
 /// On meshes of [`PREDICTOR_FACES`] faces and more the step is a
 /// [`Solver::live_step`], corrected to what a screen shows: there a step's time is its
 /// solves and refactorisations, and the studio's 10k-vertex Miura-ori follows the
-/// pointer at 14–16 steps a second instead of 6–8. Smaller meshes step at full
+/// pointer at 14–17 steps a second instead of 6–8. Smaller meshes step at full
 /// precision, fast enough as they are (60 a second at 256 vertices, the pointer's rate).
 pub fn pointer_step(
     solver: &mut Solver,
