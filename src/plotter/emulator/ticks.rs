@@ -183,6 +183,11 @@ impl Session {
             return;
         }
         st.disconnects += 1;
+        // The link goes before the line: a host that sees its port hang up must not
+        // find the old link still there and open the pty it named, whose number another
+        // emulator's replugged port may already hold (a power-cut test hung waiting on
+        // a plotter that was not its own, with eight emulators running at once).
+        super::remove_emulator_link(&self.link);
         self.line = None;
         if self.config.power_cycle {
             let drawn = std::mem::take(&mut st.path.segments);
@@ -190,7 +195,6 @@ impl Session {
             self.plotter = Plotter::new(self.config.clone());
             self.host_queue.clear();
         }
-        super::remove_emulator_link(&self.link);
         self.unplugged_at = Some(Instant::now());
     }
 }
