@@ -51,7 +51,7 @@ impl Solver {
             // [`LIVE_CHORD_LEFT`] more, while it converges at all): restarting or
             // refactorising costs more than that iteration.
             let rate = r / last;
-            let finishing = self.options.predict == Some(true)
+            let finishing = self.predicts()
                 && if self.live {
                     rate < LIVE_CHORD_RATE && r * rate.powi(LIVE_CHORD_LEFT) < tol
                 } else {

@@ -3,7 +3,7 @@
 //! vertices (a surface, not a single point, is being pulled), projects it into the null
 //! space, and corrects.
 
-use super::{Solver, SolverError, PREDICTOR_FACES};
+use super::{Solver, SolverError};
 use crate::mesh::Vec3;
 use serde::Deserialize;
 
@@ -104,7 +104,8 @@ pub enum PointerStep {
 /// calls it while the pointer is held, and [`pointer_release`] when it is let go; a
 /// scripted stage is [`run_stage`].
 ///
-/// On meshes of [`PREDICTOR_FACES`] faces and more the step is a
+/// Where the solver predicts its corrections ([`Solver::predicts`]: by default on
+/// meshes of [`super::PREDICTOR_FACES`] faces and more) the step is a
 /// [`Solver::live_step`], corrected to what a screen shows: there a step's time is its
 /// solves and refactorisations, and the studio's 10k-vertex Miura-ori follows the
 /// pointer at 14–17 steps a second instead of 6–8. Smaller meshes step at full
@@ -128,7 +129,8 @@ pub fn pointer_step(
     let mut wish = vec![Vec3::zeros(); x.len()];
     pull(x, v, share, default_radius(x), &mut wish);
     let before = x[v];
-    if solver.mesh().faces().len() >= PREDICTOR_FACES {
+    // A live step's chord policy is the predicting solver's; the two go together.
+    if solver.predicts() {
         solver.live_step(&wish)?;
     } else {
         solver.step(&wish)?;

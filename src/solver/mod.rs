@@ -251,6 +251,12 @@ impl Solver {
         &self.x
     }
 
+    /// Whether full steps start from a predicted correction ([`Options::predict`], as
+    /// decided for this mesh: by default, meshes of [`PREDICTOR_FACES`] faces and more).
+    pub fn predicts(&self) -> bool {
+        self.options.predict == Some(true)
+    }
+
     /// The residual each step is corrected to ([`Options::tolerance`]).
     pub fn tolerance(&self) -> f64 {
         self.options.tolerance
@@ -392,9 +398,10 @@ impl Solver {
     fn refresh_factor(&mut self, allow_stale: bool) -> Result<(), SolverError> {
         // A reused factor needs only the row labels, to see the active set is the same;
         // after an accepted step the correction has just evaluated them here.
-        let max_age = match self.options.predict {
-            Some(true) => PREDICTED_FACTOR_AGE,
-            _ => MAX_FACTOR_AGE,
+        let max_age = if self.predicts() {
+            PREDICTED_FACTOR_AGE
+        } else {
+            MAX_FACTOR_AGE
         };
         let may_reuse = allow_stale && self.factor_age < max_age;
         let same_rows = may_reuse
@@ -476,7 +483,7 @@ impl Solver {
     pub fn step(&mut self, dx0: &[Vec3]) -> Result<Vec<Vec3>, SolverError> {
         self.refresh_factor(true)?;
         self.factor_age += 1;
-        let predict = self.options.predict == Some(true);
+        let predict = self.predicts();
         let factorisations = self.stats.factorisations;
         // The unprojected Euler step, where a predicted step starts and its correction is
         // measured from; unused (so not built) without the predictor.
