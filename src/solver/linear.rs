@@ -229,26 +229,24 @@ impl NormalSolver {
                 if f.single.is_empty() {
                     f.single.extend(f.values.iter().map(|&v| v as f32));
                 }
-                let mut rhs = Mat::<f32>::from_fn(b.len(), 1, |i, _| b[i] as f32);
-                LltRef::new(&f.symbolic, &f.single).solve_in_place_with_conj(
-                    Conj::No,
-                    rhs.as_mut(),
-                    faer::get_global_parallelism(),
-                    MemStack::new(&mut f.solve_scratch),
-                );
-                (0..b.len()).map(|i| f64::from(rhs[(i, 0)])).collect()
+                solve_column(
+                    &f.symbolic,
+                    &f.single,
+                    &mut f.solve_scratch,
+                    b,
+                    |v| v as f32,
+                    f64::from,
+                )
             }
             // Not ready: no rows (nothing to solve) or a failed factorisation.
-            Some(f) if f.ready => {
-                let mut rhs = Mat::<f64>::from_fn(b.len(), 1, |i, _| b[i]);
-                LltRef::new(&f.symbolic, &f.values).solve_in_place_with_conj(
-                    Conj::No,
-                    rhs.as_mut(),
-                    faer::get_global_parallelism(),
-                    MemStack::new(&mut f.solve_scratch),
-                );
-                (0..b.len()).map(|i| rhs[(i, 0)]).collect()
-            }
+            Some(f) if f.ready => solve_column(
+                &f.symbolic,
+                &f.values,
+                &mut f.solve_scratch,
+                b,
+                |v| v,
+                |v| v,
+            ),
             _ => vec![0.0; b.len()],
         }
     }
@@ -285,6 +283,26 @@ impl NormalSolver {
         let y = self.solve(residuals);
         self.apply_transpose(&y).into_iter().map(|v| -v).collect()
     }
+}
+
+/// Solves with the factor of `symbolic` whose values, in the precision `T`, are
+/// `values`: `b` turned into `T` by `into`, the solution back by `back`.
+fn solve_column<T: faer::traits::ComplexField + Copy>(
+    symbolic: &SymbolicCholesky<usize>,
+    values: &[T],
+    scratch: &mut MemBuffer,
+    b: &[f64],
+    into: impl Fn(f64) -> T,
+    back: impl Fn(T) -> f64,
+) -> Vec<f64> {
+    let mut rhs = Mat::<T>::from_fn(b.len(), 1, |i, _| into(b[i]));
+    LltRef::new(symbolic, values).solve_in_place_with_conj(
+        Conj::No,
+        rhs.as_mut(),
+        faer::get_global_parallelism(),
+        MemStack::new(scratch),
+    );
+    (0..b.len()).map(|i| back(rhs[(i, 0)])).collect()
 }
 
 impl Factor {
