@@ -9,7 +9,7 @@ mod cli;
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use cli::GenerateArgs;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -74,13 +74,15 @@ enum Command {
 
 fn main() -> ExitCode {
     crease::allocator::keep_freed_memory();
-    let cli = match Cli::try_parse() {
+    // A negative number is a value (`--width -3` is out of range, not an unknown flag).
+    let command = Cli::command().mut_subcommands(|sub| sub.allow_negative_numbers(true));
+    let cli = match command
+        .try_get_matches()
+        .and_then(|m| Cli::from_arg_matches(&m))
+    {
         Ok(c) => c,
         Err(e) if e.use_stderr() => {
-            // One line, as every other error: clap's first, and where the rest is.
-            let text = e.render().to_string();
-            let first = text.lines().next().unwrap_or("bad arguments");
-            eprintln!("{first} (see `crease --help`, or `crease COMMAND --help`)");
+            eprintln!("{}", usage_error_line(&e.render().to_string()));
             return ExitCode::from(2);
         }
         Err(e) => {
@@ -94,6 +96,45 @@ fn main() -> ExitCode {
             eprintln!("error: {message}");
             ExitCode::from(2)
         }
+    }
+}
+
+/// clap's error message as one line, as every other error is: the message with what it
+/// lists (the missing arguments, the values a flag takes) and its tips ("a similar
+/// argument exists"), the usage it printed, and which help to read. clap writes these
+/// over several lines; only the first used to be kept, which for a missing argument was
+/// "the following required arguments were not provided:" with the list cut off.
+fn usage_error_line(rendered: &str) -> String {
+    let mut message = String::new();
+    let mut usage = None;
+    for line in rendered.lines().map(str::trim).filter(|l| !l.is_empty()) {
+        if let Some(rest) = line.strip_prefix("Usage:") {
+            usage = Some(rest.trim().to_string());
+            break;
+        }
+        if !message.is_empty() {
+            // A list follows its "…:" heading; anything else is a sentence of its own.
+            message.push_str(if message.ends_with(':') { " " } else { "; " });
+        }
+        message.push_str(line);
+    }
+    if message.is_empty() {
+        message.push_str("error: bad arguments");
+    }
+    // The command's help: `crease SUB --help` where the usage names a subcommand.
+    let help = usage
+        .as_deref()
+        .and_then(|u| {
+            let mut words = u.split_whitespace();
+            (words.next() == Some("crease")).then(|| words.next())?
+        })
+        .filter(|sub| sub.chars().all(|c| c.is_ascii_lowercase() || c == '-'))
+        .map_or("crease --help".to_string(), |sub| {
+            format!("crease {sub} --help")
+        });
+    match usage {
+        Some(usage) => format!("{message} (usage: {usage}; see `{help}`)"),
+        None => format!("{message} (see `{help}`)"),
     }
 }
 

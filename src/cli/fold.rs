@@ -10,12 +10,14 @@ use crease::solver::Mode;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
+// One of --amount and --flat, so that a fold without either names both.
+#[command(group(clap::ArgGroup::new("how").required(true).args(["amount", "flat"])))]
 pub struct FoldArgs {
     /// Pattern file.
     file: PathBuf,
     /// Fraction of each crease's target angle, in [0, 1]: every crease is driven toward
     /// it and the rigid panels let them reach it on average (as `generate --fold`).
-    #[arg(long, required_unless_present = "flat", conflicts_with = "flat")]
+    #[arg(long)]
     amount: Option<f64>,
     /// Write the flat-folded state instead: every ±180° crease folded completely, faces
     /// reflected through the creases into the plane, with the layer order as FOLD

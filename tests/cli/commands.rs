@@ -514,3 +514,82 @@ fn a_converted_file_gets_the_verdict_of_its_original() {
     assert!(err.contains("crease:coordinatePrecision"), "{err}");
     let _ = std::fs::remove_file(&bad);
 }
+
+/// A command typed without one of its required arguments says which, on one line, with
+/// the command's usage and its help: the list clap prints under "the following required
+/// arguments were not provided:" was once cut off, leaving the heading and nothing else.
+#[test]
+fn a_missing_argument_is_named_with_the_usage_of_its_command() {
+    let pattern = scratch(
+        "missing-args.fold",
+        include_str!("../data/fold/simple.fold"),
+    );
+    let p = pattern.to_str().unwrap();
+    for (args, missing, help) in [
+        (
+            vec!["generate", "miura"],
+            "--output <OUTPUT>",
+            "crease generate --help",
+        ),
+        (vec!["fab"], "<DESIGN>", "crease fab --help"),
+        (
+            vec!["fit", p, "-o", "z.fold"],
+            "--to <TO>",
+            "crease fit --help",
+        ),
+        (
+            vec!["deform", p, "--drag", "0=+0,+0,+1"],
+            "--output <OUTPUT>",
+            "crease deform --help",
+        ),
+        (
+            vec!["plot", "job.hpgl"],
+            "--port <PORT>",
+            "crease plot --help",
+        ),
+        (vec!["emulate"], "--link <LINK>", "crease emulate --help"),
+        // fold needs one of two: both are named.
+        (
+            vec!["fold", p, "-o", "q.fold"],
+            "<--amount <AMOUNT>|--flat>",
+            "crease fold --help",
+        ),
+    ] {
+        let (code, _, err) = run_crease(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+        assert!(err.contains("were not provided: "), "{args:?}: {err}");
+        assert!(err.contains(missing), "{args:?} names {missing}: {err}");
+        assert!(
+            err.contains("usage: crease "),
+            "{args:?} gives the usage: {err}"
+        );
+        assert!(err.contains(help), "{args:?} points at `{help}`: {err}");
+    }
+    assert!(!std::path::Path::new("z.fold").exists() && !std::path::Path::new("q.fold").exists());
+}
+
+/// A mistyped flag keeps clap's suggestion on the one line.
+#[test]
+fn a_mistyped_flag_gets_a_did_you_mean() {
+    let (code, _, err) = run_crease(&["fab", "x.fold", "--mahcine", "cameo"]);
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+    assert!(
+        err.contains("'--mahcine'") && err.contains("'--machine'"),
+        "{err}"
+    );
+}
+
+/// A negative number after a flag is its value, checked against its range, not an
+/// unknown flag.
+#[test]
+fn a_negative_value_is_range_checked_not_taken_for_a_flag() {
+    let pattern = scratch("negative.fold", include_str!("../data/fold/simple.fold"));
+    let (code, _, err) = run_crease(&["fab", pattern.to_str().unwrap(), "--width", "-3"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--width = -3") && err.contains("from 5 to 50000 mm"),
+        "{err}"
+    );
+}
