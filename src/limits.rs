@@ -333,6 +333,25 @@ pub const COORDINATE_PRECISION: Range = Range {
     max: 0.5,
 };
 
+/// Largest file the studio opens, and so the largest request body its HTTP side reads.
+pub const MAX_UPLOAD: usize = 64 << 20;
+
+/// Largest request head (request line and headers) the studio reads: a browser's are a
+/// kilobyte or two.
+pub const HEAD_BYTES: usize = 16 << 10;
+
+/// Most header lines in one request.
+pub const MAX_HEADERS: usize = 64;
+
+/// Connections the studio serves at once, each on a thread of its own; past them a
+/// connection is answered 503 and closed. A page holds two to six; the cap bounds the
+/// threads and their memory whatever a client opens.
+pub const MAX_CONNECTIONS: usize = 48;
+
+/// Long-polls for the next frame that wait at once; past them a poll is answered with the
+/// current frame straight away, so held polls cannot take every connection.
+pub const MAX_WAITING_POLLS: usize = 8;
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -7,6 +7,8 @@ mod studio_process;
 
 #[path = "studio/session.rs"]
 mod session;
+#[path = "studio/studio_http.rs"]
+mod studio_http;
 #[path = "studio/studio_security.rs"]
 mod studio_security;
 #[path = "studio/studio_server.rs"]

@@ -13,10 +13,13 @@ use super::session::{
 };
 use crate::constraints::Family;
 use crate::generate::{Params, PatternKind};
+use crate::limits::MAX_WAITING_POLLS;
 use serde::de::DeserializeOwned;
 use serde::Deserialize;
 use serde_json::json;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Arc;
 use std::time::Duration;
 
 /// A request as the server read it.
@@ -69,9 +72,20 @@ pub struct Site {
     pub port: u16,
     /// Page files served before the embedded ones.
     pub assets: Option<PathBuf>,
+    /// Long-polls waiting for the next frame now (at most [`MAX_WAITING_POLLS`] wait).
+    waiting_polls: Arc<AtomicUsize>,
 }
 
 impl Site {
+    /// The studio on `port`, with page files from `assets` first.
+    pub fn new(port: u16, assets: Option<PathBuf>) -> Site {
+        Site {
+            port,
+            assets,
+            waiting_polls: Arc::default(),
+        }
+    }
+
     /// Whether `authority` (`host:port`) is this studio on a loopback name.
     fn is_own_authority(&self, authority: &str) -> bool {
         let Some((host, port)) = authority.rsplit_once(':') else {
@@ -293,7 +307,7 @@ pub fn handle(hub: &Hub, site: &Site, request: Request) -> Response {
         return page(method, path, site.assets.as_ref());
     }
     let command = match (method, &path[4..]) {
-        ("GET", "/frame") => return frame(hub, query),
+        ("GET", "/frame") => return frame(hub, site, query),
         ("GET", "/meta") => return Response::json(200, &meta()),
         (method, route) => match command_for(method, route, path, query, body) {
             Ok(command) => command,
@@ -328,8 +342,10 @@ fn page(method: &str, path: &str, assets_dir: Option<&PathBuf>) -> Response {
     }
 }
 
-/// `GET /api/frame`: the long poll for the next frame after `?after=N`.
-fn frame(hub: &Hub, query: &str) -> Response {
+/// `GET /api/frame`: the long poll for the next frame after `?after=N`. At most
+/// [`MAX_WAITING_POLLS`] wait at once; the others are answered with the current frame at
+/// once, so polls a client holds open cannot take every connection the server has.
+fn frame(hub: &Hub, site: &Site, query: &str) -> Response {
     let numbers = (|| {
         Ok::<_, Response>((
             query_number(query, "after")?.unwrap_or(0),
@@ -346,7 +362,14 @@ fn frame(hub: &Hub, query: &str) -> Response {
                 Some(i) if i != hub.instance() => (0, None, None),
                 _ => (after, topology, pattern),
             };
-            let frame = hub.frame_after(after, LONG_POLL);
+            let waiting = site.waiting_polls.fetch_add(1, Ordering::SeqCst);
+            let wait = if waiting < MAX_WAITING_POLLS {
+                LONG_POLL
+            } else {
+                Duration::ZERO
+            };
+            let frame = hub.frame_after(after, wait);
+            site.waiting_polls.fetch_sub(1, Ordering::SeqCst);
             Response {
                 status: 200,
                 content_type: "application/json",
@@ -477,10 +500,7 @@ mod tests {
 
     #[test]
     fn only_loopback_names_on_the_studios_port_are_its_own() {
-        let site = Site {
-            port: 8123,
-            assets: None,
-        };
+        let site = Site::new(8123, None);
         for own in [
             "127.0.0.1:8123",
             "localhost:8123",

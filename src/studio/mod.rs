@@ -13,6 +13,7 @@
 pub mod api;
 mod assets;
 mod frame;
+mod http;
 pub mod hub;
 mod server;
 pub mod session;

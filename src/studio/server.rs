@@ -1,14 +1,29 @@
-//! The HTTP side: a small synchronous server (tiny_http) bound to 127.0.0.1 only. Each
-//! request gets a thread of its own, so a long-poll never holds up a drag; a dropped
-//! socket ends only its own thread.
+//! The HTTP side: a small synchronous server on `std::net`, bound to 127.0.0.1 only,
+//! speaking the bounded HTTP/1.1 of [`super::http`]. Each connection gets a thread of its
+//! own, so a long-poll never holds up a drag, up to [`MAX_CONNECTIONS`] at once (past them
+//! a connection is answered 503 and closed); a dropped socket ends only its own thread.
 
 use super::api::{self, Request, Site};
+use super::http::{self, HttpResponse, Read1, MAX_CONNECTIONS};
 use super::hub::Hub;
 use crate::mesh::Mesh;
-use std::io::Read;
+use std::io::{BufReader, Read, Write};
+use std::net::{SocketAddr, TcpListener, TcpStream};
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::mpsc::{sync_channel, Receiver, RecvTimeoutError, SyncSender};
 use std::sync::Arc;
 use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+/// How long a connection may take to send a request (or idle between two) before it is
+/// closed: a client that opens connections and sends nothing holds them this long at most.
+const READ_TIMEOUT: Duration = Duration::from_secs(10);
+/// How long a reply may take to leave, for a client that stops reading.
+const WRITE_TIMEOUT: Duration = Duration::from_secs(30);
+/// A connection thread's stack: a request's work runs on the session's thread, so these
+/// only read heads and parse JSON bodies (serde_json stops nesting at 128 levels).
+const CONNECTION_STACK: usize = 1 << 20;
 
 /// Why the studio could not start.
 #[derive(Debug, thiserror::Error)]
@@ -39,7 +54,8 @@ pub struct StudioOptions {
 #[must_use = "the studio stops when this value is dropped"]
 pub struct Studio {
     url: String,
-    server: Arc<tiny_http::Server>,
+    address: SocketAddr,
+    stopping: Arc<AtomicBool>,
     hub: Arc<Hub>,
     accept: Option<JoinHandle<()>>,
 }
@@ -47,11 +63,8 @@ pub struct Studio {
 impl Studio {
     /// Binds 127.0.0.1:`port` and starts serving `mesh`.
     pub fn start(mesh: Mesh, title: &str, options: StudioOptions) -> Result<Studio, StudioError> {
-        let server = tiny_http::Server::http(("127.0.0.1", options.port)).map_err(|e| {
-            let in_use = e
-                .downcast_ref::<std::io::Error>()
-                .is_some_and(|io| io.kind() == std::io::ErrorKind::AddrInUse);
-            if in_use {
+        let bind_error = |e: std::io::Error| {
+            if e.kind() == std::io::ErrorKind::AddrInUse {
                 StudioError::PortTaken(options.port)
             } else {
                 StudioError::Bind {
@@ -59,35 +72,23 @@ impl Studio {
                     cause: e.to_string(),
                 }
             }
-        })?;
-        let port = server
-            .server_addr()
-            .to_ip()
-            .map(|a| a.port())
-            .unwrap_or(options.port);
-        let server = Arc::new(server);
+        };
+        let listener = TcpListener::bind(("127.0.0.1", options.port)).map_err(bind_error)?;
+        let address = listener.local_addr().map_err(bind_error)?;
         let hub = Hub::start(mesh, title);
-        let site = Arc::new(Site {
-            port,
-            assets: options.assets.clone(),
-        });
+        let site = Arc::new(Site::new(address.port(), options.assets.clone()));
+        let stopping = Arc::new(AtomicBool::new(false));
         let accept = {
-            let (server, hub) = (Arc::clone(&server), Arc::clone(&hub));
+            let (hub, stopping) = (Arc::clone(&hub), Arc::clone(&stopping));
             std::thread::Builder::new()
                 .name("studio-accept".into())
-                .spawn(move || {
-                    for request in server.incoming_requests() {
-                        let (hub, site) = (Arc::clone(&hub), Arc::clone(&site));
-                        let _ = std::thread::Builder::new()
-                            .name("studio-request".into())
-                            .spawn(move || respond(&hub, &site, request));
-                    }
-                })
+                .spawn(move || accept_loop(&listener, &hub, &site, &stopping))
                 .expect("the accept thread starts")
         };
         Ok(Studio {
-            url: format!("http://127.0.0.1:{port}/"),
-            server,
+            url: format!("http://127.0.0.1:{}/", address.port()),
+            address,
+            stopping,
             hub,
             accept: Some(accept),
         })
@@ -106,28 +107,178 @@ impl Studio {
 
 impl Drop for Studio {
     fn drop(&mut self) {
-        self.server.unblock();
+        self.stopping.store(true, Ordering::SeqCst);
         self.hub.stop();
+        // Wakes the accept loop, which then sees `stopping`.
+        let _ = TcpStream::connect_timeout(&self.address, Duration::from_secs(1));
         if let Some(t) = self.accept.take() {
             let _ = t.join();
         }
     }
 }
 
-/// The value of header `name`, if the request has it once (a repeated `Host` or
-/// `Origin` is refused as absent or foreign).
-fn header(request: &tiny_http::Request, name: &'static str) -> Option<String> {
-    let mut values = request
-        .headers()
-        .iter()
-        .filter(|h| h.field.equiv(name))
-        .map(|h| h.value.as_str().to_string());
-    let first = values.next();
-    match values.next() {
-        Some(_) => Some(String::new()),
-        None => first,
+/// Accepts connections until the studio stops, each on its own thread while fewer than
+/// [`MAX_CONNECTIONS`] are open.
+fn accept_loop(listener: &TcpListener, hub: &Arc<Hub>, site: &Arc<Site>, stopping: &AtomicBool) {
+    let open = Arc::new(AtomicUsize::new(0));
+    let closer = Closer::start();
+    for stream in listener.incoming() {
+        if stopping.load(Ordering::SeqCst) {
+            return;
+        }
+        let Ok(mut stream) = stream else {
+            // Out of descriptors, or a connection reset before it was taken: wait a
+            // moment rather than spin.
+            std::thread::sleep(Duration::from_millis(10));
+            continue;
+        };
+        if open.fetch_add(1, Ordering::SeqCst) >= MAX_CONNECTIONS {
+            open.fetch_sub(1, Ordering::SeqCst);
+            refuse_busy(&mut stream);
+            closer.close(stream);
+            continue;
+        }
+        let slot = Slot(Arc::clone(&open));
+        let (hub, site) = (Arc::clone(hub), Arc::clone(site));
+        // A thread the system will not give drops the closure: the connection closes and
+        // the slot is given back.
+        let _ = std::thread::Builder::new()
+            .name("studio-connection".into())
+            .stack_size(CONNECTION_STACK)
+            .spawn(move || serve_connection(stream, &hub, &site, &slot));
     }
 }
+
+/// One of the [`MAX_CONNECTIONS`] places, given back when its connection's thread ends.
+struct Slot(Arc<AtomicUsize>);
+
+impl Drop for Slot {
+    fn drop(&mut self) {
+        self.0.fetch_sub(1, Ordering::SeqCst);
+    }
+}
+
+/// Closes refused connections gracefully, off the accept thread: one thread drains what
+/// each client still sends (without blocking, for at most [`LINGER`]) until it hangs up,
+/// so the refusal is read rather than lost to the reset that closing over unread bytes
+/// sends. It holds at most [`MAX_CONNECTIONS`] such connections; past them a refused
+/// connection is closed at once.
+struct Closer(Option<SyncSender<TcpStream>>);
+
+/// How long a refused connection is drained before it is closed regardless.
+const LINGER: Duration = Duration::from_millis(500);
+
+impl Closer {
+    fn start() -> Closer {
+        let (tx, rx) = sync_channel(MAX_CONNECTIONS);
+        let spawned = std::thread::Builder::new()
+            .name("studio-closer".into())
+            .stack_size(CONNECTION_STACK)
+            .spawn(move || drain_refused(&rx));
+        Closer(spawned.ok().map(|_| tx))
+    }
+
+    /// Hands `stream`, answered and shut for writing, over to be drained and closed.
+    fn close(&self, stream: TcpStream) {
+        if let Some(tx) = &self.0 {
+            let _ = tx.try_send(stream);
+        }
+    }
+}
+
+/// The closer's loop: until the accept loop ends, drains each refused connection until
+/// its client hangs up or [`LINGER`] passes.
+fn drain_refused(incoming: &Receiver<TcpStream>) {
+    let mut closing: Vec<(TcpStream, Instant)> = Vec::new();
+    let mut scrap = [0u8; 4096];
+    loop {
+        let wait = if closing.is_empty() {
+            Duration::from_secs(3600)
+        } else {
+            Duration::from_millis(20)
+        };
+        match incoming.recv_timeout(wait) {
+            Ok(stream) => {
+                if stream.set_nonblocking(true).is_ok() {
+                    closing.push((stream, Instant::now()));
+                }
+            }
+            Err(RecvTimeoutError::Timeout) => {}
+            Err(RecvTimeoutError::Disconnected) => return,
+        }
+        closing.retain_mut(|(stream, since)| {
+            // At most 64 KiB a connection a pass, so a client that keeps sending cannot
+            // hold the loop.
+            for _ in 0..16 {
+                match stream.read(&mut scrap) {
+                    Ok(0) => return false,
+                    Ok(_) => {}
+                    Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {
+                        return since.elapsed() < LINGER
+                    }
+                    Err(_) => return false,
+                }
+            }
+            since.elapsed() < LINGER
+        });
+    }
+}
+
+/// The 503 for a connection past the cap, written without waiting on the client.
+fn refuse_busy(stream: &mut TcpStream) {
+    let _ = stream.set_write_timeout(Some(Duration::from_millis(200)));
+    let body = br#"{"error":"the studio has too many connections open; try again in a moment"}"#;
+    let mut reply = with_studio_headers(503, "application/json", None, body);
+    reply.headers.push(("Retry-After", "1".into()));
+    let _ = http::write_response(stream, &reply, false, false);
+    let _ = stream.shutdown(std::net::Shutdown::Write);
+}
+
+/// Requests on one connection, in turn, until it closes, idles past [`READ_TIMEOUT`],
+/// sends something refused, or asks to close. While half the connections are taken,
+/// every reply closes its connection, so clients that hold theirs open after an answer
+/// (a flood of long-polls) give their places back at once.
+fn serve_connection(stream: TcpStream, hub: &Hub, site: &Site, slot: &Slot) {
+    let _ = stream.set_read_timeout(Some(READ_TIMEOUT));
+    let _ = stream.set_write_timeout(Some(WRITE_TIMEOUT));
+    let _ = stream.set_nodelay(true);
+    let Ok(mut writer) = stream.try_clone() else {
+        return;
+    };
+    let mut reader = BufReader::new(stream);
+    loop {
+        let request = match http::read_request(&mut reader, &mut writer) {
+            Read1::Request(request) => request,
+            Read1::Ended => return,
+            Read1::Refused(status, message) => {
+                // Answered, and the connection closed with the rest of the request unread.
+                let body = serde_json::json!({ "error": message }).to_string();
+                let reply = with_studio_headers(status, "application/json", None, body.as_bytes());
+                let _ = http::write_response(&mut writer, &reply, false, false);
+                linger(&mut reader);
+                return;
+            }
+        };
+        let keep_alive = request.keep_alive && slot.0.load(Ordering::SeqCst) <= MAX_CONNECTIONS / 2;
+        if respond(hub, site, request, &mut writer, keep_alive).is_err() || !keep_alive {
+            return;
+        }
+    }
+}
+
+/// Closes our side and reads (and drops) what the client is still sending, a bounded
+/// amount for a bounded time, before the socket is closed: closing over unread bytes
+/// resets the connection, and the reset can reach the client before it has read the
+/// refusal it was sent.
+fn linger(reader: &mut BufReader<TcpStream>) {
+    let stream = reader.get_mut();
+    let _ = stream.shutdown(std::net::Shutdown::Write);
+    let _ = stream.set_read_timeout(Some(Duration::from_millis(500)));
+    let _ = std::io::copy(&mut reader.take(LINGER_BYTES), &mut std::io::sink());
+}
+
+/// The most [`linger`] drains.
+const LINGER_BYTES: u64 = 256 << 10;
 
 /// Headers every reply carries: no caching, a policy that lets the page load only its
 /// own files and no other page frame it, and no type sniffing.
@@ -138,59 +289,71 @@ const SECURITY_HEADERS: [(&str, &str); 4] = [
     ("Referrer-Policy", "no-referrer"),
 ];
 
-fn respond(hub: &Hub, site: &Site, mut request: tiny_http::Request) {
-    let mut body = Vec::new();
-    let limit = super::session::MAX_UPLOAD as u64 + 1;
-    if request
-        .as_reader()
-        .take(limit)
-        .read_to_end(&mut body)
-        .is_err()
-    {
-        // The client went away mid-request.
-        return;
-    }
-    let url = request.url().to_string();
-    let (path, query) = url.split_once('?').unwrap_or((&url, ""));
-    let method = request.method().as_str().to_string();
+/// Hands `request` to the API and writes its answer.
+fn respond(
+    hub: &Hub,
+    site: &Site,
+    request: http::HttpRequest,
+    out: &mut impl Write,
+    keep_alive: bool,
+) -> std::io::Result<()> {
     let (host, origin, content_type) = (
-        header(&request, "Host"),
-        header(&request, "Origin"),
-        header(&request, "Content-Type"),
+        request.header("Host"),
+        request.header("Origin"),
+        request.header("Content-Type"),
     );
+    let (path, query) = request
+        .target
+        .split_once('?')
+        .unwrap_or((&request.target, ""));
     let response = api::handle(
         hub,
         site,
         Request {
-            method: &method,
+            method: &request.method,
             path,
             query,
             host,
             origin,
             content_type,
-            body,
+            body: request.body,
         },
     );
-    let mut reply = tiny_http::Response::from_data(response.body)
-        .with_status_code(response.status)
-        .with_header(
-            tiny_http::Header::from_bytes("Content-Type", response.content_type)
-                .expect("valid header"),
-        )
-        .with_header(
-            tiny_http::Header::from_bytes("Content-Security-Policy", super::assets::policy())
-                .expect("valid header"),
-        );
-    for (name, value) in SECURITY_HEADERS {
-        reply =
-            reply.with_header(tiny_http::Header::from_bytes(name, value).expect("valid header"));
-    }
-    if let Some(name) = response.download {
-        let value = format!("attachment; filename=\"{name}\"");
-        if let Ok(h) = tiny_http::Header::from_bytes("Content-Disposition", value) {
-            reply = reply.with_header(h);
-        }
-    }
+    let reply = with_studio_headers(
+        response.status,
+        response.content_type,
+        response.download.as_deref(),
+        &response.body,
+    );
     // A closed tab or dropped socket fails only this write.
-    let _ = request.respond(reply);
+    http::write_response(out, &reply, request.method == "HEAD", keep_alive)
+}
+
+/// A reply with the studio's headers: its type, the content policy, [`SECURITY_HEADERS`]
+/// and, for a download, its file name.
+fn with_studio_headers<'a>(
+    status: u16,
+    content_type: &str,
+    download: Option<&str>,
+    body: &'a [u8],
+) -> HttpResponse<'a> {
+    let mut headers = vec![
+        ("Content-Type", content_type.to_string()),
+        (
+            "Content-Security-Policy",
+            super::assets::policy().to_string(),
+        ),
+    ];
+    headers.extend(SECURITY_HEADERS.map(|(name, value)| (name, value.to_string())));
+    if let Some(name) = download {
+        headers.push((
+            "Content-Disposition",
+            format!("attachment; filename=\"{name}\""),
+        ));
+    }
+    HttpResponse {
+        status,
+        headers,
+        body,
+    }
 }

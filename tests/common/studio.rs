@@ -18,10 +18,28 @@ pub struct StudioProcess {
 impl StudioProcess {
     /// Starts `crease studio ARGS --no-open` and waits for its address line.
     pub fn start(args: &[&str]) -> StudioProcess {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_crease"))
-            .arg("studio")
-            .args(args)
-            .arg("--no-open")
+        let mut command = Command::new(env!("CARGO_BIN_EXE_crease"));
+        command.arg("studio").args(args).arg("--no-open");
+        Self::spawn(command)
+    }
+
+    /// As [`StudioProcess::start`], under an address-space limit of `kb` kilobytes
+    /// (`ulimit -v`): an allocation past it fails as it would on a system that does not
+    /// overcommit, instead of being granted and never touched.
+    pub fn start_limited(args: &[&str], kb: u64) -> StudioProcess {
+        let mut command = Command::new("sh");
+        command
+            .arg("-c")
+            .arg(format!(
+                "ulimit -v {kb} && exec \"$0\" studio \"$@\" --no-open"
+            ))
+            .arg(env!("CARGO_BIN_EXE_crease"))
+            .args(args);
+        Self::spawn(command)
+    }
+
+    fn spawn(mut command: Command) -> StudioProcess {
+        let mut child = command
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
             .spawn()

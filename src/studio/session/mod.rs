@@ -29,8 +29,7 @@ use std::collections::BTreeSet;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-/// Largest file the studio opens.
-pub const MAX_UPLOAD: usize = 64 << 20;
+pub use crate::limits::MAX_UPLOAD;
 
 /// Minimum time between crease-pattern rebuilds during a drag (the page redraws two flat
 /// views from them); at rest the pattern is always rebuilt.

@@ -1,0 +1,182 @@
+//! The studio's HTTP side against requests no page sends, over real sockets to the real
+//! binary run under an address-space limit: a body announced past any memory, a flood of
+//! held long-polls, chunked bodies cut short. None may stop it answering its own page.
+
+use crate::studio_process;
+
+use serde_json::Value;
+use std::io::{Read, Write};
+use std::net::{Shutdown, TcpStream};
+use std::time::{Duration, Instant};
+use studio_process::StudioProcess;
+
+/// The address space the studio runs in here (4 GB): the idle studio maps under 2 GB, and
+/// a buffer the size of an announced terabyte cannot be had.
+const ADDRESS_SPACE_KB: u64 = 4_000_000;
+
+/// Sends `raw` on a fresh connection, closes the sending side, and returns what came back
+/// (empty when the studio closed without a word).
+fn exchange(port: u16, raw: &[u8]) -> String {
+    let mut s = TcpStream::connect(("127.0.0.1", port)).expect("connect");
+    s.set_read_timeout(Some(Duration::from_secs(20))).unwrap();
+    // The studio may answer and close before reading all of it.
+    let _ = s.write_all(raw);
+    let _ = s.shutdown(Shutdown::Write);
+    let mut reply = Vec::new();
+    let _ = s.read_to_end(&mut reply);
+    String::from_utf8_lossy(&reply).into_owned()
+}
+
+/// `/api/state` answers 200 within a second, and the process is alive.
+fn still_answering(studio: &mut StudioProcess) -> Value {
+    assert!(
+        studio.child.try_wait().unwrap().is_none(),
+        "the studio process ended"
+    );
+    let asked = Instant::now();
+    let (status, state) = studio.json("GET", "/api/state", "");
+    assert_eq!(status, 200, "{state}");
+    assert!(
+        asked.elapsed() < Duration::from_secs(1),
+        "{:?}",
+        asked.elapsed()
+    );
+    state
+}
+
+/// A field of `/proc/PID/status`, in its own unit.
+fn proc_status(pid: u32, field: &str) -> u64 {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap();
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix(field))
+        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse().ok())
+        .unwrap_or_else(|| panic!("{field} in /proc/{pid}/status"))
+}
+
+#[test]
+fn a_body_announced_past_any_memory_is_refused_unread_and_the_studio_goes_on() {
+    let mut studio = StudioProcess::start_limited(&["patterns/miura.fold"], ADDRESS_SPACE_KB);
+    let port = studio.port;
+    let host = format!("Host: 127.0.0.1:{port}\r\n");
+    for (head, host) in [
+        ("GET / HTTP/1.1\r\nContent-Length: 1000000000000\r\n", ""),
+        ("GET / HTTP/1.1\r\nContent-Length: 1000000000000\r\n", host.as_str()),
+        ("POST /api/open?name=x.fold HTTP/1.1\r\nContent-Type: application/octet-stream\r\nContent-Length: 3000000000\r\n", host.as_str()),
+        ("POST /api/drag HTTP/1.1\r\nExpect: 100-continue\r\nContent-Length: 1500000000\r\n", host.as_str()),
+    ] {
+        let reply = exchange(port, format!("{head}{host}\r\nsome of it").as_bytes());
+        assert!(
+            reply.starts_with("HTTP/1.1 413 "),
+            "{head:?}: refused as too large, got {reply:?}"
+        );
+        assert!(!reply.contains("100 Continue"), "{reply}");
+        still_answering(&mut studio);
+    }
+    // A 64 MiB body, the most the studio takes, is read; a byte more is not.
+    let mut big = format!(
+        "POST /api/open?name=big.fold HTTP/1.1\r\n{host}Content-Type: application/octet-stream\r\nContent-Length: {}\r\n\r\n",
+        crease::limits::MAX_UPLOAD + 1
+    )
+    .into_bytes();
+    big.extend(std::iter::repeat_n(b' ', 16 << 10));
+    assert!(exchange(port, &big).starts_with("HTTP/1.1 413 "));
+    still_answering(&mut studio);
+}
+
+#[test]
+fn a_thousand_held_long_polls_leave_it_answering_in_bounded_threads_and_memory() {
+    let mut studio = StudioProcess::start_limited(&["patterns/miura.fold"], ADDRESS_SPACE_KB);
+    let (port, pid) = (studio.port, studio.child.id());
+    still_answering(&mut studio);
+    let (threads_before, rss_before) = (proc_status(pid, "Threads:"), proc_status(pid, "VmRSS:"));
+    // Polls for a frame that will not come for ten seconds, held open and never read.
+    let poll = format!("GET /api/frame?after=999999 HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\n\r\n");
+    let mut held = Vec::new();
+    for _ in 0..1000 {
+        let Ok(mut s) = TcpStream::connect(("127.0.0.1", port)) else {
+            continue;
+        };
+        let _ = s.write_all(poll.as_bytes());
+        held.push(s);
+    }
+    assert!(held.len() >= 900, "only {} connections opened", held.len());
+    // The page's own requests are answered while the polls are held (a 503 at once is
+    // the answer past the cap; it must clear within a couple of seconds).
+    let start = Instant::now();
+    let mut answered = 0;
+    while start.elapsed() < Duration::from_secs(4) {
+        let asked = Instant::now();
+        let (status, reply) = studio.request("GET", "/api/state", b"");
+        assert!(
+            asked.elapsed() < Duration::from_secs(1),
+            "{:?}",
+            asked.elapsed()
+        );
+        assert!(
+            status == 200 || status == 503,
+            "{status}: {}",
+            String::from_utf8_lossy(&reply)
+        );
+        answered += usize::from(status == 200);
+        let threads = proc_status(pid, "Threads:");
+        assert!(
+            threads <= threads_before + crease::limits::MAX_CONNECTIONS as u64 + 2,
+            "{threads} threads (from {threads_before})"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    assert!(answered >= 10, "only {answered} states answered in 4 s");
+    // What the connections cost at their worst: their threads' stacks and buffers.
+    let peak = proc_status(pid, "VmHWM:");
+    assert!(
+        peak < rss_before + 64_000,
+        "peak {peak} kB against {rss_before} kB before the flood"
+    );
+    drop(held);
+    still_answering(&mut studio);
+}
+
+#[test]
+fn a_chunked_body_cut_short_changes_nothing() {
+    let mut studio = StudioProcess::start(&["patterns/miura.fold"]);
+    let port = studio.port;
+    let before = still_answering(&mut studio);
+    assert_ne!(before["mode"], "simulation");
+    let body = br#"{"mode": "simulation"}"#;
+    let head = format!(
+        "POST /api/settings HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nContent-Type: application/json\r\nTransfer-Encoding: chunked\r\n\r\n"
+    );
+    let chunked = |chunks: &[Vec<u8>]| {
+        let mut raw = head.clone().into_bytes();
+        for c in chunks {
+            raw.extend(c);
+        }
+        raw
+    };
+    let whole = [
+        format!("{:X}\r\n", body.len()).into_bytes(),
+        body.to_vec(),
+        b"\r\n0\r\n\r\n".to_vec(),
+    ];
+    for (what, raw) in [
+        (
+            "a chunk claiming 4 GiB",
+            chunked(&[b"FFFFFFFF\r\n".to_vec(), body.to_vec()]),
+        ),
+        ("the body without its last chunk", chunked(&whole[..2])),
+        (
+            "the last chunk without its blank line",
+            chunked(&[whole[0].clone(), whole[1].clone(), b"\r\n0\r\n".to_vec()]),
+        ),
+    ] {
+        let reply = exchange(port, &raw);
+        assert!(!reply.starts_with("HTTP/1.1 200"), "{what}: {reply}");
+        let now = still_answering(&mut studio);
+        assert_eq!(now["mode"], before["mode"], "{what} changed the mode");
+    }
+    // The same body whole is taken: chunked requests are read, not refused.
+    let reply = exchange(port, &chunked(&whole));
+    assert!(reply.starts_with("HTTP/1.1 200"), "{reply}");
+    assert_eq!(still_answering(&mut studio)["mode"], "simulation");
+}
