@@ -333,6 +333,14 @@ pub const COORDINATE_PRECISION: Range = Range {
     max: 0.5,
 };
 
+/// The time a layer-order search may take (`verify --budget`), in seconds.
+pub const SEARCH_TIME: Range = Range {
+    what: "the layer search's time",
+    unit: "s",
+    min: 0.1,
+    max: 86_400.0,
+};
+
 /// Largest file the studio opens, and so the largest request body its HTTP side reads.
 pub const MAX_UPLOAD: usize = 64 << 20;
 

@@ -17,6 +17,8 @@ mod errors;
 mod fit;
 #[path = "design/flat_fold.rs"]
 mod flat_fold;
+#[path = "design/flat_folder.rs"]
+mod flat_folder;
 #[path = "design/foldability.rs"]
 mod foldability;
 #[path = "design/generate.rs"]

@@ -181,6 +181,9 @@ fn say_what_was_made(dir: &std::path::Path, result: &crease::pipeline::FabOutput
         eprintln!("warning: {warning}");
     }
     if !result.verification.pass() {
-        eprintln!("warning: the design fails verification; cut anyway because of --force");
+        eprintln!(
+            "warning: verdict {}; cut anyway because of --force",
+            result.verification.verdict()
+        );
     }
 }

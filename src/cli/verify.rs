@@ -29,6 +29,10 @@ pub struct VerifyArgs {
     /// (exit 1), or that the path is clear.
     #[arg(long)]
     path: bool,
+    /// Seconds the layer-order search may take; past them the verdict is UNDECIDED
+    /// (exit 3), saying what was left.
+    #[arg(long, default_value_t = 60.0)]
+    budget: f64,
 }
 
 #[derive(clap::Args)]
@@ -58,8 +62,8 @@ pub fn info(args: InfoArgs) -> Result<u8, String> {
     Ok(0)
 }
 
-/// `crease verify`: the report (text or JSON) and, with --path, the fold from flat; exit 1
-/// when a condition fails, the layer order is undecided or the path collides.
+/// `crease verify`: the report (text or JSON) and, with --path, the fold from flat; exit
+/// 0 pass, 1 a condition fails or the path collides, 3 undecided (the verdict's code).
 pub fn verify(args: VerifyArgs) -> Result<u8, String> {
     let set = args
         .conditions
@@ -73,30 +77,43 @@ pub fn verify(args: VerifyArgs) -> Result<u8, String> {
         }
         tolerances = fab::Tolerances::exactly(t);
     }
+    let seconds = crease::limits::SEARCH_TIME
+        .check("--budget", args.budget)
+        .map_err(|e| e.to_string())?;
     let mesh = io::read(&args.file).map_err(|e| e.to_string())?;
-    let report = fab::verify(&mesh, set.as_ref(), tolerances);
-    let path = args
-        .path
-        .then(|| crease::pipeline::folding_path(&mesh, &mut super::progress_bar()))
-        .transpose()
-        .map_err(|e| format!("{}: the path from flat: {e}", args.file.display()))?;
-    let collides = path.as_ref().is_some_and(|p| p.collision.is_some());
+    let budget = fab::Budget::search(std::time::Duration::from_secs_f64(seconds));
+    let report = fab::verify_within(&mesh, set.as_ref(), tolerances, &budget);
+    // The file was read: a path the solver cannot follow is undecided, not bad input.
+    let path = args.path.then(|| {
+        crease::pipeline::folding_path(&mesh, &mut super::progress_bar())
+            .map_err(|e| format!("the solver stopped: {e}"))
+    });
+    let collides = matches!(&path, Some(Ok(p)) if p.collision.is_some());
+    let path_undecided = matches!(&path, Some(Err(_)));
     if args.json {
         let mut value = report.to_json();
-        if let Some(p) = &path {
-            value["path"] = serde_json::to_value(p).expect("a path report is JSON");
+        match &path {
+            Some(Ok(p)) => value["path"] = serde_json::to_value(p).expect("a path report is JSON"),
+            Some(Err(why)) => {
+                value["path"] = serde_json::json!({"verdict": "UNDECIDED", "why": why});
+            }
+            None => {}
         }
         out(&format!("{value}\n"));
     } else {
         out(&report.to_string());
-        if let Some(p) = &path {
-            out(&format!("{p}\n"));
+        match &path {
+            Some(Ok(p)) => out(&format!("{p}\n")),
+            Some(Err(why)) => out(&format!("path from flat: UNDECIDED — {why}\n")),
+            None => {}
         }
     }
-    let decided = report.undecided().is_none();
-    Ok(if report.pass() && decided && !collides {
-        0
-    } else {
-        1
+    // The report's verdict decides the status (0 pass, 1 fail, 3 undecided); a path
+    // where faces pass through each other fails a design that otherwise holds, and one
+    // the solver could not follow leaves it undecided.
+    Ok(match report.verdict().exit_code() {
+        0 if collides => 1,
+        0 if path_undecided => 3,
+        code => code,
     })
 }

@@ -228,15 +228,17 @@ pub fn angular_inequality(mesh: &Mesh, reference: &Reference, c: &Corners, rows:
             }
             let (prev, next) = ((i + n - 1) % n, (i + 1) % n);
             let (s, sp, sn) = (sector(i), sector(prev), sector(next));
-            let element = Element::Sector(v, fan.spokes[creases[i]], fan.spokes[creases[next]]);
-            // Each bound: its value and the sector it sums.
+            let element =
+                |eq: u8| Element::Sector(v, fan.spokes[creases[i]], fan.spokes[creases[next]], eq);
+            // Each bound: its equation, its value and the sector it sums.
             let smaller = if sp <= sn { (sp, prev) } else { (sn, next) };
             let conditions = [
-                Some(smaller),
-                (direction(prev) != direction(i)).then_some((sp, prev)),
-                (direction(i + 2) != direction(i + 1)).then_some((sn, next)),
+                Some((6, smaller)),
+                (direction(prev) != direction(i)).then_some((7, (sp, prev))),
+                (direction(i + 2) != direction(i + 1)).then_some((8, (sn, next))),
             ];
-            for (bound, bound_sector) in conditions.into_iter().flatten() {
+            for (eq, (bound, bound_sector)) in conditions.into_iter().flatten() {
+                let element = element(eq);
                 let g = bound - s;
                 let row = rows.push(Family::AngularInequality, element, g.max(0.0));
                 if g > 0.0 {

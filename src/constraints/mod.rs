@@ -148,6 +148,15 @@ impl Family {
     }
 }
 
+impl Element {
+    /// Whether the row is one of the paper's empirical inequalities (7, 8): "an empirical
+    /// condition applicable to finding a locally closed vertex", which designs keep but
+    /// which no flat-folded state requires (the traditional Kabuto breaks it).
+    pub fn is_empirical(&self) -> bool {
+        matches!(self, Element::Sector(_, _, _, 7 | 8))
+    }
+}
+
 /// What a residual row is about, so reports can name it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Element {
@@ -155,8 +164,11 @@ pub enum Element {
     Vertex(usize),
     /// An edge.
     Edge(usize),
-    /// A pair of consecutive creases at a vertex (angular inequalities): vertex, edges.
-    Sector(usize, usize, usize),
+    /// A pair of consecutive creases at a vertex (angular inequalities): vertex, edges,
+    /// and which of the paper's equations the row is: 6, Kawasaki's necessary condition
+    /// (the big-little-big lemma), or 7 and 8, its empirical condition for a locally
+    /// closed vertex ([`Element::is_empirical`]).
+    Sector(usize, usize, usize, u8),
     /// Two faces (self-intersection: they pass through each other).
     Faces(usize, usize),
 }
@@ -166,7 +178,9 @@ impl std::fmt::Display for Element {
         match self {
             Element::Vertex(v) => write!(f, "vertex {v}"),
             Element::Edge(e) => write!(f, "edge {e}"),
-            Element::Sector(v, a, b) => write!(f, "vertex {v} between edges {a} and {b}"),
+            Element::Sector(v, a, b, eq) => {
+                write!(f, "vertex {v} between edges {a} and {b} (eq. {eq})")
+            }
             Element::Faces(a, b) => write!(f, "faces {a} and {b}"),
         }
     }

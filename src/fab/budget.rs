@@ -87,6 +87,16 @@ impl fmt::Display for OverBudget {
 impl std::error::Error for OverBudget {}
 
 impl Budget {
+    /// The command line's budget: `time` from now for the layer search, with the advice
+    /// to raise it.
+    pub fn search(time: Duration) -> Budget {
+        Budget {
+            deadline: Some((Instant::now() + time, time)),
+            advice: "raise --budget to search longer",
+            ..Budget::default()
+        }
+    }
+
     /// A budget of `time` from now, cancelled by `cancel`, with `advice` for the user.
     pub fn live(time: Duration, cancel: Arc<AtomicBool>, advice: &'static str) -> Budget {
         Budget {

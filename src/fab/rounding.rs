@@ -55,7 +55,7 @@ impl RoundingBounds {
     pub fn allowance(&self, mesh: &Mesh, family: Family, element: Element) -> f64 {
         match (family, element) {
             (Family::Coincidence, _) => 2.0 * 3f64.sqrt() * self.precision,
-            (_, Element::Vertex(v) | Element::Sector(v, _, _)) => self.vertex[v],
+            (_, Element::Vertex(v) | Element::Sector(v, _, _, _)) => self.vertex[v],
             (_, Element::Faces(..)) => 0.0,
             (f, Element::Edge(e)) if f.is_length() => 2.0 * self.edge[e],
             (_, Element::Edge(e)) => {

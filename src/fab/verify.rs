@@ -97,21 +97,115 @@ pub struct Report {
     /// Coordinate rounding of the source file (mm) that the per-element allowances come
     /// from, if any.
     pub precision: f64,
+    /// How precisely a crease pattern was drawn, measured on its flat-folded state
+    /// ([`super::precision::drawing_precision`]); `None` for a 3D design, a pattern that
+    /// does not fold to a flat state, or a tolerance given by the user.
+    pub drawn: Option<super::precision::DrawnPrecision>,
     /// What was not checked, and why.
     pub notes: Vec<String>,
 }
 
-impl Report {
-    /// Every family passes.
-    pub fn pass(&self) -> bool {
-        self.families
-            .iter()
-            .filter(|f| f.gating)
-            .all(FamilyReport::pass)
+/// The one verdict on a design, shown alike by `verify` (text and `--json`), `fab`
+/// (which refuses all but [`Verdict::Pass`] without `--force`), `report.json` and the
+/// studio's badge.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Verdict {
+    /// Every condition the design claims was judged and holds.
+    Pass,
+    /// A judged condition fails: which, where, and by how much against what.
+    Fail {
+        /// The condition (a family name).
+        condition: &'static str,
+        /// Where its largest residual is.
+        at: String,
+        /// That residual.
+        value: f64,
+        /// The threshold there.
+        tolerance: f64,
+    },
+    /// Nothing judged fails, but something the design claims could not be judged: what,
+    /// and why.
+    Undecided {
+        /// The condition.
+        condition: &'static str,
+        /// Why it was not judged.
+        why: String,
+    },
+}
+
+impl Verdict {
+    /// The process exit status that carries it: 0 pass, 1 fail, 3 undecided (2 is bad
+    /// input, before any verdict).
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            Verdict::Pass => 0,
+            Verdict::Fail { .. } => 1,
+            Verdict::Undecided { .. } => 3,
+        }
     }
 
-    /// The first family that would decide the verdict but was not judged (its budget
-    /// ran out): `verify` exits 1 on it, as on a failure, since nothing was shown.
+    /// `PASS`, `FAIL` or `UNDECIDED`.
+    pub fn word(&self) -> &'static str {
+        match self {
+            Verdict::Pass => "PASS",
+            Verdict::Fail { .. } => "FAIL",
+            Verdict::Undecided { .. } => "UNDECIDED",
+        }
+    }
+
+    /// Whether the design passes.
+    pub fn is_pass(&self) -> bool {
+        *self == Verdict::Pass
+    }
+}
+
+impl fmt::Display for Verdict {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Verdict::Pass => write!(f, "PASS"),
+            Verdict::Fail {
+                condition,
+                at,
+                value,
+                tolerance,
+            } => write!(
+                f,
+                "FAIL — {condition} at {at} ({value:.3e} > {tolerance:.1e})"
+            ),
+            Verdict::Undecided { condition, why } => write!(f, "UNDECIDED — {condition}: {why}"),
+        }
+    }
+}
+
+impl Report {
+    /// The verdict ([`Verdict`]): a judged condition that fails decides it; else one the
+    /// design claims that could not be judged leaves it undecided; else it passes.
+    pub fn verdict(&self) -> Verdict {
+        if let Some(r) = self.first_failure() {
+            return Verdict::Fail {
+                condition: r.name,
+                at: r.worst.clone().unwrap_or_else(|| "?".into()),
+                value: r.max,
+                tolerance: r.worst_tolerance,
+            };
+        }
+        match self.undecided() {
+            Some(r) => Verdict::Undecided {
+                condition: r.name,
+                why: r.undecided.clone().unwrap_or_default(),
+            },
+            None => Verdict::Pass,
+        }
+    }
+
+    /// Whether the verdict is [`Verdict::Pass`]: every claimed condition judged, and
+    /// every judged one holds.
+    pub fn pass(&self) -> bool {
+        self.verdict().is_pass()
+    }
+
+    /// The first family the design claims that was not judged (its analysis ran out of
+    /// budget, or its creases do not say how they fold).
     pub fn undecided(&self) -> Option<&FamilyReport> {
         self.families.iter().find(|f| f.undecided.is_some())
     }
@@ -142,7 +236,10 @@ impl Report {
             .filter(|f| f.undecided.is_some())
             .map(|f| f.name)
             .collect();
-        json!({"pass": self.pass(), "undecided": undecided, "families": families, "coordinate_precision_mm": self.precision,
+        let verdict = self.verdict();
+        json!({"verdict": verdict.word(), "verdict_text": verdict.to_string(), "exit_code": verdict.exit_code(),
+               "pass": verdict.is_pass(), "undecided": undecided, "families": families, "coordinate_precision_mm": self.precision,
+               "drawn_precision_mm": self.drawn.map(|d| d.precision), "drawn_exactly": self.drawn.map(|d| d.exact),
                "notes": self.notes})
     }
 }
@@ -155,6 +252,13 @@ impl fmt::Display for Report {
             "condition", "rows", "max", "rms", "fail"
         )?;
         for r in &self.families {
+            // A family reported but not judged shows its count in brackets: it never
+            // reads as a failure beside the verdict.
+            let fail = if r.gating {
+                r.violations.to_string()
+            } else {
+                format!("({})", r.violations)
+            };
             writeln!(
                 f,
                 "{:<20} {:>6} {:>10.3e} {:>10.3e} {:>6}  {}",
@@ -162,12 +266,32 @@ impl fmt::Display for Report {
                 r.rows,
                 r.max,
                 r.rms,
-                r.violations,
+                fail,
                 r.worst.as_deref().unwrap_or("-")
+            )?;
+        }
+        if self.families.iter().any(|r| !r.gating) {
+            writeln!(
+                f,
+                "(n): reported, not judged: it does not decide the verdict"
             )?;
         }
         for note in &self.notes {
             writeln!(f, "note: {note}")?;
+        }
+        match self.drawn {
+            Some(d) if d.exact => writeln!(
+                f,
+                "drawing: exact (folded, its corners meet to within {:.1e} mm)",
+                d.precision
+            )?,
+            Some(d) => writeln!(
+                f,
+                "drawing: drawn to within {:.1e} mm (folded, corners meant to meet lie that near; \
+                 the tolerances below allow for it)",
+                d.precision
+            )?,
+            None => {}
         }
         // One line per distinct basis, naming the conditions it applies to.
         let mut bases: Vec<(&str, Vec<&str>)> = Vec::new();
@@ -180,23 +304,13 @@ impl fmt::Display for Report {
         for (basis, names) in bases {
             writeln!(f, "tolerance ({}): {basis}", names.join(", "))?;
         }
-        match (self.first_failure(), self.undecided()) {
-            (None, None) => writeln!(f, "verdict: PASS"),
-            (None, Some(r)) => writeln!(
-                f,
-                "verdict: NOT JUDGED — {}: {}; every condition judged passes",
-                r.name,
-                r.undecided.as_deref().unwrap_or("")
-            ),
-            (Some(r), _) => {
-                writeln!(
-                    f,
-                    "verdict: FAIL — {} at {} ({:.3e} > {:.1e})",
-                    r.name,
-                    r.worst.as_deref().unwrap_or("?"),
-                    r.max,
-                    r.worst_tolerance
-                )?;
+        match self.verdict() {
+            Verdict::Pass => writeln!(f, "verdict: PASS"),
+            undecided @ Verdict::Undecided { .. } => {
+                writeln!(f, "verdict: {undecided}; every condition judged passes")
+            }
+            fail @ Verdict::Fail { .. } => {
+                writeln!(f, "verdict: {fail}")?;
                 for failing in self.families.iter().filter(|r| r.gating && !r.pass()) {
                     let more = failing.violations.saturating_sub(failing.violators.len());
                     let tail = if more > 0 {
@@ -290,6 +404,23 @@ pub fn verify_within(
     tol: Tolerances,
     budget: &Budget,
 ) -> Report {
+    // A crease pattern's drawing noise, measured, founds its allowances as a file's
+    // rounding does; a pattern drawn exactly keeps the tolerances it had.
+    let drawn = (tol.rounding && !mesh.has_3d())
+        .then(|| super::precision::drawing_precision(mesh))
+        .flatten();
+    let noisy;
+    let mesh = match drawn {
+        Some(d) if !d.exact && d.precision > mesh.coordinate_precision => {
+            noisy = {
+                let mut m = mesh.clone();
+                m.coordinate_precision = d.precision;
+                m
+            };
+            &noisy
+        }
+        _ => mesh,
+    };
     let reference = Reference::new(mesh);
     let default;
     let set = match conditions {
@@ -306,8 +437,21 @@ pub fn verify_within(
         .families
         .iter()
         .filter(|&&f| f != Family::LayerOrder)
-        .map(|&family| family_report(mesh, family, &rows, tol, bounds.as_ref()))
+        .flat_map(|&family| family_reports(mesh, family, &rows, tol, bounds.as_ref()))
         .collect();
+    let mut notes = Vec::new();
+    if let Some(r) = families
+        .iter()
+        .find(|r| r.name == EMPIRICAL && r.violations > 0)
+    {
+        notes.push(format!(
+            "eq. (7, 8), the paper's empirical condition for a locally closed vertex, does not hold at \
+             {} sector(s) (largest at {}): designs keep it while they are varied, but a flat fold \
+             does not need it, and it does not decide the verdict (eq. 6 and the layer order do)",
+            r.violations,
+            r.worst.as_deref().unwrap_or("?")
+        ));
+    }
     if set.families.contains(&Family::FlatFoldability) {
         families.extend(maekawa(mesh));
     }
@@ -323,12 +467,14 @@ pub fn verify_within(
     let asked = set.families.contains(&Family::LayerOrder);
     let wants_flat =
         conditions.is_none() || asked || set.families.contains(&Family::FlatFoldability);
-    let mut notes = Vec::new();
     if wants_flat {
         // Named among the conditions, the order gates a freeform design too.
         let freeform = mesh.has_3d() && !lies_in_a_plane(mesh);
         let only_reported = freeform && !asked;
-        let report = layer_order_report(mesh, budget, freeform, only_reported);
+        // Flat folding named among the conditions is a claim: what cannot be judged of it
+        // leaves the verdict undecided.
+        let claimed = conditions.is_some();
+        let report = layer_order_report(mesh, budget, freeform, only_reported, claimed);
         if let Some(r) = report
             .as_ref()
             .filter(|r| only_reported && r.violations > 0)
@@ -340,6 +486,7 @@ pub fn verify_within(
         }
         families.extend(report);
     }
+    families.extend(unassigned_creases(mesh));
     if conditions.is_none() && !set.families.contains(&Family::FlatFoldability) {
         notes.push(match reference.odd_vertex {
             Some(v) => format!(
@@ -352,8 +499,40 @@ pub fn verify_within(
     Report {
         families,
         precision,
+        drawn,
         notes,
     }
+}
+
+/// A crease pattern with unassigned creases (`U`) between two faces: whether it folds flat
+/// depends on the mountain/valley they are given, which is not searched yet, so nothing
+/// about its flat folding is shown and the verdict is undecided. `None` without them, or
+/// for a 3D design (its creases fold to the form it has).
+fn unassigned_creases(mesh: &Mesh) -> Option<FamilyReport> {
+    if mesh.has_3d() {
+        return None;
+    }
+    let topo = mesh.topology();
+    let unassigned: Vec<usize> = (0..mesh.edges().len())
+        .filter(|&e| {
+            mesh.edges()[e].assignment == Assignment::Unassigned
+                && topo.edge_faces[e].iter().all(Option::is_some)
+        })
+        .collect();
+    let first = *unassigned.first()?;
+    let why = format!(
+        "{} crease(s) are unassigned (U, the first edge {first}): whether the pattern folds flat \
+         depends on the mountain or valley they are given, which is not searched yet; assign \
+         them and verify again",
+        unassigned.len()
+    );
+    Some(FamilyReport {
+        rows: unassigned.len(),
+        gating: false,
+        basis: format!("not judged: {why}"),
+        undecided: Some(why),
+        ..summarise("assignment", &[], 0.0)
+    })
 }
 
 /// Faces of the 3D form that pass through each other ([`super::intersect`]): one row per
@@ -393,29 +572,65 @@ fn lies_in_a_plane(mesh: &Mesh) -> bool {
     x.iter().all(|p| (p - c).dot(&normal).abs() <= tolerance)
 }
 
+/// The name under which the paper's empirical inequalities (7, 8) are reported.
+const EMPIRICAL: &str = "empirical-inequality";
+
+/// One family's report ([`family_report`]); the angular inequalities give two: eq. (6),
+/// Kawasaki's necessary condition, judged as `angular-inequality`, and eq. (7, 8), the
+/// paper's empirical condition, reported but not judged as `empirical-inequality`.
+fn family_reports(
+    mesh: &Mesh,
+    family: Family,
+    rows: &crate::constraints::Rows,
+    tol: Tolerances,
+    bounds: Option<&RoundingBounds>,
+) -> Vec<FamilyReport> {
+    let values = rows
+        .residuals
+        .iter()
+        .zip(&rows.labels)
+        .filter(|(_, (f, _))| *f == family)
+        .map(|(r, (_, el))| (*r, *el));
+    if family != Family::AngularInequality {
+        return vec![family_report(
+            mesh,
+            family,
+            family.name(),
+            values.collect(),
+            tol,
+            bounds,
+        )];
+    }
+    let (empirical, necessary): (Vec<_>, Vec<_>) = values.partition(|(_, el)| el.is_empirical());
+    let mut advice = family_report(mesh, family, EMPIRICAL, empirical, tol, bounds);
+    advice.gating = false;
+    advice.basis = format!(
+        "reported, not judged: the paper's empirical condition (eq. 7, 8); {}",
+        advice.basis
+    );
+    vec![
+        family_report(mesh, family, family.name(), necessary, tol, bounds),
+        advice,
+    ]
+}
+
 /// One family's rows summarised against its tolerance (radians, or relative or mm for
 /// lengths), each element's allowance for the file's rounding added when `bounds` has
 /// one, with the basis of the tolerance stated for the report.
 fn family_report(
     mesh: &Mesh,
     family: Family,
-    rows: &crate::constraints::Rows,
+    name: &'static str,
+    values: Vec<(f64, Element)>,
     tol: Tolerances,
     bounds: Option<&RoundingBounds>,
 ) -> FamilyReport {
-    let values: Vec<(f64, Element)> = rows
-        .residuals
-        .iter()
-        .zip(&rows.labels)
-        .filter(|(_, (f, _))| *f == family)
-        .map(|(r, (_, el))| (*r, *el))
-        .collect();
     let (t, unit) = match family {
         Family::Coincidence => (tol.length, "mm"),
         f if f.is_length() => (tol.length, "relative"),
         _ => (tol.angle, "rad"),
     };
-    let mut report = summarise_with(family.name(), &values, t, |el| {
+    let mut report = summarise_with(name, &values, t, |el| {
         bounds.map_or(0.0, |b| b.allowance(mesh, family, el))
     });
     report.basis = if !tol.rounding {
@@ -427,7 +642,7 @@ fn family_report(
             String::new()
         };
         format!(
-            "{t:.0e} {unit} plus each element's bound from the file's rounding (±{:.1e} mm){widest}",
+            "{t:.0e} {unit} plus each element's bound from the file's precision (±{:.1e} mm){widest}",
             b.precision
         )
     } else {
@@ -451,6 +666,7 @@ fn layer_order_report(
     budget: &Budget,
     freeform: bool,
     only_reported: bool,
+    claimed: bool,
 ) -> Option<FamilyReport> {
     use super::layers::{layer_order_within, LayerError, LayerOrder};
     let folded = super::flat_folded(mesh, None).ok()?;
@@ -465,12 +681,14 @@ fn layer_order_report(
     // its claim.
     if let Some(e) = super::layers::partial_crease(mesh).filter(|_| !freeform) {
         let edge = &mesh.edges()[e];
+        let why = format!(
+            "crease {e} is drawn at {:.0}°, a partial fold: the pattern does not say it folds flat",
+            crate::io::fold::angle_to_fold(edge.fold_angle)
+        );
         return Some(FamilyReport {
             gating: false,
-            basis: format!(
-                "not judged: crease {e} is drawn at {:.0}°, a partial fold",
-                crate::io::fold::angle_to_fold(edge.fold_angle)
-            ),
+            basis: format!("not judged: {why}"),
+            undecided: claimed.then_some(why),
             ..summarise("layer-order", &[], 0.0)
         });
     }
@@ -481,9 +699,12 @@ fn layer_order_report(
     let now = std::time::Instant::now();
     let reported = Budget {
         max_constraints: budget.max_constraints.min(FREEFORM_LAYER_CAP),
-        deadline: budget
-            .deadline
-            .map(|(at, given)| (at.min(now + FREEFORM_LIVE), given.min(FREEFORM_LIVE))),
+        // Only a live analysis (one that can be cancelled: the studio's) holds the
+        // report to FREEFORM_LIVE; the command line's deadline stands as given.
+        deadline: budget.deadline.map(|(at, given)| match budget.cancel {
+            Some(_) => (at.min(now + FREEFORM_LIVE), given.min(FREEFORM_LIVE)),
+            None => (at, given),
+        }),
         ..budget.clone()
     };
     let budget = if only_reported { &reported } else { budget };
@@ -516,9 +737,12 @@ fn layer_order_report(
             undecided: (!only_reported).then(|| e.to_string()),
             ..summarise("layer-order", &[], 0.0)
         },
+        // The search stopped, or the folded state could not be set up: nothing was
+        // shown either way, so a claim of folding flat is left undecided.
         Err(e) => FamilyReport {
             gating: false,
             basis: format!("not decided: {e}"),
+            undecided: (!only_reported).then(|| format!("not decided: {e}")),
             ..summarise("layer-order", &[], 0.0)
         },
     };

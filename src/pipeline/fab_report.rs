@@ -189,7 +189,12 @@ impl<'a> Run<'a> {
     }
 
     /// The lines under the PDF's title: machine, media and size, the job, and the notes.
-    pub fn summary(&self, passed: bool, job_line: &str, warnings: &[String]) -> Vec<String> {
+    pub fn summary(
+        &self,
+        verdict: &crate::fab::Verdict,
+        job_line: &str,
+        warnings: &[String],
+    ) -> Vec<String> {
         let (sheet, media) = (self.sheet, &self.sheet.media);
         let mut summary = vec![
             format!(
@@ -201,7 +206,10 @@ impl<'a> Run<'a> {
                 sheet.size[0],
                 sheet.size[1],
                 sheet.scale,
-                if passed { "passed" } else { "FAILED (forced)" }
+                match verdict {
+                    crate::fab::Verdict::Pass => "passed".to_string(),
+                    other => format!("{} (forced)", other.word()),
+                }
             ),
             job_line.to_string(),
         ];

@@ -76,8 +76,14 @@ pub fn fabricate_verified(
     use crate::fab::{score_lines, Media};
     let sizing = sizing_of(options)?;
     if !verification.pass() && !options.force {
+        let verdict = verification.verdict();
+        let what = if matches!(verdict, crate::fab::Verdict::Undecided { .. }) {
+            "verification could not decide the design"
+        } else {
+            "the design fails verification"
+        };
         return Err(FabError::Rejected(Rejected(format!(
-            "the design fails verification (use --force to cut it anyway):\n{verification}"
+            "{what} (use --force to cut it anyway):\n{verification}"
         ))));
     }
     // A tube is made from the strip it is cut open to, with a glue tab (issue 31).
@@ -162,7 +168,7 @@ pub fn fabricate_verified(
     let job_line = run.job_line(&figures);
     let mut warnings: Vec<String> = run.unscored_warning().into_iter().collect();
     warnings.extend(hinge.as_ref().and_then(too_far_warning));
-    let mut summary = run.summary(verification.pass(), &job_line, &warnings);
+    let mut summary = run.summary(&verification.verdict(), &job_line, &warnings);
     if let Some(seam) = &report.seam {
         summary.push(format!(
             "a tube: fold the glue tab under along its valley and glue the seam's {} numbered edges beside it onto the edges numbered alike across the sheet (report.json, seam)",

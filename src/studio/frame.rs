@@ -250,7 +250,7 @@ pub struct Live<'a> {
 /// The element to highlight: a vertex, or an edge (an index into the topology's edges).
 fn element_json(element: Element) -> Value {
     match element {
-        Element::Vertex(v) | Element::Sector(v, _, _) => json!({"vertex": v}),
+        Element::Vertex(v) | Element::Sector(v, _, _, _) => json!({"vertex": v}),
         Element::Edge(e) => json!({"edge": e}),
         Element::Faces(a, b) => json!({"faces": [a, b]}),
     }
@@ -265,6 +265,8 @@ struct LiveOut<'a> {
     mode: &'static str,
     residuals: Value,
     pass: Option<bool>,
+    /// The report's verdict: PASS, FAIL or UNDECIDED ([`crate::fab::Verdict`]).
+    verdict: Option<&'static str>,
     worst: Option<Value>,
     dragging: Option<usize>,
     message: &'a str,
@@ -289,7 +291,7 @@ pub fn live_json(l: &Live) -> String {
         .iter()
         .flat_map(|p| [micro(p.x), micro(p.y), micro(p.z)])
         .collect();
-    let (residuals, pass, worst) = match l.report {
+    let (residuals, pass, verdict, worst) = match l.report {
         Some(r) => {
             let families: Vec<Value> = r
                 .families
@@ -310,9 +312,15 @@ pub fn live_json(l: &Live) -> String {
                                "max": f.max, "pass": f.pass()})
                     })
                 });
-            (Value::Array(families), Some(r.pass()), worst)
+            let verdict = r.verdict();
+            (
+                Value::Array(families),
+                Some(verdict.is_pass()),
+                Some(verdict.word()),
+                worst,
+            )
         }
-        None => (Value::Array(vec![]), None, None),
+        None => (Value::Array(vec![]), None, None, None),
     };
     serde_json::to_string(&LiveOut {
         positions,
@@ -321,6 +329,7 @@ pub fn live_json(l: &Live) -> String {
         mode: l.mode.name(),
         residuals,
         pass,
+        verdict,
         worst,
         dragging: l.dragging,
         message: l.message,

@@ -142,8 +142,8 @@ export class Panel {
     $('vertex-count').textContent = live.vertices;
     $('steps').textContent = Math.round(live.stepsPerSecond);
     const verdict = $('verdict');
-    verdict.textContent = live.pass === null ? '…' : live.pass ? 'PASS' : 'FAIL';
-    verdict.className = live.pass ? 'pass' : 'fail';
+    verdict.textContent = live.verdict || '…';
+    verdict.className = live.verdict === 'PASS' ? 'pass' : live.verdict === 'UNDECIDED' ? 'undecided' : 'fail';
     $('undo').disabled = live.undo === 0;
     $('redo').disabled = live.redo === 0;
     for (const r of document.querySelectorAll('input[name=mode]')) r.checked = r.value === live.mode;
