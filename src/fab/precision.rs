@@ -25,6 +25,10 @@ const HALVINGS: i32 = 25;
 /// leave around a vertex ([`super::FlatFolded::mismatch`]).
 const GAPS_EXPLAINED: f64 = 4.0;
 
+/// A precision below this fraction of the pattern's diagonal is what double precision
+/// leaves along the folding (about 1e-16 a reflection, compounded): the drawing is exact.
+const EXACT_RELATIVE: f64 = 1e-12;
+
 /// How a pattern's drawing was measured.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DrawnPrecision {
@@ -62,9 +66,11 @@ pub fn drawing_precision(mesh: &Mesh) -> Option<DrawnPrecision> {
         .unwrap_or(start);
     // A scale coarser than the gaps the folded corners actually leave would merge real
     // features, not noise: the precision is held to a few times the largest gap.
+    let (lo, hi) = crate::mesh::bounds(cp);
+    let precision = scales[end].min(GAPS_EXPLAINED * folded.mismatch);
     Some(DrawnPrecision {
-        precision: scales[end].min(GAPS_EXPLAINED * folded.mismatch),
-        exact: end + 1 == counts.len(),
+        precision,
+        exact: end + 1 == counts.len() || precision <= EXACT_RELATIVE * (hi - lo).norm(),
     })
 }
 

@@ -504,12 +504,14 @@ pub fn verify_within(
     }
 }
 
-/// A crease pattern with unassigned creases (`U`) between two faces: whether it folds flat
-/// depends on the mountain/valley they are given, which is not searched yet, so nothing
-/// about its flat folding is shown and the verdict is undecided. `None` without them, or
-/// for a 3D design (its creases fold to the form it has).
+/// A crease pattern whose creases are all unassigned (`U`, as Flat-Folder's "unassigned"
+/// patterns): it says only where the paper folds, so the claim is that it folds flat,
+/// and whether it does depends on the mountain/valley they are given, which is not
+/// searched yet: the verdict is undecided. `None` for a pattern with mountains or
+/// valleys (its `U` lines are free, as Resch's tucks), or a 3D design (its creases fold
+/// to the form it has).
 fn unassigned_creases(mesh: &Mesh) -> Option<FamilyReport> {
-    if mesh.has_3d() {
+    if mesh.has_3d() || mesh.edges().iter().any(|e| e.assignment.is_folded()) {
         return None;
     }
     let topo = mesh.topology();
