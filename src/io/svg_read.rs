@@ -77,7 +77,8 @@ pub fn parse_colour(text: &str) -> Option<[u8; 3]> {
     })
 }
 
-/// The crease type of an exact Origami Simulator colour.
+/// The crease type of an exact Origami Simulator colour, or grey (`gray`, `#808080`): the
+/// auxiliary lines Flat-Folder and ORIPA-like tools draw, flat.
 pub fn assignment_of_colour(rgb: [u8; 3]) -> Option<Assignment> {
     Some(match rgb {
         [0, 0, 0] => Assignment::Boundary,
@@ -85,6 +86,8 @@ pub fn assignment_of_colour(rgb: [u8; 3]) -> Option<Assignment> {
         [0, 0, 255] => Assignment::Valley,
         [0, 255, 0] => Assignment::Cut,
         [255, 255, 0] => Assignment::Flat,
+        // Flat-Folder's and ORIPA-like tools' auxiliary lines.
+        [128, 128, 128] => Assignment::Flat,
         [255, 0, 255] => Assignment::Unassigned,
         _ => return None,
     })
@@ -359,7 +362,7 @@ fn crease_of(
     let assignment = assignment_of_colour(rgb).ok_or_else(|| {
         format!(
             "<{name}> (element {element_index}) has stroke colour \"{stroke}\", which is not a crease colour \
-             (black border, red mountain, blue valley, green cut, yellow flat, magenta unassigned)"
+             (black border, red mountain, blue valley, green cut, yellow or grey flat, magenta unassigned)"
         )
     })?;
     let fold_angle = match assignment {

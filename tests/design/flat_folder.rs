@@ -317,3 +317,15 @@ fn the_sample_designs_pass_through_their_drawing_noise() {
         assert!(report.drawn.is_some(), "{name}: the drawing measured");
     }
 }
+
+/// Flat-Folder's own SVGs draw auxiliary lines grey: they read as flat lines, and the
+/// crane folds flat.
+#[test]
+fn grey_lines_read_as_flat_and_the_crane_passes() {
+    let crane = data("original").join("crane.svg");
+    let mesh = crease::io::read(&crane).unwrap_or_else(|e| panic!("{e}"));
+    assert!(mesh.edges().iter().any(|e| e.assignment.is_folded()));
+    let report = verify(&mesh, None, Tolerances::default());
+    assert_eq!(report.verdict(), Verdict::Pass, "{report}");
+    assert!(layer_order_judged(&report), "{report}");
+}
