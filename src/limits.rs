@@ -80,6 +80,17 @@ pub fn short(x: f64) -> String {
     format!("{mantissa}e{exp}")
 }
 
+/// A text quoted in a message, cut to 60 characters (a hostile header or value may be
+/// megabytes long).
+pub fn short_text(text: &str) -> String {
+    const MAX: usize = 60;
+    if text.chars().count() <= MAX {
+        return text.to_string();
+    }
+    let cut: String = text.chars().take(MAX).collect();
+    format!("{cut}…")
+}
+
 /// A length drawn on a sheet or a pattern's cell edge: from a hundredth of a millimetre
 /// (below any blade's resolution) to 10 m.
 pub const LENGTH: Range = Range {

@@ -404,6 +404,96 @@ pub fn verify_within(
     tol: Tolerances,
     budget: &Budget,
 ) -> Report {
+    verify_assigning(mesh, conditions, tol, budget)
+        .unwrap_or_else(|| verify_as_drawn(mesh, conditions, tol, budget))
+}
+
+/// A crease pattern whose creases are all unassigned (`U`, Flat-Folder's "unassigned"
+/// patterns) says only where the paper folds: its claim is that some mountain/valley
+/// folds it flat. The layer search is run with those creases' sides free
+/// ([`super::layers::assign_unassigned`]); the pattern is verified with the sides found
+/// (a note says so), fails naming the faces no assignment orders, or is undecided when the
+/// search could not finish. `None` for any other design.
+fn verify_assigning(
+    mesh: &Mesh,
+    conditions: Option<&ConstraintSet>,
+    tol: Tolerances,
+    budget: &Budget,
+) -> Option<Report> {
+    let open = unassigned_interior(mesh)?;
+    let mut free = mesh.clone();
+    for &e in &open {
+        let edge = &mut free.edges_mut()[e];
+        (edge.target, edge.fold_angle) = (PI, PI);
+    }
+    let found = super::layers::assign_unassigned(&free, budget);
+    let Ok(Ok(sides)) = found else {
+        let mut report = verify_as_drawn(mesh, conditions, tol, budget);
+        match found {
+            Ok(Err(conflict)) => {
+                report.families.retain(|f| f.name != "assignment");
+                let mut row = conflict_report(&conflict);
+                row.basis = format!(
+                    "no mountain/valley for the {} unassigned creases gives a layer order",
+                    open.len()
+                );
+                report.families.push(row);
+            }
+            Err(e) => {
+                if let Some(row) = report.families.iter_mut().find(|f| f.name == "assignment") {
+                    let why = format!("the search for their sides stopped: {e}");
+                    row.basis = format!("not judged: {why}");
+                    row.undecided = Some(why);
+                }
+            }
+            Ok(Ok(_)) => unreachable!("handled above"),
+        }
+        return Some(report);
+    };
+    let mut assigned = mesh.clone();
+    for &(e, side) in &sides {
+        let edge = &mut assigned.edges_mut()[e];
+        edge.assignment = side;
+        edge.target = side.default_target();
+        edge.fold_angle = edge.target;
+    }
+    let mountains = sides
+        .iter()
+        .filter(|(_, a)| *a == Assignment::Mountain)
+        .count();
+    let mut report = verify_as_drawn(&assigned, conditions, tol, budget);
+    report.notes.push(format!(
+        "the {} unassigned creases were given the sides of a layer order found with them free: \
+         {mountains} mountain(s), {} valley(s); the verdict is the assigned pattern's",
+        open.len(),
+        sides.len() - mountains
+    ));
+    Some(report)
+}
+
+/// The interior edges of a crease pattern whose creases are all unassigned, when it has
+/// any (`None` for a 3D design or a pattern with mountains or valleys).
+fn unassigned_interior(mesh: &Mesh) -> Option<Vec<usize>> {
+    if mesh.has_3d() || mesh.edges().iter().any(|e| e.assignment.is_folded()) {
+        return None;
+    }
+    let topo = mesh.topology();
+    let open: Vec<usize> = (0..mesh.edges().len())
+        .filter(|&e| {
+            mesh.edges()[e].assignment == Assignment::Unassigned
+                && topo.edge_faces[e].iter().all(Option::is_some)
+        })
+        .collect();
+    (!open.is_empty()).then_some(open)
+}
+
+/// [`verify_within`] of the design as its file draws it.
+fn verify_as_drawn(
+    mesh: &Mesh,
+    conditions: Option<&ConstraintSet>,
+    tol: Tolerances,
+    budget: &Budget,
+) -> Report {
     // A crease pattern's drawing noise, measured, founds its allowances as a file's
     // rounding does; a pattern drawn exactly keeps the tolerances it had.
     let drawn = (tol.rounding && !mesh.has_3d())
@@ -504,28 +594,16 @@ pub fn verify_within(
     }
 }
 
-/// A crease pattern whose creases are all unassigned (`U`, as Flat-Folder's "unassigned"
-/// patterns): it says only where the paper folds, so the claim is that it folds flat,
-/// and whether it does depends on the mountain/valley they are given, which is not
-/// searched yet: the verdict is undecided. `None` for a pattern with mountains or
-/// valleys (its `U` lines are free, as Resch's tucks), or a 3D design (its creases fold
-/// to the form it has).
+/// The row of a crease pattern whose creases are all unassigned, as drawn: undecided
+/// ([`verify_assigning`] replaces it with the verdict of the sides it finds). `None` for
+/// a pattern with mountains or valleys (its `U` lines are free, as Resch's tucks), or a
+/// 3D design (its creases fold to the form it has).
 fn unassigned_creases(mesh: &Mesh) -> Option<FamilyReport> {
-    if mesh.has_3d() || mesh.edges().iter().any(|e| e.assignment.is_folded()) {
-        return None;
-    }
-    let topo = mesh.topology();
-    let unassigned: Vec<usize> = (0..mesh.edges().len())
-        .filter(|&e| {
-            mesh.edges()[e].assignment == Assignment::Unassigned
-                && topo.edge_faces[e].iter().all(Option::is_some)
-        })
-        .collect();
-    let first = *unassigned.first()?;
+    let unassigned = unassigned_interior(mesh)?;
+    let first = unassigned[0];
     let why = format!(
         "{} crease(s) are unassigned (U, the first edge {first}): whether the pattern folds flat \
-         depends on the mountain or valley they are given, which is not searched yet; assign \
-         them and verify again",
+         depends on the mountain or valley they are given",
         unassigned.len()
     );
     Some(FamilyReport {
@@ -672,10 +750,30 @@ fn layer_order_report(
 ) -> Option<FamilyReport> {
     use super::layers::{layer_order_within, LayerError, LayerOrder};
     let folded = super::flat_folded(mesh, None).ok()?;
-    let closes = folded.layers_close(mesh.flat()?, mesh.coordinate_precision);
+    let cp = mesh.flat()?;
+    let closes = folded.layers_close(cp, mesh.coordinate_precision);
     let creases = mesh.edges().iter().any(|e| e.assignment.is_folded());
-    if !closes || !creases {
+    if !creases {
         return None;
+    }
+    // Faces that do not close up leave no flat-folded state to order. The local
+    // conditions usually fail there and say why; where they hold within the drawing's
+    // allowances, nothing about the layers was shown, and a claim to fold flat is
+    // undecided, not passed.
+    if !closes {
+        let why = format!(
+            "folded flat, the faces around vertex {} leave a gap of {:.1e} mm, past the {:.1e} mm \
+             the drawing explains: there is no flat-folded state to order",
+            folded.worst_vertex.unwrap_or(0),
+            folded.mismatch,
+            super::closure_tolerance(cp, mesh.coordinate_precision)
+        );
+        return Some(FamilyReport {
+            gating: false,
+            basis: format!("not judged: {why}"),
+            undecided: (!only_reported && !freeform).then_some(why),
+            ..summarise("layer-order", &[], 0.0)
+        });
     }
     // A pattern drawn at partial folds (Origami Simulator's 90°) does not claim to fold
     // flat: reported, not judged, as Maekawa there. A freeform design's creases stand
@@ -715,24 +813,7 @@ fn layer_order_report(
             rows: orders.len(),
             ..summarise("layer-order", &[], 0.0)
         },
-        Ok(LayerOrder::Conflict(c)) => {
-            let faces = &c.faces;
-            let element = Element::Faces(faces[0], *faces.get(1).unwrap_or(&faces[0]));
-            let mut r = summarise("layer-order", &[(1.0, element)], 0.0);
-            let names: Vec<String> = faces.iter().map(|f| f.to_string()).collect();
-            // A vertex of 2,000 creases names 2,000 faces: the table shows the first few.
-            r.worst = Some(if names.len() > 12 {
-                format!(
-                    "faces {}, … ({} in all)",
-                    names[..12].join(", "),
-                    names.len()
-                )
-            } else {
-                format!("faces {}", names.join(", "))
-            });
-            r.violators = vec![c.to_string()];
-            r
-        }
+        Ok(LayerOrder::Conflict(c)) => conflict_report(&c),
         Err(LayerError::OverBudget(e)) => FamilyReport {
             gating: false,
             basis: format!("not judged: {e}"),
@@ -759,6 +840,29 @@ fn layer_order_report(
         );
     }
     Some(report)
+}
+
+/// The failing layer-order row of faces that admit no order.
+fn conflict_report(c: &super::layers::LayerConflict) -> FamilyReport {
+    let faces = &c.faces;
+    let element = Element::Faces(faces[0], *faces.get(1).unwrap_or(&faces[0]));
+    let mut r = summarise("layer-order", &[(1.0, element)], 0.0);
+    let names: Vec<String> = faces.iter().map(|f| f.to_string()).collect();
+    // A vertex of 2,000 creases names 2,000 faces: the table shows the first few.
+    r.worst = Some(if names.len() > 12 {
+        format!(
+            "faces {}, … ({} in all)",
+            names[..12].join(", "),
+            names.len()
+        )
+    } else {
+        format!("faces {}", names.join(", "))
+    });
+    r.violators = vec![c.to_string()];
+    r.basis =
+        "one order of every overlapping pair of faces once folded flat, or the faces that admit none"
+            .into();
+    r
 }
 
 /// Maekawa's theorem at every interior vertex that folds flat as drawn: the fold

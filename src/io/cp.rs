@@ -22,15 +22,13 @@ pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, FileCause> {
         if fields.len() != 5 {
             return Err(bad().into());
         }
-        let assignment = match fields[0] {
-            "0" => Assignment::Flat,
-            "1" => Assignment::Boundary,
-            "2" => Assignment::Mountain,
-            "3" => Assignment::Valley,
-            "4" => Assignment::Unassigned,
-            t => {
-                return Err(format!("line {}: unknown line type {t} (expected 0–4)", i + 1).into())
-            }
+        let Some(assignment) = line_type(fields[0]) else {
+            return Err(format!(
+                "line {}: unknown line type {} (expected 0–4)",
+                i + 1,
+                fields[0]
+            )
+            .into());
         };
         let v: Vec<f64> = fields[1..]
             .iter()
@@ -44,11 +42,33 @@ pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, FileCause> {
             fold_angle: assignment.default_target(),
         });
     }
-    let (mut parts, report) = mesh_from_segments(&segments)?;
+    mesh_of_lines(&segments, notes, super::decimal_quantum(text))
+}
+
+/// ORIPA's line types, shared by `.cp` and `.opx`: 0 auxiliary (flat), 1 cut/boundary,
+/// 2 mountain, 3 valley, 4 unassigned.
+pub(super) fn line_type(t: &str) -> Option<Assignment> {
+    Some(match t {
+        "0" => Assignment::Flat,
+        "1" => Assignment::Boundary,
+        "2" => Assignment::Mountain,
+        "3" => Assignment::Valley,
+        "4" => Assignment::Unassigned,
+        _ => return None,
+    })
+}
+
+/// The mesh of ORIPA's drawn lines, its coordinates rounded to ±`precision`.
+pub(super) fn mesh_of_lines(
+    segments: &[Segment],
+    notes: &mut Vec<String>,
+    precision: f64,
+) -> Result<Mesh, FileCause> {
+    let (mut parts, report) = mesh_from_segments(segments)?;
     super::svg_read::report_notes(&report, notes);
     split_along_cuts(&mut parts);
     let mut mesh = Mesh::new(parts)?;
-    mesh.coordinate_precision = super::decimal_quantum(text);
+    mesh.coordinate_precision = precision;
     Ok(mesh)
 }
 

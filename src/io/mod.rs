@@ -5,6 +5,7 @@
 mod cp;
 pub mod fold;
 mod obj;
+mod opx;
 pub mod planar;
 mod svg_path;
 mod svg_read;
@@ -86,6 +87,8 @@ pub enum Format {
     Cp,
     /// Origami Simulator SVG crease pattern (`.svg`).
     Svg,
+    /// ORIPA's own document (`.opx`), read only.
+    Opx,
     /// Freeform Origami OBJ (`.obj`).
     Obj,
 }
@@ -102,14 +105,15 @@ impl Format {
             "fold" | "json" => Ok(Format::Fold),
             "cp" => Ok(Format::Cp),
             "svg" => Ok(Format::Svg),
+            "opx" => Ok(Format::Opx),
             "obj" => Ok(Format::Obj),
             "" => Err(FileError::new(
                 path,
-                "the file name has no extension to tell its format: name it .fold, .cp, .svg or .obj",
+                "the file name has no extension to tell its format: name it .fold, .cp, .opx, .svg or .obj",
             )),
             _ => Err(FileError::new(
                 path,
-                format!("unknown file type \".{ext}\" (expected .fold, .cp, .svg or .obj)"),
+                format!("unknown file type \".{ext}\" (expected .fold, .cp, .opx, .svg or .obj)"),
             )),
         }
     }
@@ -252,6 +256,7 @@ pub fn read_bytes(path: &Path, bytes: Vec<u8>) -> Result<Imported, FileError> {
         Format::Fold => fold::parse(&text).map_err(err)?,
         Format::Cp => cp::parse(&text, &mut notes).map_err(err)?,
         Format::Svg => svg_read::parse(&text, &mut notes).map_err(err)?,
+        Format::Opx => opx::parse(&text, &mut notes).map_err(err)?,
         Format::Obj => obj::parse(&text).map_err(err)?,
     };
     Ok(Imported { mesh, notes })
@@ -263,6 +268,9 @@ pub fn to_string(mesh: &Mesh, format: Format) -> Result<String, String> {
         Format::Fold => Ok(fold::to_string(mesh)),
         Format::Cp => cp::to_string(mesh),
         Format::Svg => svg_write::to_string(mesh),
+        Format::Opx => Err(
+            "writing ORIPA's .opx is not supported: write .cp, which ORIPA opens as well".into(),
+        ),
         Format::Obj => Ok(obj::to_string(mesh)),
     }
 }

@@ -159,15 +159,7 @@ pub fn body_type(path: &str) -> &'static str {
     }
 }
 
-/// A header value cut for a message (a hostile one may be long).
-fn short(text: &str) -> String {
-    const MAX: usize = 60;
-    if text.chars().count() <= MAX {
-        return text.to_string();
-    }
-    let cut: String = text.chars().take(MAX).collect();
-    format!("{cut}…")
-}
+use crate::limits::short_text as short;
 
 /// A response to send.
 #[derive(Debug)]

@@ -280,18 +280,79 @@ fn a_pattern_drawn_with_noise_gets_the_verdict_of_the_exact_one() {
     }
 }
 
-/// Unassigned creases leave flat folding unjudged: the verdict says so, never PASS.
+/// A pattern of unassigned creases gets the sides of a layer order found with them free,
+/// and the verdict of the pattern so assigned (whose order the ordinary search, with
+/// every side fixed, finds again); a search that cannot finish leaves it undecided.
 #[test]
-fn a_pattern_of_unassigned_creases_is_undecided_not_passed() {
+fn a_pattern_of_unassigned_creases_is_assigned_and_judged() {
     let pleat = data("instagram-sample").join("009_ku_Unassigned_Triangle_Pleat.fold");
-    let verdict = verified(&pleat).verdict();
-    let Verdict::Undecided { condition, why } = &verdict else {
-        panic!("{verdict}");
-    };
-    assert_eq!(*condition, "assignment");
-    assert!(why.starts_with("9 crease(s) are unassigned"), "{why}");
+    let report = verified(&pleat);
+    assert_eq!(report.verdict(), Verdict::Pass, "{report}");
+    assert!(layer_order_judged(&report), "{report}");
+    let note = report
+        .notes
+        .iter()
+        .find(|n| n.contains("unassigned creases were given the sides"))
+        .unwrap_or_else(|| panic!("the assignment is said:\n{report}"));
+    assert!(note.contains("the 9 unassigned creases"), "{note}");
     let (code, out, _) = run_crease(&["verify", pleat.to_str().unwrap()]);
-    assert_eq!(code, 3, "{out}");
+    assert_eq!(code, 0, "{out}");
+    // Out of budget before the search ends: undecided, naming the assignment.
+    let mesh = crease::io::read(&pleat).unwrap();
+    let tiny = Budget {
+        max_constraints: 1,
+        ..Budget::default()
+    };
+    let verdict = verify_within(&mesh, None, Tolerances::default(), &tiny).verdict();
+    assert!(
+        matches!(&verdict, Verdict::Undecided { condition: "assignment", why } if why.contains("search for their sides stopped")),
+        "{verdict}"
+    );
+}
+
+/// Flat-Folder's own examples, ORIPA's `.opx` among them, are read and judged: each
+/// passes with its layer order judged, but `tiger_piece2.opx`, whose faces leave a
+/// 0.19 mm gap around one vertex once folded (past what its drawing explains), which is
+/// undecided and says so: never a pass without the layers. (`grid_unassigned.svg` and
+/// `triangle_pleats_unassigned.svg` draw their creases green, which Origami Simulator's
+/// colours, the ones crease reads, make cuts; Flat-Folder reads any other colour as
+/// unassigned.)
+#[test]
+fn every_original_example_is_read_and_judged() {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(data("original"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            !p.ends_with("grid_unassigned.svg") && !p.ends_with("triangle_pleats_unassigned.svg")
+        })
+        .collect();
+    files.sort();
+    assert_eq!(files.len(), 23);
+    assert_eq!(
+        files
+            .iter()
+            .filter(|p| p.extension().unwrap() == "opx")
+            .count(),
+        5
+    );
+    for path in &files {
+        let report = verified(path);
+        if path.ends_with("tiger_piece2.opx") {
+            let verdict = report.verdict();
+            assert!(
+                matches!(&verdict, Verdict::Undecided { condition: "layer-order", why } if why.contains("gap")),
+                "{verdict}"
+            );
+            continue;
+        }
+        assert_eq!(
+            report.verdict(),
+            Verdict::Pass,
+            "{}:\n{report}",
+            path.display()
+        );
+        assert!(layer_order_judged(&report), "{}:\n{report}", path.display());
+    }
 }
 
 /// The community designs of Flat-Folder's sample fold flat (its `states` > 0), drawing

@@ -71,7 +71,11 @@ pub(super) fn first_unstackable_vertex(
         let merged = creased
             .iter()
             .any(|&k| mesh.edges()[fan.spokes[k]].target.abs() > std::f64::consts::PI + 1e-9);
-        if creased.len() < 2 || merged {
+        // A vertex with a crease whose side is open (unassigned) is the pair search's.
+        let open = creased
+            .iter()
+            .any(|&k| mesh.edges()[fan.spokes[k]].assignment == Assignment::Unassigned);
+        if creased.len() < 2 || merged || open {
             continue;
         }
         let corner = |f: usize| {

@@ -216,6 +216,34 @@ pub fn layer_conflict(mesh: &Mesh, budget: &Budget) -> Result<Option<LayerConfli
 
 /// The order, or a conflict (shrunk to a smallest set of faces when `shrink`).
 fn decide(mesh: &Mesh, budget: &Budget, shrink: bool) -> Result<LayerOrder, LayerError> {
+    Ok(match solved(mesh, budget, shrink)? {
+        Solved::Order(problem, values) => LayerOrder::Found(problem.face_orders(&values)),
+        Solved::Conflict(c) => LayerOrder::Conflict(c),
+    })
+}
+
+/// For a crease pattern whose unassigned creases aim at ±π (their side left open): a
+/// mountain or valley for each, read back from a layer order the search found with
+/// their hinges free, or the faces of a conflict no assignment escapes. What Flat-Folder
+/// does for an "unassigned" pattern.
+pub fn assign_unassigned(
+    mesh: &Mesh,
+    budget: &Budget,
+) -> Result<Result<Vec<(usize, Assignment)>, LayerConflict>, LayerError> {
+    Ok(match solved(mesh, budget, true)? {
+        Solved::Order(problem, values) => Ok(problem.hinge_assignments(mesh, &values)),
+        Solved::Conflict(c) => Err(c),
+    })
+}
+
+/// A solved layer problem: its values, or the conflict.
+enum Solved {
+    Order(Box<Problem>, Vec<bool>),
+    Conflict(LayerConflict),
+}
+
+/// [`decide`]'s work, keeping the problem and its values.
+fn solved(mesh: &Mesh, budget: &Budget, shrink: bool) -> Result<Solved, LayerError> {
     let folded = super::flat_folded(mesh, None)?;
     let cp = mesh.flat().ok_or(super::NotFlatFoldable::NoCreasePattern)?;
     if !folded.layers_close(cp, mesh.coordinate_precision) {
@@ -227,7 +255,7 @@ fn decide(mesh: &Mesh, budget: &Budget, shrink: bool) -> Result<LayerOrder, Laye
     }
     let crease_at = |e: usize| folds_completely(&mesh.edges()[e]);
     if let Some((vertex, faces)) = crimp::first_unstackable_vertex(mesh, crease_at) {
-        return Ok(LayerOrder::Conflict(vertex_conflict(
+        return Ok(Solved::Conflict(vertex_conflict(
             mesh, &folded, vertex, faces, budget,
         )?));
     }
@@ -236,14 +264,14 @@ fn decide(mesh: &Mesh, budget: &Budget, shrink: bool) -> Result<LayerOrder, Laye
         return Err(LayerError::SelfHinged(crease));
     }
     match problem.solve(None, budget)? {
-        Ok(values) => Ok(LayerOrder::Found(problem.face_orders(&values))),
+        Ok(values) => Ok(Solved::Order(Box::new(problem), values)),
         Err(group) => {
             let pieces = if shrink {
                 problem.smallest_conflict(group, budget)?
             } else {
                 group
             };
-            Ok(LayerOrder::Conflict(problem.conflict(&pieces)))
+            Ok(Solved::Conflict(problem.conflict(&pieces)))
         }
     }
 }
@@ -465,8 +493,12 @@ impl Problem {
                     self.self_hinged = Some(e);
                     continue;
                 }
+                // An unassigned crease's side is the search's to find.
                 let b_above = (edge.assignment == Assignment::Valley) == self.front_up[a];
-                if let Some(l) = self.above(pb, pa) {
+                if let Some(l) = self
+                    .above(pb, pa)
+                    .filter(|_| edge.assignment != Assignment::Unassigned)
+                {
                     self.fixed.push((l.var, l.value == b_above));
                 }
                 hinges.push(Hinge {
@@ -729,6 +761,32 @@ impl Problem {
         }
     }
 
+    /// The side each unassigned hinge folds to in the order `values`: a valley brings the
+    /// second face onto the first's front ([`Problem::add_hinges`]'s rule, read back).
+    fn hinge_assignments(&self, mesh: &Mesh, values: &[bool]) -> Vec<(usize, Assignment)> {
+        let topo = mesh.topology();
+        mesh.edges()
+            .iter()
+            .enumerate()
+            .filter(|(_, edge)| edge.assignment == Assignment::Unassigned && folds_completely(edge))
+            .filter_map(|(e, _)| {
+                let [Some(a), Some(b)] = topo.edge_faces[e] else {
+                    return None;
+                };
+                let lit = self.above(self.piece_of[b], self.piece_of[a])?;
+                let b_above = values[lit.var] == lit.value;
+                Some((
+                    e,
+                    if b_above == self.front_up[a] {
+                        Assignment::Valley
+                    } else {
+                        Assignment::Mountain
+                    },
+                ))
+            })
+            .collect()
+    }
+
     /// FOLD `faceOrders` from the values, one per overlapping pair of faces in different
     /// pieces. The FOLD specification measures "above" along g's normal (as Rabbit Ear
     /// and Flat-Folder read it), so s = +1 when f lies on the side g's front faces.
@@ -747,10 +805,14 @@ impl Problem {
     }
 }
 
-/// A crease that folds to ±π once folded flat: a hinge between two pieces.
+/// A crease that folds to ±π once folded flat: a hinge between two pieces. An unassigned
+/// crease aimed at ±π is one whose side the search finds ([`assign_unassigned`]); an
+/// unassigned crease keeps its default target 0 and is no hinge.
 pub fn folds_completely(edge: &crate::mesh::Edge) -> bool {
-    matches!(edge.assignment, Assignment::Mountain | Assignment::Valley)
-        && folds_flat(edge.target) == Some(true)
+    matches!(
+        edge.assignment,
+        Assignment::Mountain | Assignment::Valley | Assignment::Unassigned
+    ) && folds_flat(edge.target) == Some(true)
 }
 
 /// Faces joined across interior edges that are not folded creases, as pieces: the piece
