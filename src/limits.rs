@@ -352,6 +352,15 @@ pub const SEARCH_TIME: Range = Range {
     max: 86_400.0,
 };
 
+/// The states `verify --count` enumerates in one independent group before it stops
+/// (Flat-Folder stops at 10,000).
+pub const STATE_CAP: Range = Range {
+    what: "the states counted in one group",
+    unit: "",
+    min: 1.0,
+    max: 1e12,
+};
+
 /// Largest file the studio opens, and so the largest request body its HTTP side reads.
 pub const MAX_UPLOAD: usize = 64 << 20;
 

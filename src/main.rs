@@ -63,7 +63,7 @@ enum Command {
     /// the crease pattern and the flat-folded state beside it (paper §5). Serves on
     /// 127.0.0.1 only; Ctrl-C stops it.
     Studio(cli::studio::StudioArgs),
-    /// Convert between pattern formats, chosen by extension (.fold, .cp, .svg, .obj).
+    /// Convert between pattern formats, chosen by extension (.fold, .cp, .svg, .obj; .opx is read only).
     Convert {
         /// Input file.
         input: PathBuf,

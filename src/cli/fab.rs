@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub struct FabArgs {
-    /// Design file (.fold, .cp, .svg, .obj).
+    /// Design file (.fold, .cp, .opx, .svg, .obj).
     design: PathBuf,
     /// Machine profile: a name from machines/ or a path to a .toml file.
     #[arg(long, default_value = "generic-hpgl")]

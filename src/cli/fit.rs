@@ -12,7 +12,7 @@ use std::sync::Arc;
 
 #[derive(clap::Args)]
 pub struct FitArgs {
-    /// Pattern file (.fold, .cp, .svg, .obj): a generated pattern or a design.
+    /// Pattern file (.fold, .cp, .opx, .svg, .obj): a generated pattern or a design.
     pattern: PathBuf,
     /// The target surface: a triangle mesh in mm (.obj, or .stl ASCII or binary). It is
     /// never moved: the design is placed on it.

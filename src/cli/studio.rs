@@ -8,7 +8,7 @@ use std::sync::{Arc, Condvar, Mutex};
 
 #[derive(clap::Args)]
 pub struct StudioArgs {
-    /// Pattern file to start from (.fold, .cp, .svg, .obj); default a generated Miura-ori.
+    /// Pattern file to start from (.fold, .cp, .opx, .svg, .obj); default a generated Miura-ori.
     file: Option<PathBuf>,
     /// Port on 127.0.0.1 (default: a free one).
     #[arg(long)]

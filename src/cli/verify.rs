@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub struct VerifyArgs {
-    /// Pattern file (.fold, .cp, .svg, .obj).
+    /// Pattern file (.fold, .cp, .opx, .svg, .obj).
     file: PathBuf,
     /// Print the report as JSON.
     #[arg(long)]
@@ -33,11 +33,16 @@ pub struct VerifyArgs {
     /// (exit 3), saying what was left.
     #[arg(long, default_value_t = 60.0)]
     budget: f64,
+    /// Also count the flat-folded states (layer orders): each independent group of
+    /// overlapping faces enumerated up to CAP states (default 10000, as Flat-Folder), and
+    /// their product.
+    #[arg(long, value_name = "CAP", num_args = 0..=1, default_missing_value = "10000")]
+    count: Option<u64>,
 }
 
 #[derive(clap::Args)]
 pub struct InfoArgs {
-    /// Pattern file (.fold, .cp, .svg, .obj).
+    /// Pattern file (.fold, .cp, .opx, .svg, .obj).
     file: PathBuf,
     /// Also list every vertex: id, 3D and crease-pattern position, creases, boundary
     /// or interior (the ids `--drag` and `--fix` take).
@@ -88,10 +93,19 @@ pub fn verify(args: VerifyArgs) -> Result<u8, String> {
         crease::pipeline::folding_path(&mesh, &mut super::progress_bar())
             .map_err(|e| format!("the solver stopped: {e}"))
     });
+    let cap = args
+        .count
+        .map(|c| crease::limits::STATE_CAP.check_count("--count", c))
+        .transpose()
+        .map_err(|e| e.to_string())?;
+    let states = cap.map(|cap| fab::count_flat_states(&mesh, &budget, cap));
     let collides = matches!(&path, Some(Ok(p)) if p.collision.is_some());
     let path_undecided = matches!(&path, Some(Err(_)));
     if args.json {
         let mut value = report.to_json();
+        if let Some(states) = &states {
+            value["states"] = states_json(states);
+        }
         match &path {
             Some(Ok(p)) => value["path"] = serde_json::to_value(p).expect("a path report is JSON"),
             Some(Err(why)) => {
@@ -102,6 +116,9 @@ pub fn verify(args: VerifyArgs) -> Result<u8, String> {
         out(&format!("{value}\n"));
     } else {
         out(&report.to_string());
+        if let Some(states) = &states {
+            out(&format!("{}\n", states_line(states)));
+        }
         match &path {
             Some(Ok(p)) => out(&format!("{p}\n")),
             Some(Err(why)) => out(&format!("path from flat: UNDECIDED — {why}\n")),
@@ -116,4 +133,49 @@ pub fn verify(args: VerifyArgs) -> Result<u8, String> {
         0 if path_undecided => 3,
         code => code,
     })
+}
+
+type Counted = Result<Option<Vec<fab::GroupCount>>, fab::LayerError>;
+
+/// "flat-folded states: 48 (3 independent groups: 1 × 3 × 16)".
+fn states_line(states: &Counted) -> String {
+    match states {
+        Ok(Some(groups)) => {
+            let total = fab::StateTotal::product(groups);
+            let capped = groups.iter().any(|g| g.capped);
+            let shown: Vec<String> = groups
+                .iter()
+                .take(12)
+                .map(|g| g.count.to_string())
+                .collect();
+            let more = if groups.len() > 12 { " × …" } else { "" };
+            format!(
+                "flat-folded states: {}{total} ({} independent group(s): {}{more}){}",
+                if capped { "at least " } else { "" },
+                groups.len(),
+                shown.join(" × "),
+                if capped {
+                    "; a group reached the cap: raise --count to count further"
+                } else {
+                    ""
+                }
+            )
+        }
+        Ok(None) => "flat-folded states: 0 (no layer order)".into(),
+        Err(e) => format!("flat-folded states: not counted: {e}"),
+    }
+}
+
+/// `{"total": "48", "groups": [1, 3, 16], "capped": false}`, or the reason it was not
+/// counted.
+fn states_json(states: &Counted) -> serde_json::Value {
+    match states {
+        Ok(Some(groups)) => serde_json::json!({
+            "total": fab::StateTotal::product(groups).to_string(),
+            "groups": groups.iter().map(|g| g.count).collect::<Vec<_>>(),
+            "capped": groups.iter().any(|g| g.capped),
+        }),
+        Ok(None) => serde_json::json!({"total": "0", "groups": [], "capped": false}),
+        Err(e) => serde_json::json!({"not_counted": e.to_string()}),
+    }
 }

@@ -26,7 +26,8 @@ pub use flat_fold::{closure_tolerance, flat_folded, FlatFolded, NotFlatFoldable,
 pub use glue_tab::{glue_tab, with_tab, GlueTab};
 pub use intersect::{self_intersections, Crossing};
 pub use layers::{
-    layer_conflict, layer_order, layer_order_within, LayerConflict, LayerError, LayerOrder,
+    count_states, layer_conflict, layer_order, layer_order_within, GroupCount, LayerConflict,
+    LayerError, LayerOrder, StateTotal,
 };
 pub use layout::{layout, LayoutError, Media, Sheet, SheetLabel, Sizing};
 pub use lines::{crease_lines, smooth_creases, CreaseLine, LineKind, SmoothCrease};
@@ -35,4 +36,6 @@ pub use route::{route, route_with, RouteSearch};
 pub use crate::geometry::unfold::{check_overlap, unfold, unfold_tube, UnfoldError};
 pub use score::{score, score_lines};
 pub use toolpath::{dashes, DashCode, ScoreSettings, ShortFolds, Stroke, ToolSetting, Toolpath};
-pub use verify::{verify, verify_within, FamilyReport, Report, Tolerances, Verdict};
+pub use verify::{
+    count_flat_states, verify, verify_within, FamilyReport, Report, Tolerances, Verdict,
+};

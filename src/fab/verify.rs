@@ -3,6 +3,7 @@
 //! Maekawa's count |M − V| = 2, judged where every crease at a vertex folds flat.
 
 use super::budget::Budget;
+use super::precision::DrawnPrecision;
 use super::rounding::RoundingBounds;
 use crate::constraints::{ConstraintSet, Element, Family, Reference};
 use crate::mesh::{Assignment, Mesh};
@@ -100,7 +101,7 @@ pub struct Report {
     /// How precisely a crease pattern was drawn, measured on its flat-folded state
     /// ([`super::precision::drawing_precision`]); `None` for a 3D design, a pattern that
     /// does not fold to a flat state, or a tolerance given by the user.
-    pub drawn: Option<super::precision::DrawnPrecision>,
+    pub drawn: Option<DrawnPrecision>,
     /// What was not checked, and why.
     pub notes: Vec<String>,
 }
@@ -421,11 +422,7 @@ fn verify_assigning(
     budget: &Budget,
 ) -> Option<Report> {
     let open = unassigned_interior(mesh)?;
-    let mut free = mesh.clone();
-    for &e in &open {
-        let edge = &mut free.edges_mut()[e];
-        (edge.target, edge.fold_angle) = (PI, PI);
-    }
+    let free = with_open_sides(mesh, &open);
     let found = super::layers::assign_unassigned(&free, budget);
     let Ok(Ok(sides)) = found else {
         let mut report = verify_as_drawn(mesh, conditions, tol, budget);
@@ -471,6 +468,51 @@ fn verify_assigning(
     Some(report)
 }
 
+/// The flat-folded states of a crease pattern ([`super::layers::count_states`]): each
+/// independent group's count, up to `cap` a group, or `None` when it has none. A pattern
+/// of only unassigned creases counts the states of every side they may take (as
+/// Flat-Folder does).
+pub fn count_flat_states(
+    mesh: &Mesh,
+    budget: &Budget,
+    cap: u64,
+) -> Result<Option<Vec<super::GroupCount>>, super::LayerError> {
+    let (_, measured) = as_drawn(mesh);
+    let mesh = measured.as_ref();
+    match unassigned_interior(mesh) {
+        Some(open) => super::count_states(&with_open_sides(mesh, &open), budget, cap),
+        None => super::count_states(mesh, budget, cap),
+    }
+}
+
+/// A crease pattern's drawing noise, measured ([`super::precision::drawing_precision`]),
+/// founds its allowances as a file's rounding does: the mesh with that precision, and the
+/// measurement. A pattern drawn exactly, or a 3D design, keeps the tolerances it had.
+fn as_drawn(mesh: &Mesh) -> (Option<DrawnPrecision>, std::borrow::Cow<'_, Mesh>) {
+    let drawn = (!mesh.has_3d())
+        .then(|| super::precision::drawing_precision(mesh))
+        .flatten();
+    match drawn {
+        Some(d) if !d.exact && d.precision > mesh.coordinate_precision => {
+            let mut noisy = mesh.clone();
+            noisy.coordinate_precision = d.precision;
+            (drawn, std::borrow::Cow::Owned(noisy))
+        }
+        _ => (drawn, std::borrow::Cow::Borrowed(mesh)),
+    }
+}
+
+/// `mesh` with its unassigned creases `open` aimed at a full fold, their side left to
+/// the layer search.
+fn with_open_sides(mesh: &Mesh, open: &[usize]) -> Mesh {
+    let mut free = mesh.clone();
+    for &e in open {
+        let edge = &mut free.edges_mut()[e];
+        (edge.target, edge.fold_angle) = (PI, PI);
+    }
+    free
+}
+
 /// The interior edges of a crease pattern whose creases are all unassigned, when it has
 /// any (`None` for a 3D design or a pattern with mountains or valleys).
 fn unassigned_interior(mesh: &Mesh) -> Option<Vec<usize>> {
@@ -494,23 +536,12 @@ fn verify_as_drawn(
     tol: Tolerances,
     budget: &Budget,
 ) -> Report {
-    // A crease pattern's drawing noise, measured, founds its allowances as a file's
-    // rounding does; a pattern drawn exactly keeps the tolerances it had.
-    let drawn = (tol.rounding && !mesh.has_3d())
-        .then(|| super::precision::drawing_precision(mesh))
-        .flatten();
-    let noisy;
-    let mesh = match drawn {
-        Some(d) if !d.exact && d.precision > mesh.coordinate_precision => {
-            noisy = {
-                let mut m = mesh.clone();
-                m.coordinate_precision = d.precision;
-                m
-            };
-            &noisy
-        }
-        _ => mesh,
+    let (drawn, measured) = if tol.rounding {
+        as_drawn(mesh)
+    } else {
+        (None, std::borrow::Cow::Borrowed(mesh))
     };
+    let mesh = measured.as_ref();
     let reference = Reference::new(mesh);
     let default;
     let set = match conditions {
@@ -565,6 +596,9 @@ fn verify_as_drawn(
         // leaves the verdict undecided.
         let claimed = conditions.is_some();
         let report = layer_order_report(mesh, budget, freeform, only_reported, claimed);
+        if report.is_none() {
+            notes.extend(flat_state_unjudged(mesh));
+        }
         if let Some(r) = report
             .as_ref()
             .filter(|r| only_reported && r.violations > 0)
@@ -592,6 +626,31 @@ fn verify_as_drawn(
         drawn,
         notes,
     }
+}
+
+/// A design whose creases all fold to ±180° claims a flat-folded state; where none could
+/// be built to judge (a tube's sheet, which closes round on itself), the report says so
+/// rather than nothing.
+fn flat_state_unjudged(mesh: &Mesh) -> Option<String> {
+    let mut folded = mesh.edges().iter().filter(|e| e.assignment.is_folded());
+    let first = folded.next()?;
+    let all_flat = std::iter::once(first)
+        .chain(folded)
+        .all(|e| crate::constraints::folds_flat(e.target) == Some(true));
+    if !all_flat {
+        return None;
+    }
+    let why = if mesh.is_tube() {
+        "it is a tube, and only a sheet's flat-folded state is built".to_string()
+    } else {
+        match super::flat_folded(mesh, None) {
+            Err(e) => e.to_string(),
+            Ok(_) => "its crease pattern could not be folded flat to order".to_string(),
+        }
+    };
+    Some(format!(
+        "every crease of this design folds to ±180°, but whether it folds flat was not judged: {why}"
+    ))
 }
 
 /// The row of a crease pattern whose creases are all unassigned, as drawn: undecided

@@ -16,9 +16,12 @@
 //! independent group of variables at a time. An unsatisfiable group is shrunk to a
 //! smallest set of faces that still has no order, which the report names.
 
+mod count;
 mod crimp;
 mod geometry;
 mod search;
+
+pub use count::{GroupCount, StateTotal};
 
 use super::budget::{Budget, OverBudget, TRIPLES_PER_CONSTRAINT};
 use super::flat_fold::FlatFolded;
@@ -242,8 +245,28 @@ enum Solved {
     Conflict(LayerConflict),
 }
 
-/// [`decide`]'s work, keeping the problem and its values.
-fn solved(mesh: &Mesh, budget: &Budget, shrink: bool) -> Result<Solved, LayerError> {
+/// The flat-folded states of `mesh`: the count of each independent group of open pair
+/// variables (each up to `cap`), whose product is the number of layer orders; `None` when
+/// there is none.
+pub fn count_states(
+    mesh: &Mesh,
+    budget: &Budget,
+    cap: u64,
+) -> Result<Option<Vec<GroupCount>>, LayerError> {
+    match prepared(mesh, budget)? {
+        Prepared::Problem(problem) => problem.count_states(budget, cap),
+        Prepared::Conflict(_) => Ok(None),
+    }
+}
+
+/// A layer problem set up, or a vertex already known to stack no way.
+enum Prepared {
+    Problem(Box<Problem>),
+    Conflict(LayerConflict),
+}
+
+/// The flat-folded state of `mesh` and its layer problem, checked to close up.
+fn prepared(mesh: &Mesh, budget: &Budget) -> Result<Prepared, LayerError> {
     let folded = super::flat_folded(mesh, None)?;
     let cp = mesh.flat().ok_or(super::NotFlatFoldable::NoCreasePattern)?;
     if !folded.layers_close(cp, mesh.coordinate_precision) {
@@ -255,7 +278,7 @@ fn solved(mesh: &Mesh, budget: &Budget, shrink: bool) -> Result<Solved, LayerErr
     }
     let crease_at = |e: usize| folds_completely(&mesh.edges()[e]);
     if let Some((vertex, faces)) = crimp::first_unstackable_vertex(mesh, crease_at) {
-        return Ok(Solved::Conflict(vertex_conflict(
+        return Ok(Prepared::Conflict(vertex_conflict(
             mesh, &folded, vertex, faces, budget,
         )?));
     }
@@ -263,8 +286,17 @@ fn solved(mesh: &Mesh, budget: &Budget, shrink: bool) -> Result<Solved, LayerErr
     if let Some(crease) = problem.self_hinged {
         return Err(LayerError::SelfHinged(crease));
     }
+    Ok(Prepared::Problem(Box::new(problem)))
+}
+
+/// [`decide`]'s work, keeping the problem and its values.
+fn solved(mesh: &Mesh, budget: &Budget, shrink: bool) -> Result<Solved, LayerError> {
+    let problem = match prepared(mesh, budget)? {
+        Prepared::Problem(problem) => problem,
+        Prepared::Conflict(c) => return Ok(Solved::Conflict(c)),
+    };
     match problem.solve(None, budget)? {
-        Ok(values) => Ok(Solved::Order(Box::new(problem), values)),
+        Ok(values) => Ok(Solved::Order(problem, values)),
         Err(group) => {
             let pieces = if shrink {
                 problem.smallest_conflict(group, budget)?

@@ -124,6 +124,60 @@ impl Search<'_> {
         }
     }
 
+    /// How many assignments of the variables in `order` not yet set keep every
+    /// constraint, counted up to `cap` (then `true`: there are at least that many). Depth
+    /// first over both branches of every decision; the values are left as they were.
+    pub(super) fn count(&mut self, order: &[usize], cap: u64) -> Result<(u64, bool), LayerError> {
+        let base = self.trail.len();
+        let mut count = 0u64;
+        let mut stack: Vec<(usize, usize, bool)> = Vec::new();
+        let mut pos = 0;
+        loop {
+            while pos < order.len() && self.value[order[pos]].is_some() {
+                pos += 1;
+            }
+            let mut descended = false;
+            if pos == order.len() {
+                count += 1;
+                if count >= cap {
+                    self.undo_to(base);
+                    return Ok((count, true));
+                }
+            } else {
+                self.decisions += 1;
+                if self.decisions.is_multiple_of(1024) {
+                    self.budget.check()?;
+                }
+                let mark = self.trail.len();
+                for (value, tried_both) in [(true, false), (false, true)] {
+                    if self.assign(order[pos], value) {
+                        stack.push((pos, mark, tried_both));
+                        descended = true;
+                        break;
+                    }
+                    self.undo_to(mark);
+                }
+            }
+            if descended {
+                continue;
+            }
+            // Back to the latest decision with its "below" branch left.
+            loop {
+                let Some((p, m, tried_both)) = stack.pop() else {
+                    self.undo_to(base);
+                    return Ok((count, false));
+                };
+                self.undo_to(m);
+                if !tried_both && self.assign(order[p], false) {
+                    stack.push((p, m, true));
+                    pos = p;
+                    break;
+                }
+                self.undo_to(m);
+            }
+        }
+    }
+
     /// Decides the variables in `order` not yet set: true when all could be. Depth
     /// first: each decision tries "above" then "below"; a contradiction undoes back to the
     /// latest decision with a branch left.
