@@ -58,6 +58,11 @@ pub const SELF_CONTACT_RELATIVE: f64 = 1e-9;
 /// not overlap, in the layer solver (before the file's rounding is allowed for).
 pub const LAYER_OVERLAP_RELATIVE: f64 = 1e-7;
 
+/// The largest part of a drawing's shortest edge its inferred decimal rounding may be
+/// (relative): a coarser "rounding" is a grid the values lie on exactly
+/// ([`crate::io::rounding_of`]).
+pub const ROUNDING_OF_SHORTEST_EDGE: f64 = 0.01;
+
 /// Of a drawing's diagonal (relative): points of a crease-pattern drawing (SVG, `.cp`)
 /// closer than this are one vertex; drawings snap lines by eye, not to 1e-12.
 pub const POINT_MERGE_RELATIVE: f64 = 1e-4;

@@ -68,7 +68,7 @@ pub(super) fn mesh_of_lines(
     super::svg_read::report_notes(&report, notes);
     split_along_cuts(&mut parts);
     let mut mesh = Mesh::new(parts)?;
-    mesh.coordinate_precision = precision;
+    mesh.coordinate_precision = super::rounding_of(&mesh, precision);
     Ok(mesh)
 }
 

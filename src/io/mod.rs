@@ -169,6 +169,32 @@ fn number_decimals(text: &str) -> Vec<(i32, usize)> {
     out
 }
 
+/// `quantum` (a file's inferred rounding, [`decimal_quantum`], mm) as `mesh`'s rounding
+/// when it is fine beside the drawing, else zero: ±0.05 on a unit grid written 0.2, 0.4,
+/// … is a quarter of its shortest crease, so those are exact values on a coarse grid, not
+/// measurements rounded to it (taken as rounding, it made every overlap thinner than a
+/// tenth of the sheet a contact).
+pub(crate) fn rounding_of(mesh: &Mesh, quantum: f64) -> f64 {
+    if quantum <= 0.0 {
+        return 0.0;
+    }
+    let length = |a: usize, b: usize| match mesh.flat() {
+        Some(f) => (f[b] - f[a]).norm(),
+        None => (mesh.positions()[b] - mesh.positions()[a]).norm(),
+    };
+    let shortest = mesh
+        .edges()
+        .iter()
+        .map(|e| length(e.vertices[0], e.vertices[1]))
+        .filter(|&l| l > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    if quantum > crate::tolerance::ROUNDING_OF_SHORTEST_EDGE * shortest {
+        0.0
+    } else {
+        quantum
+    }
+}
+
 /// The rounding a drawing program applied to its coordinates: half the decimal step it
 /// rounded to (Illustrator writes 3 decimals: ±0.0005), in the file's units, or zero for
 /// full precision. Inferred from what the numbers of `text` show, never from how short

@@ -113,7 +113,7 @@ pub fn parse(text: &str) -> Result<Mesh, FileCause> {
         edges,
     })
     .map_err(|e| e.to_string())?;
-    mesh.coordinate_precision = super::decimal_quantum(text);
+    mesh.coordinate_precision = super::rounding_of(&mesh, super::decimal_quantum(text));
     Ok(mesh)
 }
 

@@ -171,8 +171,10 @@ pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, FileCause> {
     let mut mesh = Mesh::new(parts)?;
     // A point of a relative path command adds a rounded offset to a rounded start: twice
     // the rounding of one number.
-    mesh.coordinate_precision =
-        2.0 * super::decimal_quantum(&drawing.geometry_text) * drawing.root_scale;
+    mesh.coordinate_precision = super::rounding_of(
+        &mesh,
+        2.0 * super::decimal_quantum(&drawing.geometry_text) * drawing.root_scale,
+    );
     Ok(mesh)
 }
 

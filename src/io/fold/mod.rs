@@ -206,8 +206,8 @@ pub fn parse(text: &str) -> Result<Mesh, FileCause> {
         }
         None => 0.0,
     };
-    mesh.coordinate_precision =
-        (super::decimal_quantum(&coordinate_arrays(text)) * scale).max(recorded);
+    let quantum = super::decimal_quantum(&coordinate_arrays(text)) * scale;
+    mesh.coordinate_precision = super::rounding_of(&mesh, quantum).max(recorded);
     mesh.title = title;
     mesh.lock_topology = top.lock_topology.unwrap_or(false);
     let groups = top.coincident.clone().unwrap_or_default();
