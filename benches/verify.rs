@@ -86,4 +86,71 @@ fn main() {
         "layer order: waterbomb 16 × 16 flat, {pairs} overlapping pairs ordered in {:.1?}",
         t.elapsed()
     );
+    flat_folder_sets(root);
+}
+
+/// Flat-Folder's examples (tests/data/flat-folder): the verdict over the grid set and the
+/// sample, each file read and verified once on one core, beside Flat-Folder's own setup
+/// and solve seconds from its CSVs (in a browser, on the machine that made them).
+fn flat_folder_sets(root: &Path) {
+    let data = root.join("tests/data/flat-folder");
+    for (folder, table) in [
+        ("grids", "grids_data.csv"),
+        (
+            "instagram-sample",
+            "instagram-sample/instagram_data_sample.csv",
+        ),
+    ] {
+        let mut files: Vec<_> = std::fs::read_dir(data.join(folder))
+            .expect("the flat-folder data is in the repository")
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|x| x == "fold"))
+            .collect();
+        files.sort();
+        let (mut total, mut slowest, mut verdicts) =
+            (Duration::ZERO, (Duration::ZERO, String::new()), [0usize; 4]);
+        for path in &files {
+            let t = Instant::now();
+            let Ok(mesh) = crease::io::read(path) else {
+                verdicts[3] += 1;
+                continue;
+            };
+            let verdict = verify(&mesh, None, Tolerances::default()).verdict();
+            let took = t.elapsed();
+            verdicts[usize::from(verdict.exit_code()).min(2)] += 1;
+            total += took;
+            if took > slowest.0 {
+                slowest = (
+                    took,
+                    path.file_name().unwrap().to_string_lossy().into_owned(),
+                );
+            }
+        }
+        let theirs = flat_folder_seconds(&data.join(table));
+        println!(
+            "{folder}: {} files in {total:.2?} ({} pass, {} fail, {} undecided, {} not read); slowest {} in {:.2?}; Flat-Folder's setup + solve {theirs:.1} s",
+            files.len(),
+            verdicts[0],
+            verdicts[1],
+            verdicts[2],
+            verdicts[3],
+            slowest.1,
+            slowest.0,
+        );
+    }
+}
+
+/// The sum of a Flat-Folder CSV's `setup_sec` and `solve_sec`.
+fn flat_folder_seconds(table: &Path) -> f64 {
+    let text = std::fs::read_to_string(table).expect("the CSV is in the repository");
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let at = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (setup, solve) = (at("setup_sec"), at("solve_sec"));
+    lines
+        .map(|l| {
+            let cells: Vec<&str> = l.split(',').collect();
+            cells[setup].parse::<f64>().unwrap_or(0.0) + cells[solve].parse::<f64>().unwrap_or(0.0)
+        })
+        .sum()
 }
