@@ -423,29 +423,28 @@ fn verify_assigning(
 ) -> Option<Report> {
     let open = unassigned_interior(mesh)?;
     let free = with_open_sides(mesh, &open);
-    let found = super::layers::assign_unassigned(&free, budget);
-    let Ok(Ok(sides)) = found else {
-        let mut report = verify_as_drawn(mesh, conditions, tol, budget);
-        match found {
-            Ok(Err(conflict)) => {
-                report.families.retain(|f| f.name != "assignment");
-                let mut row = conflict_report(&conflict);
-                row.basis = format!(
-                    "no mountain/valley for the {} unassigned creases gives a layer order",
-                    open.len()
-                );
-                report.families.push(row);
-            }
-            Err(e) => {
-                if let Some(row) = report.families.iter_mut().find(|f| f.name == "assignment") {
-                    let why = format!("the search for their sides stopped: {e}");
-                    row.basis = format!("not judged: {why}");
-                    row.undecided = Some(why);
-                }
-            }
-            Ok(Ok(_)) => unreachable!("handled above"),
+    let sides = match super::layers::assign_unassigned(&free, budget) {
+        Ok(Ok(sides)) => sides,
+        Ok(Err(conflict)) => {
+            let mut report = verify_as_drawn(mesh, conditions, tol, budget);
+            report.families.retain(|f| f.name != "assignment");
+            let mut row = conflict_report(&conflict);
+            row.basis = format!(
+                "no mountain/valley for the {} unassigned creases gives a layer order",
+                open.len()
+            );
+            report.families.push(row);
+            return Some(report);
         }
-        return Some(report);
+        Err(e) => {
+            let mut report = verify_as_drawn(mesh, conditions, tol, budget);
+            if let Some(row) = report.families.iter_mut().find(|f| f.name == "assignment") {
+                let why = format!("the search for their sides stopped: {e}");
+                row.basis = format!("not judged: {why}");
+                row.undecided = Some(why);
+            }
+            return Some(report);
+        }
     };
     let mut assigned = mesh.clone();
     for &(e, side) in &sides {
