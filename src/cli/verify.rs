@@ -85,7 +85,11 @@ pub fn verify(args: VerifyArgs) -> Result<u8, String> {
     let seconds = crease::limits::SEARCH_TIME
         .check("--budget", args.budget)
         .map_err(|e| e.to_string())?;
-    let mesh = io::read(&args.file).map_err(|e| e.to_string())?;
+    let imported = io::read_with_notes(&args.file).map_err(|e| e.to_string())?;
+    for note in &imported.notes {
+        eprintln!("note: {note}");
+    }
+    let mesh = imported.mesh;
     let budget = fab::Budget::search(std::time::Duration::from_secs_f64(seconds));
     let report = fab::verify_within(&mesh, set.as_ref(), tolerances, &budget);
     // The file was read: a path the solver cannot follow is undecided, not bad input.
@@ -103,6 +107,7 @@ pub fn verify(args: VerifyArgs) -> Result<u8, String> {
     let path_undecided = matches!(&path, Some(Err(_)));
     if args.json {
         let mut value = report.to_json();
+        value["import_notes"] = serde_json::json!(imported.notes);
         if let Some(states) = &states {
             value["states"] = states_json(states);
         }

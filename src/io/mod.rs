@@ -279,7 +279,7 @@ pub fn read_bytes(path: &Path, bytes: Vec<u8>) -> Result<Imported, FileError> {
     let err = |cause: FileCause| FileError::new(path, cause);
     let mut notes = Vec::new();
     let mesh = match format {
-        Format::Fold => fold::parse(&text).map_err(err)?,
+        Format::Fold => fold::parse_noting(&text, &mut notes).map_err(err)?,
         Format::Cp => cp::parse(&text, &mut notes).map_err(err)?,
         Format::Svg => svg_read::parse(&text, &mut notes).map_err(err)?,
         Format::Opx => opx::parse(&text, &mut notes).map_err(err)?,

@@ -171,6 +171,11 @@ fn planar_layout(points: &[Vec3], faces: &[Vec<usize>]) -> Option<Vec<Vec2>> {
 
 /// Parses FOLD text into a mesh. Errors are causes without the file name.
 pub fn parse(text: &str) -> Result<Mesh, FileCause> {
+    parse_noting(text, &mut Vec::new())
+}
+
+/// [`parse`], adding to `notes` what reading changed (faces rebuilt from the edges).
+pub fn parse_noting(text: &str, notes: &mut Vec<String>) -> Result<Mesh, FileCause> {
     if text.trim().is_empty() {
         return Err("the file is empty".into());
     }
@@ -189,7 +194,18 @@ pub fn parse(text: &str) -> Result<Mesh, FileCause> {
         .ok_or("no vertices_coords in any frame")?;
     let edges = read_edges(top, n)?;
     let title = top.frame_title.clone().or(file_title).unwrap_or_default();
-    let mut parts = mesh_parts(&face_lists, edges, flat, folded, n)?;
+    let (mut parts, rebuilt) = mesh_parts(&face_lists, edges, flat, folded, n)?;
+    if let Some(why) = &rebuilt {
+        notes.push(format!(
+            "faces_vertices: {why}; the faces were rebuilt from the edges (vertex numbers kept where the edges meet)"
+        ));
+    }
+    // Faces rebuilt from the edges are written back as found, not as the file listed them.
+    let face_lists = if rebuilt.is_some() {
+        Vec::new()
+    } else {
+        face_lists
+    };
     let mut tube_seam = None;
     if let Some(entries) = top.seam.as_deref() {
         let (tube, seam) = seam::close(parts, entries)?;
@@ -316,26 +332,20 @@ fn layouts(frames: &[Frame], face_lists: &[Vec<usize>]) -> Result<Layouts, Strin
 }
 
 /// Faces triangulated from `faces_vertices`, or, for an edges-only file, found from the
-/// crease pattern's segments (keeping the file's vertex numbers).
+/// crease pattern's segments (keeping the file's vertex numbers). A crease pattern whose
+/// listed faces cannot be triangulated (a face running along itself, as drawing tools
+/// write where edges overlap) has its faces found from the edges too, as Flat-Folder
+/// does: the second value says why.
 fn mesh_parts(
     face_lists: &[Vec<usize>],
     edges: Vec<Edge>,
     flat: Option<Vec<Vec2>>,
     folded: Option<Vec<Vec3>>,
     n: usize,
-) -> Result<MeshParts, String> {
+) -> Result<(MeshParts, Option<String>), String> {
     if face_lists.is_empty() {
         let flat = flat.ok_or("edges-only FOLD files need a flat crease pattern to find faces")?;
-        let segments: Vec<Segment> = edges
-            .iter()
-            .map(|e| Segment {
-                a: flat[e.vertices[0]],
-                b: flat[e.vertices[1]],
-                assignment: e.assignment,
-                fold_angle: e.fold_angle,
-            })
-            .collect();
-        return Ok(keep_file_numbering(mesh_from_segments(&segments)?.0, &flat));
+        return Ok((faces_from_edges(&edges, &flat)?, None));
     }
     let mut faces = Vec::with_capacity(face_lists.len());
     for (i, poly) in face_lists.iter().enumerate() {
@@ -344,14 +354,35 @@ fn mesh_parts(
                 "face {i} refers to vertex {v}, but there are only {n} vertices"
             ));
         }
-        triangulate_face(i, poly, flat.as_deref(), folded.as_deref(), &mut faces)?;
+        if let Err(why) = triangulate_face(i, poly, flat.as_deref(), folded.as_deref(), &mut faces)
+        {
+            return match (&flat, &folded) {
+                (Some(f), None) => Ok((faces_from_edges(&edges, f)?, Some(why))),
+                _ => Err(why),
+            };
+        }
     }
-    Ok(MeshParts {
+    let parts = MeshParts {
         positions: folded,
         flat,
         faces,
         edges,
-    })
+    };
+    Ok((parts, None))
+}
+
+/// The faces of the planar arrangement of a crease pattern's edges.
+fn faces_from_edges(edges: &[Edge], flat: &[Vec2]) -> Result<MeshParts, String> {
+    let segments: Vec<Segment> = edges
+        .iter()
+        .map(|e| Segment {
+            a: flat[e.vertices[0]],
+            b: flat[e.vertices[1]],
+            assignment: e.assignment,
+            fold_angle: e.fold_angle,
+        })
+        .collect();
+    Ok(keep_file_numbering(mesh_from_segments(&segments)?.0, flat))
 }
 
 /// `crease:coincidentVertices`: disjoint groups of at least two existing vertices.
