@@ -14,12 +14,11 @@
 //! keeps one count down to the last halving and is drawn to within a few billionths of
 //! its shortest crease.
 
-use super::flat_fold::flat_folded;
-use crate::mesh::{Mesh, UnionFind, Vec2};
-use std::collections::HashMap;
+use super::flat_fold::{cluster_labels, flat_folded};
+use crate::mesh::{Mesh, Vec2};
 
 /// Halvings of the scale tried (Flat-Folder tries 25).
-const HALVINGS: i32 = 25;
+const HALVINGS: i32 = 27;
 
 /// The drawing precision is at most this many times the largest gap the folded corners
 /// leave around a vertex ([`super::FlatFolded::mismatch`]).
@@ -54,8 +53,14 @@ pub fn drawing_precision(mesh: &Mesh) -> Option<DrawnPrecision> {
     }
     let folded = flat_folded(mesh, None).ok()?;
     let corners: Vec<Vec2> = folded.triangles.iter().flatten().copied().collect();
-    // The count at each scale, coarse to fine.
-    let scales: Vec<f64> = (3..3 + HALVINGS).map(|i| shortest / 2f64.powi(i)).collect();
+    // The count at each scale, coarse to fine. Below the gaps the folded corners leave,
+    // the noise itself is resolved (every noisy image its own point) and counts repeat
+    // again, so a run there would say "exact" of a drawing whose vertices miss Kawasaki's
+    // sums: only scales above the gap are tried.
+    let scales: Vec<f64> = (1..1 + HALVINGS)
+        .map(|i| shortest / 2f64.powi(i))
+        .filter(|&s| s >= folded.mismatch)
+        .collect();
     let counts: Vec<usize> = scales.iter().map(|&s| clusters(&corners, s)).collect();
     // The first run of three equal counts, as Flat-Folder's, followed to its end.
     let start = (0..counts.len().saturating_sub(2))
@@ -67,49 +72,28 @@ pub fn drawing_precision(mesh: &Mesh) -> Option<DrawnPrecision> {
     // A scale coarser than the gaps the folded corners actually leave would merge real
     // features, not noise: the precision is held to a few times the largest gap.
     let (lo, hi) = crate::mesh::bounds(cp);
-    let precision = scales[end].min(GAPS_EXPLAINED * folded.mismatch);
+    // (A pattern without interior vertices, parallel pleats, leaves no gap to go by.)
+    let explained = match folded.worst_vertex {
+        Some(_) => GAPS_EXPLAINED * folded.mismatch,
+        None => f64::INFINITY,
+    };
+    let precision = scales[end].min(explained);
+    let last = end + 1 == counts.len() && scales.len() == HALVINGS as usize;
     Some(DrawnPrecision {
         precision,
-        exact: end + 1 == counts.len() || precision <= EXACT_RELATIVE * (hi - lo).norm(),
+        exact: last || precision <= EXACT_RELATIVE * (hi - lo).norm(),
     })
 }
 
 /// How many groups `points` fall into when points within `scale` of each other (in x and
-/// y) are one: grid cells of that size, joined where their points' boxes come that near.
-/// Folded states stack many corners on one point, so cells, not points, are compared.
+/// y) are one ([`cluster_labels`]).
 fn clusters(points: &[Vec2], scale: f64) -> usize {
-    let key = |p: &Vec2| ((p.x / scale).floor() as i64, (p.y / scale).floor() as i64);
-    let mut boxes: HashMap<(i64, i64), (Vec2, Vec2)> = HashMap::new();
-    for p in points {
-        boxes
-            .entry(key(p))
-            .and_modify(|(lo, hi)| {
-                *lo = lo.inf(p);
-                *hi = hi.sup(p);
-            })
-            .or_insert((*p, *p));
-    }
-    let cells: Vec<((i64, i64), (Vec2, Vec2))> = boxes.into_iter().collect();
-    let index: HashMap<(i64, i64), usize> = cells
+    let labels = cluster_labels(points, scale);
+    let mut seen = vec![false; points.len()];
+    labels
         .iter()
-        .enumerate()
-        .map(|(i, (k, _))| (*k, i))
-        .collect();
-    let mut groups = UnionFind::new(cells.len());
-    for (i, ((cx, cy), (lo, hi))) in cells.iter().enumerate() {
-        for (dx, dy) in [(1, -1), (1, 0), (1, 1), (0, 1)] {
-            let Some(&j) = index.get(&(cx + dx, cy + dy)) else {
-                continue;
-            };
-            let (olo, ohi) = cells[j].1;
-            let gap_x = (olo.x - hi.x).max(lo.x - ohi.x);
-            let gap_y = (olo.y - hi.y).max(lo.y - ohi.y);
-            if gap_x.max(gap_y) <= scale {
-                groups.union(i, j);
-            }
-        }
-    }
-    (0..cells.len()).filter(|&i| groups.find(i) == i).count()
+        .filter(|&&l| !std::mem::replace(&mut seen[l], true))
+        .count()
 }
 
 #[cfg(test)]

@@ -211,14 +211,9 @@ impl Report {
         self.families.iter().find(|f| f.undecided.is_some())
     }
 
-    /// The failing family the verdict names: the layer order when it fails, since it
-    /// is what decides a flat fold (a vertex breaking eq. (6) has no order either, and
-    /// its row still shows), else the first failing family in the report's order.
+    /// The first failing family, for messages.
     pub fn first_failure(&self) -> Option<&FamilyReport> {
-        let failing = || self.families.iter().filter(|f| f.gating && !f.pass());
-        failing()
-            .find(|f| f.name == "layer-order")
-            .or_else(|| failing().next())
+        self.families.iter().find(|f| f.gating && !f.pass())
     }
 
     /// `{"pass": bool, "families": {NAME: {"max", "rms", "worst", "violations"}}}`.

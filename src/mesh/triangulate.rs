@@ -73,7 +73,85 @@ pub fn triangulate_polygon(corners: &[Vec2], clearance: f64) -> Option<Vec<[usiz
         return None;
     }
     triangles.push([ring[0], ring[1], ring[2]]);
+    flip_caps(corners, &mut triangles, clearance);
     Some(triangles)
+}
+
+/// A corner this close to straight (radians) is nearly on the side opposite it.
+const CAP_ANGLE: f64 = 0.02;
+
+/// Flips the diagonal under every *cap*: a triangle with a corner within [`CAP_ANGLE`] of
+/// straight, which ear clipping leaves when a polygon's corner lies nearly on a side
+/// (a point drawn a little off a crease it should split). Such a triangle has almost no
+/// area, and which way it faces is decided by the drawing's noise. Where the other
+/// triangle on that diagonal makes a convex quadrilateral, the other diagonal gives two
+/// proper triangles with a larger smallest angle; the flip is kept only then (and when
+/// the new diagonal keeps `clearance` from every corner).
+fn flip_caps(corners: &[Vec2], triangles: &mut [[usize; 3]], clearance: f64) {
+    let signed = |t: [usize; 3]| {
+        let [a, b, c] = t.map(|k| corners[k]);
+        (b - a).perp(&(c - a))
+    };
+    let straight = |t: [usize; 3]| {
+        (0..3).find(|&k| {
+            let (a, b, c) = (
+                corners[t[(k + 2) % 3]],
+                corners[t[k]],
+                corners[t[(k + 1) % 3]],
+            );
+            (a - b).angle(&(c - b)) > std::f64::consts::PI - CAP_ANGLE
+        })
+    };
+    let mut side_of: std::collections::HashMap<(usize, usize), usize> = triangles
+        .iter()
+        .enumerate()
+        .flat_map(|(i, t)| (0..3).map(move |k| ((t[k], t[(k + 1) % 3]), i)))
+        .collect();
+    // Each flip removes a cap and makes none (its two triangles are checked), so one
+    // pass per triangle bounds the work even on a pathological polygon.
+    for _ in 0..2 {
+        let mut flipped = false;
+        for i in 0..triangles.len() {
+            let t = triangles[i];
+            let Some(k) = straight(t) else { continue };
+            let (a, b, c) = (t[(k + 2) % 3], t[k], t[(k + 1) % 3]);
+            let Some(&j) = side_of.get(&(a, c)) else {
+                continue;
+            };
+            let u = triangles[j];
+            let d = u[(u.iter().position(|&x| x == a).expect("shares a") + 2) % 3];
+            let (t1, t2) = ([a, b, d], [b, c, d]);
+            let sign = signed(t).signum();
+            let proper = |n: [usize; 3]| signed(n) * sign > 0.0 && straight(n).is_none();
+            let clear = corners.iter().enumerate().all(|(m, &q)| {
+                m == b || m == d || distance_to_segment(q, corners[b], corners[d]) >= clearance
+            });
+            let fatter = min_angle_of(corners, t1).min(min_angle_of(corners, t2))
+                > min_angle_of(corners, t).min(min_angle_of(corners, u));
+            if !(proper(t1) && proper(t2) && clear && fatter) {
+                continue;
+            }
+            for old in [t, u] {
+                for k in 0..3 {
+                    side_of.remove(&(old[k], old[(k + 1) % 3]));
+                }
+            }
+            (triangles[i], triangles[j]) = (t1, t2);
+            for (n, new) in [(i, t1), (j, t2)] {
+                for k in 0..3 {
+                    side_of.insert((new[k], new[(k + 1) % 3]), n);
+                }
+            }
+            flipped = true;
+        }
+        if !flipped {
+            break;
+        }
+    }
+}
+
+fn min_angle_of(corners: &[Vec2], t: [usize; 3]) -> f64 {
+    min_angle(corners[t[0]], corners[t[1]], corners[t[2]])
 }
 
 /// What is known of the ear at a corner.
@@ -240,6 +318,33 @@ mod tests {
             (total - polygon).abs() < 1e-9 * polygon,
             "{total} vs {polygon}"
         );
+    }
+
+    /// A corner drawn a hair off the straight side it splits is not left as the tip of
+    /// a triangle of almost no area: its diagonal is flipped.
+    #[test]
+    fn a_corner_nearly_on_a_side_leaves_no_cap() {
+        for offset in [1e-3, -1e-3, 1e-6] {
+            // A pentagon whose corner 2 lies `offset` off the line from corner 1 to 3.
+            let c = [
+                Vec2::new(0.0, 0.0),
+                Vec2::new(10.0, 0.0),
+                Vec2::new(10.0 - offset, 5.0),
+                Vec2::new(10.0, 10.0),
+                Vec2::new(0.0, 10.0),
+            ];
+            let tris = triangulate_polygon(&c, 0.0).unwrap();
+            let total: f64 = tris.iter().map(|&t| area(&c, t)).sum();
+            assert!((total - (100.0 - 5.0 * offset)).abs() < 1e-9, "{total}");
+            for &t in &tris {
+                let angle = min_angle_of(&c, t);
+                assert!(
+                    angle > 0.1,
+                    "offset {offset}: {t:?} has an angle of {angle}"
+                );
+                assert!(area(&c, t) > 0.0);
+            }
+        }
     }
 
     #[test]

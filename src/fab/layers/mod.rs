@@ -276,6 +276,8 @@ fn prepared(mesh: &Mesh, budget: &Budget) -> Result<Prepared, LayerError> {
             tolerance: super::closure_tolerance(cp, mesh.coordinate_precision),
         });
     }
+    // Judged at the drawing's precision: corners meant to meet, met.
+    let folded = folded.snapped(mesh.coordinate_precision);
     let crease_at = |e: usize| folds_completely(&mesh.edges()[e]);
     if let Some((vertex, faces)) = crimp::first_unstackable_vertex(mesh, crease_at) {
         return Ok(Prepared::Conflict(vertex_conflict(
@@ -342,7 +344,9 @@ fn vertex_conflict(
 /// Overlaps thinner than this (mm) are contact: rounded coordinates fold to images that
 /// miss each other by about the file's rounding, compounded along the reflections (the
 /// closure gap measures it), and a millionth-tenth of the size is what double precision
-/// loses; never more than [`MAX_CONTACT`], a paper's thickness.
+/// loses; never more than [`MAX_CONTACT`], a paper's thickness, unless the file itself
+/// is no more precise than that (its measured drawing precision, which the report
+/// states: an overlap deeper than it still fails).
 fn contact_allowance(mesh: &Mesh, folded: &FlatFolded) -> f64 {
     let (lo, hi) = bounds(folded.triangles.as_flattened());
     (crate::tolerance::LAYER_OVERLAP_RELATIVE * (hi - lo).norm())
@@ -350,7 +354,7 @@ fn contact_allowance(mesh: &Mesh, folded: &FlatFolded) -> f64 {
             2.0 * folded.mismatch
                 + crate::tolerance::ROUNDING_COMPOUNDED * mesh.coordinate_precision,
         )
-        .clamp(1e-300, MAX_CONTACT)
+        .clamp(1e-300, MAX_CONTACT.max(mesh.coordinate_precision))
 }
 
 /// The layer problem. Faces joined across a line that stays flat (F, or U with a zero
@@ -908,12 +912,17 @@ fn overlapping_pairs(
     Ok(pairs)
 }
 
-/// Where edge `e` lies in the folded state, seen from face `a`.
+/// Where edge `e` lies in the folded state, seen from face `a` (its corners there, as
+/// [`FlatFolded::snapped`] left them, so a hinge lies exactly along its faces).
 fn edge_image(mesh: &Mesh, folded: &FlatFolded, a: usize, e: usize) -> (Vec2, Vec2) {
-    let cp = mesh
-        .flat()
-        .expect("a flat-folded state has a crease pattern");
+    let face = mesh.faces()[a];
+    let corner = |v: usize| {
+        let k = face
+            .iter()
+            .position(|&w| w == v)
+            .expect("an edge of a face has its corners in the face");
+        folded.triangles[a][k]
+    };
     let [u, v] = mesh.edges()[e].vertices;
-    let m = &folded.motions[a];
-    (m.apply(cp[u]), m.apply(cp[v]))
+    (corner(u), corner(v))
 }
