@@ -344,6 +344,10 @@ pub const COORDINATE_PRECISION: Range = Range {
     max: 0.5,
 };
 
+/// The time a layer-order search takes unless told otherwise (`verify --budget`'s
+/// default, and `convert --assign`'s).
+pub const DEFAULT_SEARCH_TIME: std::time::Duration = std::time::Duration::from_secs(60);
+
 /// The time a layer-order search may take (`verify --budget`), in seconds.
 pub const SEARCH_TIME: Range = Range {
     what: "the layer search's time",

@@ -69,6 +69,11 @@ enum Command {
         input: PathBuf,
         /// Output file.
         output: PathBuf,
+        /// Give a crease pattern of only unassigned creases the mountains and valleys of
+        /// a flat-folded state found for it (exit 1 naming the faces when none exists, 3
+        /// when the search stops).
+        #[arg(long)]
+        assign: bool,
     },
 }
 
@@ -153,6 +158,10 @@ fn run(cli: Cli) -> Result<u8, String> {
         Command::Plot(args) => cli::plot::plot(args),
         Command::Studio(args) => cli::studio::studio(args),
         Command::Emulate(args) => cli::plot::emulate(args),
-        Command::Convert { input, output } => cli::convert(&input, &output),
+        Command::Convert {
+            input,
+            output,
+            assign,
+        } => cli::convert(&input, &output, assign),
     }
 }

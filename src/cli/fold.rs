@@ -105,6 +105,20 @@ fn fold_flat(
     output: &std::path::Path,
 ) -> Result<u8, String> {
     let name = file.display();
+    // A pattern of unassigned creases folds flat with the sides a layer order gives them.
+    let budget = crease::fab::Budget::search(crease::limits::DEFAULT_SEARCH_TIME);
+    match crease::pipeline::with_sides_found(mesh, &budget) {
+        Ok((assigned, note)) => {
+            if let Some(note) = note {
+                eprintln!("note: {name}: {note}");
+            }
+            mesh = assigned;
+        }
+        Err(e) => {
+            eprintln!("error: {name}: {e}; nothing was written");
+            return Ok(e.exit_code());
+        }
+    }
     let folded = flat_folded(&mesh, None).map_err(|e| format!("{name}: {e}"))?;
     let orders = match layer_order(&mesh).map_err(|e| format!("{name}: {e}"))? {
         LayerOrder::Found(orders) => orders,

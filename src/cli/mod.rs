@@ -215,57 +215,40 @@ pub fn design_failure(e: PipelineError, input: &Path) -> Result<u8, String> {
     }
 }
 
-/// `crease convert`: any format to any other; a 3D-only design written to a flat format
-/// (SVG, .cp) gets its isometric unfolding as crease pattern.
-pub fn convert(input: &Path, output: &Path) -> Result<u8, String> {
-    let mut imported = io::read_with_notes(input).map_err(|e| e.to_string())?;
+/// `crease convert`: any format to any other ([`crease::pipeline::convert`]); exit 1
+/// when `--assign` finds no assignment, 3 when its search stops.
+pub fn convert(input: &Path, output: &Path, assign: bool) -> Result<u8, String> {
+    let imported = io::read_with_notes(input).map_err(|e| e.to_string())?;
     for note in &imported.notes {
         eprintln!("note: {note}");
     }
-    let flat_format = matches!(
-        io::Format::from_path(output).map_err(|e| e.to_string())?,
-        io::Format::Svg | io::Format::Cp
-    );
-    if flat_format && imported.mesh.is_tube() {
-        // A flat format draws a sheet: the tube's strip, its seam's sides cut lines.
-        let strip = crease::fab::unfold_tube(&imported.mesh)
-            .map_err(|e| format!("{}: {e}", input.display()))?;
-        imported.mesh = strip.sheet;
-        eprintln!(
-            "note: {} is a tube; the file draws the strip it is cut from (its seam's two sides are cut lines)",
-            input.display()
-        );
-    }
-    if flat_format && imported.mesh.flat().is_none() {
-        let flat = crease::fab::unfold(&imported.mesh).map_err(|e| {
-            format!(
-                "{}: a 3D-only design with no crease pattern, and it cannot be unfolded: {e}",
-                input.display()
-            )
-        })?;
-        imported.mesh.set_flat(flat);
-        eprintln!(
-            "note: {} has only a 3D form; its crease pattern is the form unfolded",
-            input.display()
-        );
-    }
     let format = io::Format::from_path(output).map_err(|e| e.to_string())?;
-    let claims_flat = crease::fab::layers::partial_crease(&imported.mesh).is_none();
-    if format == io::Format::Fold && !imported.mesh.has_3d() && claims_flat {
-        // A crease pattern that folds flat gets its layer order as faceOrders.
-        if let Ok(crease::fab::LayerOrder::Found(orders)) = crease::fab::layer_order(&imported.mesh)
-        {
-            let text = io::fold::to_string_with_orders(&imported.mesh, Some(&orders));
+    let budget = crease::fab::Budget::search(crease::limits::DEFAULT_SEARCH_TIME);
+    let converted = match crease::pipeline::convert(imported.mesh, format, assign, &budget) {
+        Ok(c) => c,
+        Err(e) if e.exit_code() == 2 => return Err(format!("{}: {e}", input.display())),
+        Err(e) => {
+            eprintln!("error: {}: {e}; nothing was written", input.display());
+            return Ok(e.exit_code());
+        }
+    };
+    for note in &converted.notes {
+        eprintln!("note: {}: {note}", input.display());
+    }
+    match &converted.face_orders {
+        Some(orders) => {
+            let text = io::fold::to_string_with_orders(&converted.mesh, Some(orders));
             io::write_atomic(output, text.as_bytes()).map_err(|e| e.to_string())?;
             eprintln!(
                 "wrote {} (with the layer order as faceOrders)",
                 output.display()
             );
-            return Ok(0);
+        }
+        None => {
+            io::write(&converted.mesh, output).map_err(|e| e.to_string())?;
+            eprintln!("wrote {}", output.display());
         }
     }
-    io::write(&imported.mesh, output).map_err(|e| e.to_string())?;
-    eprintln!("wrote {}", output.display());
     Ok(0)
 }
 

@@ -31,7 +31,7 @@ pub struct VerifyArgs {
     path: bool,
     /// Seconds the layer-order search may take; past them the verdict is UNDECIDED
     /// (exit 3), saying what was left.
-    #[arg(long, default_value_t = 60.0)]
+    #[arg(long, default_value_t = crease::limits::DEFAULT_SEARCH_TIME.as_secs_f64())]
     budget: f64,
     /// Also count the flat-folded states (layer orders): each independent group of
     /// overlapping faces enumerated up to CAP states (default 10000, as Flat-Folder), and

@@ -1,6 +1,7 @@
 //! Fabrication: verify a design before anything is cut, unfold it, lay it out on the media,
 //! score it with dash codes and order the cuts.
 
+pub mod assign;
 pub mod budget;
 pub mod clearance;
 pub mod curve;
@@ -20,6 +21,7 @@ pub mod score;
 pub mod toolpath;
 pub mod verify;
 
+pub use assign::{assign_sides, SideSearch};
 pub use budget::{Budget, OverBudget};
 pub use curve::{Cubic, SmoothCurve};
 pub use flat_fold::{closure_tolerance, flat_folded, FlatFolded, NotFlatFoldable, PlaneMotion};

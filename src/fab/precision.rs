@@ -96,6 +96,21 @@ fn clusters(points: &[Vec2], scale: f64) -> usize {
         .count()
 }
 
+/// A crease pattern's drawing noise, measured ([`drawing_precision`]),
+/// founds its allowances as a file's rounding does: the mesh with that precision, and the
+/// measurement. A pattern drawn exactly, or a 3D design, keeps the tolerances it had.
+pub fn as_drawn(mesh: &Mesh) -> (Option<DrawnPrecision>, std::borrow::Cow<'_, Mesh>) {
+    let drawn = (!mesh.has_3d()).then(|| drawing_precision(mesh)).flatten();
+    match drawn {
+        Some(d) if !d.exact && d.precision > mesh.coordinate_precision => {
+            let mut noisy = mesh.clone();
+            noisy.coordinate_precision = d.precision;
+            (drawn, std::borrow::Cow::Owned(noisy))
+        }
+        _ => (drawn, std::borrow::Cow::Borrowed(mesh)),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -2,8 +2,9 @@
 //! largest and RMS residual, the worst element, the violation count and a verdict; plus
 //! Maekawa's count |M − V| = 2, judged where every crease at a vertex folds flat.
 
+use super::assign::{unassigned_interior, with_open_sides, SideSearch};
 use super::budget::Budget;
-use super::precision::DrawnPrecision;
+use super::precision::{as_drawn, DrawnPrecision};
 use super::rounding::RoundingBounds;
 use crate::constraints::{ConstraintSet, Element, Family, Reference};
 use crate::mesh::{Assignment, Mesh};
@@ -421,22 +422,22 @@ fn verify_assigning(
     tol: Tolerances,
     budget: &Budget,
 ) -> Option<Report> {
-    let open = unassigned_interior(mesh)?;
-    let free = with_open_sides(mesh, &open);
-    let sides = match super::layers::assign_unassigned(&free, budget) {
-        Ok(Ok(sides)) => sides,
-        Ok(Err(conflict)) => {
+    let (assigned, mountains, valleys) = match super::assign::assign_sides(mesh, budget)? {
+        SideSearch::Found {
+            mesh,
+            mountains,
+            valleys,
+        } => (*mesh, mountains, valleys),
+        SideSearch::NoOrder { conflict, open } => {
             let mut report = verify_as_drawn(mesh, conditions, tol, budget);
             report.families.retain(|f| f.name != "assignment");
             let mut row = conflict_report(&conflict);
-            row.basis = format!(
-                "no mountain/valley for the {} unassigned creases gives a layer order",
-                open.len()
-            );
+            row.basis =
+                format!("no mountain/valley for the {open} unassigned creases gives a layer order");
             report.families.push(row);
             return Some(report);
         }
-        Err(e) => {
+        SideSearch::Stopped(e) => {
             let mut report = verify_as_drawn(mesh, conditions, tol, budget);
             if let Some(row) = report.families.iter_mut().find(|f| f.name == "assignment") {
                 let why = format!("the search for their sides stopped: {e}");
@@ -446,23 +447,11 @@ fn verify_assigning(
             return Some(report);
         }
     };
-    let mut assigned = mesh.clone();
-    for &(e, side) in &sides {
-        let edge = &mut assigned.edges_mut()[e];
-        edge.assignment = side;
-        edge.target = side.default_target();
-        edge.fold_angle = edge.target;
-    }
-    let mountains = sides
-        .iter()
-        .filter(|(_, a)| *a == Assignment::Mountain)
-        .count();
     let mut report = verify_as_drawn(&assigned, conditions, tol, budget);
     report.notes.push(format!(
         "the {} unassigned creases were given the sides of a layer order found with them free: \
-         {mountains} mountain(s), {} valley(s); the verdict is the assigned pattern's",
-        open.len(),
-        sides.len() - mountains
+         {mountains} mountain(s), {valleys} valley(s); the verdict is the assigned pattern's",
+        mountains + valleys
     ));
     Some(report)
 }
@@ -482,50 +471,6 @@ pub fn count_flat_states(
         Some(open) => super::count_states(&with_open_sides(mesh, &open), budget, cap),
         None => super::count_states(mesh, budget, cap),
     }
-}
-
-/// A crease pattern's drawing noise, measured ([`super::precision::drawing_precision`]),
-/// founds its allowances as a file's rounding does: the mesh with that precision, and the
-/// measurement. A pattern drawn exactly, or a 3D design, keeps the tolerances it had.
-fn as_drawn(mesh: &Mesh) -> (Option<DrawnPrecision>, std::borrow::Cow<'_, Mesh>) {
-    let drawn = (!mesh.has_3d())
-        .then(|| super::precision::drawing_precision(mesh))
-        .flatten();
-    match drawn {
-        Some(d) if !d.exact && d.precision > mesh.coordinate_precision => {
-            let mut noisy = mesh.clone();
-            noisy.coordinate_precision = d.precision;
-            (drawn, std::borrow::Cow::Owned(noisy))
-        }
-        _ => (drawn, std::borrow::Cow::Borrowed(mesh)),
-    }
-}
-
-/// `mesh` with its unassigned creases `open` aimed at a full fold, their side left to
-/// the layer search.
-fn with_open_sides(mesh: &Mesh, open: &[usize]) -> Mesh {
-    let mut free = mesh.clone();
-    for &e in open {
-        let edge = &mut free.edges_mut()[e];
-        (edge.target, edge.fold_angle) = (PI, PI);
-    }
-    free
-}
-
-/// The interior edges of a crease pattern whose creases are all unassigned, when it has
-/// any (`None` for a 3D design or a pattern with mountains or valleys).
-fn unassigned_interior(mesh: &Mesh) -> Option<Vec<usize>> {
-    if mesh.has_3d() || mesh.edges().iter().any(|e| e.assignment.is_folded()) {
-        return None;
-    }
-    let topo = mesh.topology();
-    let open: Vec<usize> = (0..mesh.edges().len())
-        .filter(|&e| {
-            mesh.edges()[e].assignment == Assignment::Unassigned
-                && topo.edge_faces[e].iter().all(Option::is_some)
-        })
-        .collect();
-    (!open.is_empty()).then_some(open)
 }
 
 /// [`verify_within`] of the design as its file draws it.

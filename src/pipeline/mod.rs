@@ -2,6 +2,7 @@
 //! both run exactly the same thing: folding a pattern, running a design script
 //! ([`Script`], run here), and fabricating a design ([`fabricate`]).
 
+mod convert;
 mod fab_options;
 mod fab_report;
 mod fabricate;
@@ -11,6 +12,7 @@ mod report_json;
 mod script;
 mod tube;
 
+pub use convert::{convert, with_sides_found, ConvertError, Converted};
 pub use fab_options::{FabOptions, GLUE_TAB_MM, MIN_WIDTH_MM, TILE_OVERLAP_MM};
 pub use fabricate::{
     fabricate, fabricate_verified, remove_stale_outputs, FabError, FabOutput, NextSteps, Rejected,

@@ -9,6 +9,7 @@ use crate::common;
 use common::run_crease;
 use crease::constraints::ConstraintSet;
 use crease::fab::{verify, verify_within, Budget, Report, Tolerances, Verdict};
+use crease::mesh::Assignment;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
@@ -327,6 +328,92 @@ fn a_pattern_of_unassigned_creases_is_assigned_and_judged() {
     assert!(
         matches!(&verdict, Verdict::Undecided { condition: "assignment", why } if why.contains("search for their sides stopped")),
         "{verdict}"
+    );
+}
+
+/// The sides found are written: `convert --assign` gives the pleat's unassigned creases
+/// theirs (and its layer order), `fold --flat` folds it with them, and a design with
+/// nothing to assign, or an unassigned vertex that cannot fold flat, says so.
+#[test]
+fn the_sides_found_for_unassigned_creases_are_written() {
+    let pleat = data("instagram-sample").join("009_ku_Unassigned_Triangle_Pleat.fold");
+    let dir = common::scratch_file("assign", "placeholder", "")
+        .parent()
+        .unwrap()
+        .to_path_buf();
+    let assigned = dir.join("pleat-assigned.fold");
+    let (code, _, err) = run_crease(&[
+        "convert",
+        pleat.to_str().unwrap(),
+        assigned.to_str().unwrap(),
+        "--assign",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("5 mountain(s), 4 valley(s)"), "{err}");
+    let mesh = crease::io::read(&assigned).unwrap();
+    let count = |a: Assignment| mesh.edges().iter().filter(|e| e.assignment == a).count();
+    assert_eq!(
+        (count(Assignment::Mountain), count(Assignment::Valley)),
+        (5, 4)
+    );
+    assert_eq!(count(Assignment::Unassigned), 0);
+    let text = std::fs::read_to_string(&assigned).unwrap();
+    assert!(text.contains("faceOrders"));
+    // Read back, the assigned pattern passes as it is, with no assignment made.
+    let report = verified(&assigned);
+    assert_eq!(report.verdict(), Verdict::Pass, "{report}");
+    assert!(!report.to_string().contains("were given the sides"));
+    // fold --flat folds it with those sides.
+    let flat = dir.join("pleat-flat.fold");
+    let (code, _, err) = run_crease(&[
+        "fold",
+        pleat.to_str().unwrap(),
+        "--flat",
+        "-o",
+        flat.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let folded: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&flat).unwrap()).unwrap();
+    assert!(
+        !folded["faceOrders"].as_array().unwrap().is_empty(),
+        "{err}"
+    );
+    // A pattern with mountains and valleys has nothing to assign: bad input.
+    let kabuto = data("instagram-sample").join("002_traditional_Kabuto.fold");
+    let (code, _, err) = run_crease(&[
+        "convert",
+        kabuto.to_str().unwrap(),
+        dir.join("k.fold").to_str().unwrap(),
+        "--assign",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("no crease pattern of only unassigned creases"),
+        "{err}"
+    );
+    // Three unassigned creases at a vertex never fold flat (an odd number of folds):
+    // exit 1, nothing written.
+    let odd = common::scratch_file(
+        "assign",
+        "odd.fold",
+        r#"{"file_spec": 1.1, "frame_classes": ["creasePattern"],
+ "vertices_coords": [[0,0],[2,0],[2,2],[0,2],[1,1]],
+ "edges_vertices": [[0,1],[1,2],[2,3],[3,0],[4,0],[4,1],[4,2]],
+ "edges_assignment": ["B","B","B","B","U","U","U"],
+ "faces_vertices": [[4,0,1],[4,1,2],[4,2,3,0]]}"#,
+    );
+    let out = dir.join("odd-assigned.fold");
+    let (code, _, err) = run_crease(&[
+        "convert",
+        odd.to_str().unwrap(),
+        out.to_str().unwrap(),
+        "--assign",
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("nothing was written") && !out.exists(),
+        "{err}"
     );
 }
 

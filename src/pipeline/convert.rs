@@ -1,0 +1,142 @@
+//! `convert` as a job: what a design becomes when written in another format. A flat
+//! format (SVG, `.cp`) draws a sheet, so a tube becomes its strip and a 3D-only design its
+//! unfolding; a crease pattern that folds flat, written as FOLD, carries its layer order;
+//! with `assign`, a pattern of unassigned creases is written with the sides a layer
+//! order gives them.
+
+use crate::fab::{Budget, LayerConflict, LayerError, LayerOrder, SideSearch, UnfoldError};
+use crate::io::Format;
+use crate::mesh::Mesh;
+
+/// What to write, and what changed on the way.
+#[derive(Debug)]
+pub struct Converted {
+    /// The design as the output format takes it.
+    pub mesh: Mesh,
+    /// Its layer order (FOLD `faceOrders`), for a crease pattern that folds flat
+    /// written as FOLD.
+    pub face_orders: Option<Vec<[i64; 3]>>,
+    /// Sentences for the user on what was changed.
+    pub notes: Vec<String>,
+}
+
+/// Why a design could not be converted.
+#[derive(Debug, thiserror::Error)]
+pub enum ConvertError {
+    /// A tube or 3D-only design written to a flat format that cannot be unfolded.
+    #[error("{what}, and it cannot be unfolded: {cause}")]
+    Unfold {
+        /// What the design is.
+        what: &'static str,
+        /// Why unfolding failed.
+        cause: UnfoldError,
+    },
+    /// Sides were asked for a design that has no unassigned creases to give them.
+    #[error("it has no crease pattern of only unassigned creases to assign (its creases already say mountain or valley, or it is a 3D design)")]
+    NothingToAssign,
+    /// No mountain/valley of the unassigned creases folds flat.
+    #[error(
+        "no mountain/valley for its {open} unassigned creases gives a layer order: {conflict}"
+    )]
+    NoAssignment {
+        /// The faces no assignment orders.
+        conflict: LayerConflict,
+        /// How many creases were unassigned.
+        open: usize,
+    },
+    /// The search for the sides stopped before an answer.
+    #[error("the search for its creases' sides stopped: {0}")]
+    SearchStopped(LayerError),
+}
+
+impl ConvertError {
+    /// Whether the design itself was judged (no assignment exists) rather than the
+    /// question left open (the search stopped) or the input unfit (nothing to assign).
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            // A gap around a vertex or a crease hinged to itself answers the question.
+            ConvertError::NoAssignment { .. }
+            | ConvertError::SearchStopped(LayerError::Open { .. } | LayerError::SelfHinged(_)) => 1,
+            ConvertError::SearchStopped(_) => 3,
+            ConvertError::Unfold { .. } | ConvertError::NothingToAssign => 2,
+        }
+    }
+}
+
+/// `mesh` made ready to be written as `format`; with `assign`, its unassigned creases
+/// given sides first (within `budget`).
+pub fn convert(
+    mut mesh: Mesh,
+    format: Format,
+    assign: bool,
+    budget: &Budget,
+) -> Result<Converted, ConvertError> {
+    let mut notes = Vec::new();
+    if assign {
+        let (assigned, note) = with_sides_found(mesh, budget)?;
+        notes.push(note.ok_or(ConvertError::NothingToAssign)?);
+        mesh = assigned;
+    }
+    let flat_format = matches!(format, Format::Svg | Format::Cp);
+    if flat_format && mesh.is_tube() {
+        // A flat format draws a sheet: the tube's strip, its seam's sides cut lines.
+        let strip = crate::fab::unfold_tube(&mesh).map_err(|cause| ConvertError::Unfold {
+            what: "a tube",
+            cause,
+        })?;
+        mesh = strip.sheet;
+        notes.push(
+            "it is a tube; the file draws the strip it is cut from (its seam's two sides are cut lines)"
+                .into(),
+        );
+    }
+    if flat_format && mesh.flat().is_none() {
+        let flat = crate::fab::unfold(&mesh).map_err(|cause| ConvertError::Unfold {
+            what: "a 3D-only design with no crease pattern",
+            cause,
+        })?;
+        mesh.set_flat(flat);
+        notes.push("it has only a 3D form; its crease pattern is the form unfolded".into());
+    }
+    let claims_flat = crate::fab::layers::partial_crease(&mesh).is_none();
+    let face_orders = if format == Format::Fold && !mesh.has_3d() && claims_flat {
+        match crate::fab::layer_order_within(&mesh, budget) {
+            Ok(LayerOrder::Found(orders)) => Some(orders),
+            _ => None,
+        }
+    } else {
+        None
+    };
+    Ok(Converted {
+        mesh,
+        face_orders,
+        notes,
+    })
+}
+
+/// A crease pattern of only unassigned creases with the sides of a layer order found for
+/// them, and a sentence saying so; any other design unchanged, with no sentence. Errors
+/// when no assignment folds flat or the search stops.
+pub fn with_sides_found(
+    mesh: Mesh,
+    budget: &Budget,
+) -> Result<(Mesh, Option<String>), ConvertError> {
+    match crate::fab::assign_sides(&mesh, budget) {
+        None => Ok((mesh, None)),
+        Some(SideSearch::Found {
+            mesh: assigned,
+            mountains,
+            valleys,
+        }) => Ok((
+            *assigned,
+            Some(format!(
+                "its {} unassigned creases were given the sides of a layer order: {mountains} mountain(s), {valleys} valley(s)",
+                mountains + valleys
+            )),
+        )),
+        Some(SideSearch::NoOrder { conflict, open }) => {
+            Err(ConvertError::NoAssignment { conflict, open })
+        }
+        Some(SideSearch::Stopped(e)) => Err(ConvertError::SearchStopped(e)),
+    }
+}
