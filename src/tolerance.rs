@@ -60,7 +60,7 @@ pub const LAYER_OVERLAP_RELATIVE: f64 = 1e-7;
 
 /// The largest part of a drawing's shortest edge its inferred decimal rounding may be
 /// (relative): a coarser "rounding" is a grid the values lie on exactly
-/// ([`crate::io::rounding_of`]).
+/// (`io::rounding_of`).
 pub const ROUNDING_OF_SHORTEST_EDGE: f64 = 0.01;
 
 /// Of a drawing's diagonal (relative): points of a crease-pattern drawing (SVG, `.cp`)

@@ -6,6 +6,8 @@ mod common;
 
 #[path = "cli/commands.rs"]
 mod commands;
+#[path = "cli/docs.rs"]
+mod docs;
 #[path = "cli/fuzz.rs"]
 mod fuzz;
 #[path = "cli/hostile.rs"]

@@ -21,7 +21,9 @@ pub struct GenerateArgs {
     /// Pattern: miura, waterbomb, yoshimura, resch, plane, curved, arc (one curved
     /// crease, folded exactly by the mirror construction), concentric (circular creases
     /// alternating mountain and valley, the construction repeated ring by ring), pleat
-    /// (sinusoidal creases alternating, a ruled strip reflected crease by crease).
+    /// (sinusoidal creases alternating, a ruled strip reflected crease by crease),
+    /// waterbomb-tube, yoshimura-tube, kresling (tubes: a strip whose two ends are one
+    /// seam, paper §7; --nx cells around, --ny along).
     pattern: String,
     /// Cells across (arc, concentric: chords along each crease, a quarter turn; pleat: one
     /// wave across, four rulings a cell).

@@ -59,7 +59,7 @@ pub fn has_curved_crease(mesh: &Mesh, chains: &[CreaseChain], flat: &[Vec3]) -> 
     })
 }
 
-/// Whether `mesh` has a curved crease ([`has_curved_crease`] over its own chains, judged
+/// Whether `mesh` has a curved crease (`has_curved_crease` over its own chains, judged
 /// on its crease pattern, or its 3D form when it has none): its unassigned edges are then
 /// the rulings of the developable surface between the creases.
 pub fn has_curved_creases(mesh: &Mesh) -> bool {

@@ -140,7 +140,7 @@ pub fn smoothness(mesh: &Mesh, reference: &Reference, c: &Corners, x: &[Vec3], r
 }
 
 /// The largest |second difference| of turning angle over every chain, in the crease
-/// pattern and in space (radians): what the acceptance measures and the README reports.
+/// pattern and in space (radians): what the acceptance measures and docs/guide.md reports.
 pub fn largest_second_differences(mesh: &Mesh, chains: &[CreaseChain], x: &[Vec3]) -> (f64, f64) {
     let c = Corners::new(mesh, x, false);
     let (mut pattern, mut space) = (0.0f64, 0.0f64);

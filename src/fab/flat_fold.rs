@@ -84,7 +84,7 @@ pub struct FlatFolded {
     /// Per face, its three corners in the folded state.
     pub triangles: Vec<[Vec2; 3]>,
     /// The largest gap (mm) the faces around one interior vertex leave when folded flat
-    /// (see [`worst_closure`]): zero, up to rounding, exactly when every vertex folds flat.
+    /// (see `worst_closure`): zero, up to rounding, exactly when every vertex folds flat.
     pub mismatch: f64,
     /// The vertex with that gap.
     pub worst_vertex: Option<usize>,

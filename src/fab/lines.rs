@@ -147,7 +147,7 @@ impl CreaseLine {
 }
 
 /// Merges the mesh's edges, laid out at `flat`, into lines per kind: in a pattern with
-/// curved creases each curved crease chain is one smooth curve ([`curved_lines`]); every
+/// curved creases each curved crease chain is one smooth curve (`curved_lines`); every
 /// other run of edges of one kind that goes on straight through its vertices is one
 /// straight line.
 pub fn crease_lines(mesh: &Mesh, flat: &[Vec2]) -> Vec<CreaseLine> {

@@ -11,7 +11,7 @@ use super::layout::Sheet;
 use super::lines::LineKind;
 use super::toolpath::{dashes, short_marks, ScoreSettings, ShortFolds, Stroke};
 
-/// Turns the sheet's lines into strokes (unordered; see [`super::route`]), every dash
+/// Turns the sheet's lines into strokes (unordered; see [`super::route()`]), every dash
 /// clear of the cut and of other creases' dashes ([`super::clearance::keep_clear`]).
 pub fn score(sheet: &Sheet, settings: &ScoreSettings) -> Vec<Stroke> {
     score_lines(sheet, settings).0

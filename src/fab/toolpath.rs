@@ -108,7 +108,7 @@ pub struct Stroke {
     pub from: Vec2,
     /// End.
     pub to: Vec2,
-    /// The sheet line ([`Sheet::lines`]) it cuts or scores: a crease's dashes share it.
+    /// The sheet line ([`crate::fab::Sheet`]'s `lines`) it cuts or scores: a crease's dashes share it.
     pub line: usize,
     /// The two inner control points of the cubic it follows from `from` to `to`, if it is
     /// not straight.

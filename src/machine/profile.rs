@@ -477,7 +477,7 @@ impl Machine {
         })
     }
 
-    /// Dash codes and clearance for [`crate::fab::score`].
+    /// Dash codes and clearance for [`crate::fab::score()`].
     pub fn score_settings(&self) -> ScoreSettings {
         ScoreSettings {
             codes: self

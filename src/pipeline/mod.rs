@@ -430,7 +430,7 @@ pub enum StepOrder {
 
 /// The layer order of the solver's state (`layer-order` among the conditions): its
 /// crease pattern, unfolded afresh (a design-mode step changes it), folded flat, judged
-/// within `time` and the default cap. Scripted drags ([`drag_phase`]) and the studio's
+/// within `time` and the default cap. Scripted drags (`drag_phase`) and the studio's
 /// pointer drags both hold their steps to it.
 pub fn layer_order_of_step(solver: &Solver, time: std::time::Duration) -> StepOrder {
     use crate::fab::{budget::Budget, layer_conflict, LayerError};

@@ -24,10 +24,10 @@ const RELATIVE_SHIFT: f64 = 1e-12;
 /// How the Tikhonov shift λ of J Jᵀ + λI is sized.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Shift {
-    /// [`RELATIVE_SHIFT`] times the largest diagonal entry, for every row: rows of one
+    /// `RELATIVE_SHIFT` times the largest diagonal entry, for every row: rows of one
     /// scale, as the paper's conditions are.
     Largest,
-    /// [`RELATIVE_SHIFT`] times each row's own diagonal entry (Marquardt's scaling): for
+    /// `RELATIVE_SHIFT` times each row's own diagonal entry (Marquardt's scaling): for
     /// rows of very different scales. The layer-order rows' gradients reach along the
     /// whole flat-folded walk, 10⁴ times the angle rows'; a shift sized to them held
     /// Newton on the angle rows to linear convergence (14 iterations where one does, and
@@ -156,7 +156,7 @@ impl NormalSolver {
         self.factorise_shifted(jacobian, Shift::Largest)
     }
 
-    /// [`NormalSolver::factorise`] with the shift chosen: λ = [`RELATIVE_SHIFT`] times
+    /// [`NormalSolver::factorise`] with the shift chosen: λ = `RELATIVE_SHIFT` times
     /// the largest diagonal entry for every row, or times each row's own.
     pub fn factorise_shifted(
         &mut self,

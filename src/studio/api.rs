@@ -1,6 +1,6 @@
 //! The studio's HTTP API, as a pure function from a request to a response so tests can
 //! call it without a socket (axum's `fn app()` habit). Every route is documented in the
-//! README; bad requests get a 4xx and a one-line message, and the session keeps its design.
+//! docs/studio.md; bad requests get a 4xx and a one-line message, and the session keeps its design.
 //!
 //! Only the studio's own page may talk to it ([`admit`]): the `Host` must name the
 //! loopback address it listens on (DNS rebinding), a present `Origin` must be its own,
@@ -447,7 +447,7 @@ fn command_for(
         (_, r) => {
             return Err(Response::error(
                 404,
-                &format!("no route {method} /api{r} (see the README's studio API)"),
+                &format!("no route {method} /api{r} (see docs/studio.md, the studio API)"),
             ))
         }
     })

@@ -3,7 +3,7 @@
 //! first, so the page can be edited without rebuilding.
 //!
 //! three.js is vendored under `assets/vendor/three/` at version 0.187.0 (MIT, its LICENSE
-//! beside it); the README says how to update it.
+//! beside it); `docs/studio.md` says how to update it.
 
 use std::path::{Path, PathBuf};
 

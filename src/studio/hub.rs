@@ -1,6 +1,6 @@
 //! One thread owns the session; request handlers only forward (bevy_remote's habit).
 //! Handlers post a [`Command`] with a reply channel to the mailbox; the session thread
-//! answers each in turn, publishes a [`Frame`] after every change and, while a drag can
+//! answers each in turn, publishes a `Frame` after every change and, while a drag can
 //! go on, takes solver steps between messages. Long-polls wait on the published frame and
 //! never touch the mesh.
 

@@ -780,7 +780,7 @@ fn radial_vertices_of_high_degree_get_a_verdict_from_crimps_not_a_hang() {
 #[test]
 fn every_bundled_design_gets_its_layer_order_verdict() {
     // Some(true): an order; Some(false): none, reported (a freeform design that folds to
-    // its form but not flat, named in the README with its overlaps); None: not
+    // its form but not flat, named in docs/known-gaps.md with its overlaps); None: not
     // flat-foldable by its own assignment, so not judged.
     let expected: &[(&str, Option<bool>)] = &[
         // A curved crease targets 0.8 π: it never folds flat.

@@ -1,5 +1,5 @@
 //! Print-then-cut (`fab --print-and-cut`): the marks are found in the printed PDF where
-//! the README says they are, and the cutter's job — read back after quantisation, moved
+//! docs/guide.md says they are, and the cutter's job — read back after quantisation, moved
 //! into the page by the marks' origin — cuts along the printed outline.
 
 use crate::common;
@@ -176,7 +176,7 @@ fn silhouette_marks_print_where_stated_and_the_job_cuts_the_printed_outline() {
         let page = printed_page(output(&out, "sheet.pdf"));
         let (w, h) = (page.size.x, page.size.y);
         let marks = find_marks(&page);
-        // As the README states (inkscape-silhouette's Type 1 marks): a 5 mm square whose
+        // As docs/guide.md states (inkscape-silhouette's Type 1 marks): a 5 mm square whose
         // top-left corner is 15 mm from the page's left and 20 mm from its top; L marks of
         // 0.3 mm lines with 20 mm arms at the frame's top-right (15 mm from the right
         // edge) and bottom-left (47 mm from the bottom edge).

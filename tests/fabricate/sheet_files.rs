@@ -528,7 +528,7 @@ fn read_png(bytes: &[u8]) -> (u32, u32, Vec<[u8; 3]>) {
 }
 
 /// sheet.png and design.png of one run: the sheet picture is the media at the report's
-/// scale, and each operation's colour (the README's: cut black, mountain red, valley
+/// scale, and each operation's colour (docs/guide.md's: cut black, mountain red, valley
 /// blue) covers what its strokes do at the stated width; the design picture is its
 /// stated size and shows paper and, where the design has them, red and blue creases.
 fn check_previews(out: &crease::pipeline::FabOutput, mesh: &Mesh, what: &str) {
@@ -764,7 +764,7 @@ fn check_job(
             );
         }
     }
-    // Mountains told from valleys by the README's rule, on the lengths the cutter cuts; a
+    // Mountains told from valleys by the documented rule (docs/guide.md), on the lengths the cutter cuts; a
     // pen plotter draws them solid, in pens of their own.
     let Some(Some(valley)) = settings.codes.get(&LineKind::Valley) else {
         assert_ne!(

@@ -44,7 +44,7 @@ pub fn to_string(mesh: &Mesh) -> String {
 /// file lists: triangles merged into one polygon share their order, so each pair of
 /// written faces takes its first triangle pair's.
 ///
-/// A tube is written as its strip with `crease:seam` (see [`super::seam`]).
+/// A tube is written as its strip with `crease:seam` (see `io::fold::seam`).
 pub fn to_string_with_orders(mesh: &Mesh, orders: Option<&[[i64; 3]]>) -> String {
     match super::seam::strip_for_writing(mesh) {
         Some((strip, seam)) => write(&strip, orders, Some(seam)),

@@ -1,4 +1,4 @@
-//! PDF pages, drawn at 1:1 in millimetres: the template to fold by ([`template`]: crease
+//! PDF pages, drawn at 1:1 in millimetres: the template to fold by (`template`: crease
 //! lines in distinct dash styles for folding by hand, mountain dash-dot, valley dashed, cut
 //! solid; a 100 mm scale bar to check the printer did not scale; a legend, the title and
 //! the report's summary) and the print-and-cut page ([`print`]).

@@ -1,11 +1,11 @@
 //! The studio's session: the design being varied, its solver, the user's pins and
 //! settings, and the undo history. One thread owns it (see [`super::hub`]); requests
-//! reach it as [`Command`]s and every change is published as a [`Frame`].
+//! reach it as [`Command`]s and every change is published as a `Frame`.
 //!
 //! It turns requests into library calls and holds no geometry of its own: dragging is the
 //! solver's null-space step and Newton correction (§3), the crease pattern is
 //! [`crate::fab::unfold`], the x-ray is [`crate::fab::flat_folded`], the verdict is
-//! [`crate::fab::verify`], saving is [`crate::pipeline::finish_design`] as `deform` does.
+//! [`crate::fab::verify()`], saving is [`crate::pipeline::finish_design`] as `deform` does.
 
 mod analysis;
 mod drag;
