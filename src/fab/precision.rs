@@ -17,8 +17,9 @@
 use super::flat_fold::{cluster_labels, flat_folded};
 use crate::mesh::{Mesh, Vec2};
 
-/// Halvings of the scale tried (Flat-Folder tries 25).
-const HALVINGS: i32 = 27;
+/// The finest scale tried is the shortest crease over 2 to this power (Flat-Folder
+/// tries 25 halvings from an eighth).
+const FINEST: i32 = 28;
 
 /// The drawing precision is at most this many times the largest gap the folded corners
 /// leave around a vertex ([`super::FlatFolded::mismatch`]).
@@ -57,7 +58,12 @@ pub fn drawing_precision(mesh: &Mesh) -> Option<DrawnPrecision> {
     // the noise itself is resolved (every noisy image its own point) and counts repeat
     // again, so a run there would say "exact" of a drawing whose vertices miss Kawasaki's
     // sums: only scales above the gap are tried.
-    let scales: Vec<f64> = (1..1 + HALVINGS)
+    // The search starts at an eighth of the shortest crease, as Flat-Folder's; where the
+    // folded corners' gaps bound the noise (interior vertices, below), it may start at a
+    // half, so that a run of three fits above a drawing's compounded noise.
+    let bounded = folded.worst_vertex.is_some();
+    let first = if bounded { 1 } else { 3 };
+    let scales: Vec<f64> = (first..FINEST)
         .map(|i| shortest / 2f64.powi(i))
         .filter(|&s| s >= folded.mismatch)
         .collect();
@@ -73,12 +79,13 @@ pub fn drawing_precision(mesh: &Mesh) -> Option<DrawnPrecision> {
     // features, not noise: the precision is held to a few times the largest gap.
     let (lo, hi) = crate::mesh::bounds(cp);
     // (A pattern without interior vertices, parallel pleats, leaves no gap to go by.)
-    let explained = match folded.worst_vertex {
-        Some(_) => GAPS_EXPLAINED * folded.mismatch,
-        None => f64::INFINITY,
+    let explained = if bounded {
+        GAPS_EXPLAINED * folded.mismatch
+    } else {
+        f64::INFINITY
     };
     let precision = scales[end].min(explained);
-    let last = end + 1 == counts.len() && scales.len() == HALVINGS as usize;
+    let last = end + 1 == counts.len() && scales.len() == (FINEST - first) as usize;
     Some(DrawnPrecision {
         precision,
         exact: last || precision <= EXACT_RELATIVE * (hi - lo).norm(),

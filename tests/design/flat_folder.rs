@@ -285,8 +285,21 @@ fn a_pattern_drawn_with_noise_gets_the_verdict_of_the_exact_one() {
  "edges_assignment": ["B","B","B","B","B","B","B","B","V","V"],
  "edges_foldAngle": [0,0,0,0,0,0,0,0,180,180],
  "faces_vertices": [[0,1,6,7],[1,2,5,6],[2,3,4,5]]}"#;
-    for (noise, seed) in [(0.0, 1), (0.01, 3), (0.01, 4)] {
-        let report = verify_text("strip.fold", &drawn_with_noise(strip, 1.0, noise, seed));
+    // The same with flaps of 10.5 mm on a 10 mm middle: each covers the other's hinge by
+    // 0.5 mm, far past what 0.01 mm of noise explains.
+    let shallow = strip.replace(
+        "[15,0],[25,0],[45,0],[45,10],[25,10],[15,10]",
+        "[10.5,0],[20.5,0],[31,0],[31,10],[20.5,10],[10.5,10]",
+    );
+    assert_ne!(shallow, strip);
+    let cases = [(strip, 0.0, 1), (strip, 0.01, 3), (strip, 0.01, 4)];
+    let shallow_cases = [
+        (shallow.as_str(), 0.0, 1),
+        (shallow.as_str(), 0.01, 5),
+        (shallow.as_str(), 0.01, 6),
+    ];
+    for (pattern, noise, seed) in cases.into_iter().chain(shallow_cases) {
+        let report = verify_text("strip.fold", &drawn_with_noise(pattern, 1.0, noise, seed));
         let verdict = report.verdict();
         assert!(
             matches!(
