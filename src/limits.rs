@@ -365,6 +365,20 @@ pub const STATE_CAP: Range = Range {
     max: 1e12,
 };
 
+/// An SVG opacity (`opacity`, `stroke-opacity`): Origami Simulator draws a crease's
+/// fold as a fraction of its full fold by it.
+pub const OPACITY: Range = Range {
+    what: "an opacity",
+    unit: "",
+    min: 0.0,
+    max: 1.0,
+};
+
+/// Largest file crease reads from disk (a pattern, a target, a script, a job, a
+/// profile): a binary STL of [`TARGET_TRIANGLES`] is 200 MB. Counted as the bytes are
+/// read, not taken from the size a file reports (a FIFO or a device reports none).
+pub const MAX_FILE_BYTES: u64 = 256 << 20;
+
 /// Largest file the studio opens, and so the largest request body its HTTP side reads.
 pub const MAX_UPLOAD: usize = 64 << 20;
 

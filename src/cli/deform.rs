@@ -81,8 +81,7 @@ pub fn deform(args: DeformArgs) -> Result<u8, String> {
         .map_err(|e| e.to_string())?;
     let mut job = match &script {
         Some(path) => {
-            let text =
-                std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+            let text = crease::io::read_file_text(path).map_err(|e| e.to_string())?;
             let parsed = Script::parse(&text).map_err(|e| format!("{}: {e}", path.display()))?;
             let dir = path.parent().unwrap_or(std::path::Path::new("."));
             DesignJob::from_script(&parsed, dir, mesh)

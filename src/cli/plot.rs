@@ -211,7 +211,8 @@ fn open_job(
             settings.source
         ));
     }
-    let bytes = std::fs::read(&job_path).map_err(|e| format!("{}: {e}", job_path.display()))?;
+    let bytes = crease::io::read_file_bytes(&job_path, crease::limits::MAX_FILE_BYTES)
+        .map_err(|e| e.to_string())?;
     let text = String::from_utf8(bytes)
         .map_err(|_| format!("{}: not an {name} text file", job_path.display()))?;
     Ok((job_path, text, settings))

@@ -15,8 +15,9 @@ pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, FileCause> {
         let fields: Vec<&str> = line.split_whitespace().collect();
         let bad = || {
             format!(
-                "line {}: expected \"type x0 y0 x1 y1\", found \"{line}\"",
-                i + 1
+                "line {}: expected \"type x0 y0 x1 y1\", found \"{}\"",
+                i + 1,
+                crate::limits::short_text(line)
             )
         };
         if fields.len() != 5 {

@@ -35,9 +35,6 @@ pub enum FileCause {
     /// The system refused (no such file, no permission, disk full).
     #[error(transparent)]
     Io(#[from] std::io::Error),
-    /// The same, for a file read whole before its format is known (a target surface).
-    #[error("cannot read it: {0}")]
-    Unreadable(#[source] std::io::Error),
     /// What it holds is not what its format allows; the message says where and why.
     #[error("{0}")]
     Content(String),
@@ -258,6 +255,45 @@ pub fn toml_error(text: &str, e: &toml::de::Error) -> String {
     }
 }
 
+/// The bytes of the regular file at `path` (a symbolic link is followed), at most
+/// `limit` of them. A FIFO, a device or a directory is refused by its type before
+/// anything is read, and the cap counts bytes as they are read, so neither a pipe that
+/// never ends nor a file that grows can make a read unbounded.
+pub fn read_file_bytes(path: &Path, limit: u64) -> Result<Vec<u8>, FileError> {
+    use std::io::Read;
+    let meta = std::fs::metadata(path).map_err(|e| FileError::new(path, e))?;
+    if !meta.is_file() {
+        let kind = if meta.is_dir() {
+            "a directory"
+        } else {
+            "not a regular file (a FIFO, socket or device)"
+        };
+        return Err(FileError::new(
+            path,
+            format!("is {kind}: give crease a file on disk"),
+        ));
+    }
+    let file = std::fs::File::open(path).map_err(|e| FileError::new(path, e))?;
+    let mut bytes = Vec::with_capacity(meta.len().min(limit) as usize);
+    file.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| FileError::new(path, e))?;
+    if bytes.len() as u64 > limit {
+        return Err(FileError::new(
+            path,
+            format!("is larger than the {} MB crease reads", limit >> 20),
+        ));
+    }
+    Ok(bytes)
+}
+
+/// The text of the regular file at `path`, read as [`read_file_bytes`] does, within
+/// [`crate::limits::MAX_FILE_BYTES`].
+pub fn read_file_text(path: &Path) -> Result<String, FileError> {
+    let bytes = read_file_bytes(path, crate::limits::MAX_FILE_BYTES)?;
+    String::from_utf8(bytes).map_err(|_| FileError::new(path, "the file is not UTF-8 text"))
+}
+
 /// Reads a pattern file of any supported format.
 pub fn read(path: &Path) -> Result<Mesh, FileError> {
     read_with_notes(path).map(|i| i.mesh)
@@ -266,7 +302,7 @@ pub fn read(path: &Path) -> Result<Mesh, FileError> {
 /// Reads a pattern file and reports what import changed.
 pub fn read_with_notes(path: &Path) -> Result<Imported, FileError> {
     Format::from_path(path)?;
-    let bytes = std::fs::read(path).map_err(|e| FileError::new(path, e))?;
+    let bytes = read_file_bytes(path, crate::limits::MAX_FILE_BYTES)?;
     read_bytes(path, bytes)
 }
 

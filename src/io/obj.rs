@@ -54,7 +54,13 @@ pub fn parse(text: &str) -> Result<Mesh, FileCause> {
     let mut edges = Vec::new();
     for (i, line) in text.lines().enumerate() {
         let f: Vec<&str> = line.split_whitespace().collect();
-        let bad = || format!("line {}: cannot read \"{}\"", i + 1, line.trim());
+        let bad = || {
+            format!(
+                "line {}: cannot read \"{}\"",
+                i + 1,
+                crate::limits::short_text(line.trim())
+            )
+        };
         let nums = |k: usize| -> Result<Vec<f64>, String> {
             f.get(1..=k)
                 .ok_or_else(bad)?

@@ -118,7 +118,8 @@ fn root_width(text: Option<&str>, notes: &mut Vec<String>) -> Result<Option<f64>
     let Some(text) = text else { return Ok(None) };
     if text.trim().ends_with('%') {
         notes.push(format!(
-            "the root width is \"{text}\", relative to a page: user units are read as px (96 per inch)"
+            "the root width is \"{}\", relative to a page: user units are read as px (96 per inch)",
+            crate::limits::short_text(text)
         ));
         return Ok(None);
     }
@@ -126,11 +127,11 @@ fn root_width(text: Option<&str>, notes: &mut Vec<String>) -> Result<Option<f64>
         Some(w) if w.is_finite() && w > 0.0 => Ok(Some(w)),
         Some(_) => Err(format!(
             "the root width \"{}\" must be a positive length",
-            text.escape_debug()
+            crate::limits::short_text(text).escape_debug()
         )),
         None => Err(format!(
             "the root width \"{}\" is not a length (a number with mm, cm, in, pt, pc or px)",
-            text.escape_debug()
+            crate::limits::short_text(text).escape_debug()
         )),
     }
 }
@@ -297,15 +298,22 @@ fn inherited_style(parent: &Style, name: &str, attrs: &Attributes) -> Result<Sty
     if let Some(s) = prop("stroke") {
         style.stroke = Some(s);
     }
-    if let Some(o) = prop("opacity") {
-        style.opacity *= o
+    // A fold angle is scaled by these: NaN, infinite or out-of-range values are refused
+    // here, not carried into a crease at NaN°.
+    let opacity = |key: &str, o: String| {
+        let value = o
+            .trim()
             .parse::<f64>()
-            .map_err(|_| format!("bad opacity \"{o}\""))?;
+            .map_err(|_| format!("<{name}>: bad {key} \"{}\"", crate::limits::short_text(&o)))?;
+        crate::limits::OPACITY
+            .check(format!("<{name}> {key}"), value)
+            .map_err(|e| e.to_string())
+    };
+    if let Some(o) = prop("opacity") {
+        style.opacity *= opacity("opacity", o)?;
     }
     if let Some(o) = prop("stroke-opacity") {
-        style.stroke_opacity = o
-            .parse::<f64>()
-            .map_err(|_| format!("bad stroke-opacity \"{o}\""))?;
+        style.stroke_opacity = opacity("stroke-opacity", o)?;
     }
     if prop("display").as_deref() == Some("none") {
         style.hidden = true;
@@ -358,13 +366,14 @@ fn crease_of(
     let rgb = parse_colour(stroke).ok_or_else(|| {
         format!(
             "<{name}> (element {element_index}) has an unreadable stroke colour \"{}\"",
-            stroke.escape_debug()
+            crate::limits::short_text(stroke).escape_debug()
         )
     })?;
     let assignment = assignment_of_colour(rgb).ok_or_else(|| {
         format!(
-            "<{name}> (element {element_index}) has stroke colour \"{stroke}\", which is not a crease colour \
-             (black border, red mountain, blue valley, green cut, yellow or grey flat, magenta unassigned)"
+            "<{name}> (element {element_index}) has stroke colour \"{}\", which is not a crease colour \
+             (black border, red mountain, blue valley, green cut, yellow or grey flat, magenta unassigned)",
+            crate::limits::short_text(stroke)
         )
     })?;
     let fold_angle = match assignment {
@@ -383,15 +392,17 @@ fn shape_polylines(
     m: &Affine,
 ) -> Result<Vec<Vec<Vec2>>, String> {
     let get = |k: &str| attrs.get(k).map(|v| v.to_string());
-    let num =
-        |k: &str| -> Result<f64, String> {
-            match get(k) {
-                None => Ok(0.0),
-                Some(v) => v.trim().trim_end_matches("px").parse().map_err(|_| {
-                    format!("<{name}> (element {element_index}) has a bad {k} \"{v}\"")
-                }),
-            }
-        };
+    let num = |k: &str| -> Result<f64, String> {
+        match get(k) {
+            None => Ok(0.0),
+            Some(v) => v.trim().trim_end_matches("px").parse().map_err(|_| {
+                format!(
+                    "<{name}> (element {element_index}) has a bad {k} \"{}\"",
+                    crate::limits::short_text(&v)
+                )
+            }),
+        }
+    };
     Ok(match name {
         "line" => vec![vec![
             m.apply(Vec2::new(num("x1")?, num("y1")?)),

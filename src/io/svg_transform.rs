@@ -45,12 +45,12 @@ pub fn parse_transform(text: &str) -> Result<Affine, String> {
     while !rest.is_empty() {
         let open = rest
             .find('(')
-            .ok_or_else(|| format!("bad transform \"{text}\""))?;
+            .ok_or_else(|| format!("bad transform \"{}\"", crate::limits::short_text(text)))?;
         // The closing parenthesis is looked for after the opening one: ")(" is malformed.
         let close = rest[open..]
             .find(')')
             .map(|c| open + c)
-            .ok_or_else(|| format!("bad transform \"{text}\""))?;
+            .ok_or_else(|| format!("bad transform \"{}\"", crate::limits::short_text(text)))?;
         let name = rest[..open].trim().trim_start_matches(',').trim();
         let args = number_list(&rest[open + 1..close], "transform")?;
         let arg = |i: usize, default: f64| args.get(i).copied().unwrap_or(default);
@@ -70,7 +70,8 @@ pub fn parse_transform(text: &str) -> Result<Affine, String> {
             ("skewY", 1) => Affine([1.0, args[0].to_radians().tan(), 0.0, 1.0, 0.0, 0.0]),
             _ => {
                 return Err(format!(
-                    "unsupported transform \"{name}\" with {} arguments",
+                    "unsupported transform \"{}\" with {} arguments",
+                    crate::limits::short_text(name),
                     args.len()
                 ))
             }
@@ -87,8 +88,12 @@ pub fn number_list(text: &str, context: &str) -> Result<Vec<f64>, String> {
     text.split(|c: char| c == ',' || c.is_whitespace())
         .filter(|s| !s.is_empty())
         .map(|s| {
-            s.parse::<f64>()
-                .map_err(|_| format!("bad number \"{s}\" in {context}"))
+            s.parse::<f64>().map_err(|_| {
+                format!(
+                    "bad number \"{}\" in {context}",
+                    crate::limits::short_text(s)
+                )
+            })
         })
         .collect()
 }

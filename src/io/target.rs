@@ -3,33 +3,15 @@
 //! polygons is refused rather than triangulated by guesswork, since the fit measures its
 //! distances to exactly these triangles. Writing is OBJ or binary STL.
 
-use super::{FileCause, FileError};
+use super::FileError;
 use crate::limits;
 use crate::mesh::Vec3;
 use crate::surface::TriSurface;
 use std::path::Path;
 
-/// The largest target file read: a binary STL of [`limits::TARGET_TRIANGLES`] is 200 MB.
-const MAX_BYTES: u64 = 256 << 20;
-
 /// Reads a target surface, the format chosen by the extension (`.obj`, `.stl`).
 pub fn read_target(path: &Path) -> Result<TriSurface, FileError> {
-    let bad = |cause: String| FileError::new(path, cause);
-    let unreadable = |e| FileError::new(path, FileCause::Unreadable(e));
-    let meta = std::fs::metadata(path).map_err(unreadable)?;
-    if meta.is_dir() {
-        return Err(bad(
-            "is a directory, not a target surface (.obj or .stl)".into()
-        ));
-    }
-    if meta.len() > MAX_BYTES {
-        return Err(bad(format!(
-            "{} MB is more than a target may be ({} MB)",
-            meta.len() >> 20,
-            MAX_BYTES >> 20
-        )));
-    }
-    let bytes = std::fs::read(path).map_err(unreadable)?;
+    let bytes = super::read_file_bytes(path, limits::MAX_FILE_BYTES)?;
     read_target_bytes(path, &bytes)
 }
 
@@ -77,7 +59,7 @@ fn parse_obj(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[usize; 3]>), String> {
             return Err(format!(
                 "face {} of object \"{}\" has {} corners: a target must be triangles (triangulate it first)",
                 k + 1,
-                model.name,
+                crate::limits::short_text(&model.name),
                 m.face_arities[k]
             ));
         }

@@ -336,6 +336,89 @@ fn malformed_files_and_designs_too_small_to_cut_are_refused() {
     assert_eq!(v["my \"key\""]["a\\b"], "c\"d");
 }
 
+/// Inputs that are not files, values that are not numbers, strings too long to echo and
+/// lists that disagree: each one line, exit 2, nothing written (issue 50, item 5).
+#[test]
+fn fifos_nan_opacities_huge_strings_and_disagreeing_lists_are_refused() {
+    let write = |name: &str, text: &str| {
+        let p = scratch(name);
+        std::fs::write(&p, text).unwrap();
+        p.display().to_string()
+    };
+    let out = scratch("smaller-holes.fold");
+    let o = out.to_str().unwrap();
+    // A FIFO nobody writes to (it blocked forever) and a device behind a .fold name
+    // (/dev/zero read a gigabyte): refused by type before a byte is read.
+    let fifo = scratch("pipe.fold");
+    let made = Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .expect("mkfifo runs");
+    assert!(made.success());
+    refused(
+        &["verify", fifo.to_str().unwrap()],
+        "not a regular file",
+        None,
+    );
+    let target = scratch("pipe.obj");
+    assert!(Command::new("mkfifo")
+        .arg(&target)
+        .status()
+        .unwrap()
+        .success());
+    let miura = root("patterns/miura.fold");
+    refused(
+        &["fit", &miura, "--to", target.to_str().unwrap(), "-o", o],
+        "not a regular file",
+        Some(&out),
+    );
+    let zero = scratch("zero.fold");
+    std::os::unix::fs::symlink("/dev/zero", &zero).unwrap();
+    refused(
+        &["convert", zero.to_str().unwrap(), o],
+        "not a regular file",
+        Some(&out),
+    );
+    // Opacities scale fold angles: NaN, infinite and out-of-range ones name the element.
+    for bad in ["NaN", "inf", "1e308", "-0.5"] {
+        let svg = write(
+            "opacity.svg",
+            &format!(
+                r##"<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100">
+<path d="M0 0 L100 0 L100 100 L0 100 Z" stroke="#000000" fill="none"/>
+<line x1="0" y1="0" x2="100" y2="100" stroke="#ff0000" stroke-opacity="{bad}"/></svg>"##
+            ),
+        );
+        refused(&["convert", &svg, o], "stroke-opacity", Some(&out));
+    }
+    // A million-character unit or assignment is quoted by a short prefix.
+    let miura_text = std::fs::read_to_string(&miura).unwrap();
+    let mut fold: serde_json::Value = serde_json::from_str(&miura_text).unwrap();
+    fold["frame_unit"] = "x".repeat(1_000_000).into();
+    refused(
+        &["convert", &write("unit.fold", &fold.to_string()), o],
+        "frame_unit",
+        Some(&out),
+    );
+    let mut fold: serde_json::Value = serde_json::from_str(&miura_text).unwrap();
+    fold["edges_assignment"][5] = "Q".repeat(1_000_000).into();
+    refused(
+        &["convert", &write("assignment.fold", &fold.to_string()), o],
+        "assignment",
+        Some(&out),
+    );
+    // A face side missing from edges_vertices (an edge dropped or shuffled away): the
+    // lists disagree, and the crease it stood for would have gone flat.
+    let square = r#"{"file_spec": 1.1, "vertices_coords": [[0,0],[10,0],[10,10],[0,10]],
+        "edges_vertices": [[0,1],[1,2],[2,3],[3,0]], "edges_assignment": ["B","B","B","B"],
+        "faces_vertices": [[0,1,2],[0,2,3]]}"#;
+    refused(
+        &["convert", &write("sides.fold", square), o],
+        "not in edges_vertices",
+        Some(&out),
+    );
+}
+
 #[test]
 fn plot_and_emulate_refuse_bad_rates_empty_jobs_and_a_path_that_is_not_theirs() {
     let job = scratch("empty.hpgl");

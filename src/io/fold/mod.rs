@@ -104,7 +104,12 @@ pub(crate) fn unit_scale(unit: Option<&str>) -> Result<f64, String> {
         "pt" => 25.4 / 72.0,
         "um" => 1e-3,
         "nm" => 1e-6,
-        other => return Err(format!("unknown frame_unit \"{other}\"")),
+        other => {
+            return Err(format!(
+                "unknown frame_unit \"{}\"",
+                crate::limits::short_text(other)
+            ))
+        }
     })
 }
 
@@ -193,6 +198,7 @@ pub fn parse_noting(text: &str, notes: &mut Vec<String>) -> Result<Mesh, FileCau
         .or(folded.as_ref().map(|f| f.len()))
         .ok_or("no vertices_coords in any frame")?;
     let edges = read_edges(top, n)?;
+    check_face_sides(&face_lists, &edges, n)?;
     let title = top.frame_title.clone().or(file_title).unwrap_or_default();
     let (mut parts, rebuilt) = mesh_parts(&face_lists, edges, flat, folded, n)?;
     if let Some(why) = &rebuilt {
@@ -248,6 +254,38 @@ pub fn parse_noting(text: &str, notes: &mut Vec<String>) -> Result<Mesh, FileCau
         top.frame_unit.clone(),
     )));
     Ok(mesh)
+}
+
+/// Every side of every listed face must be a listed edge, when the file lists edges:
+/// the crease a side stands for, and its assignment, come from `edges_vertices` and
+/// `edges_assignment`, so a side missing there means the two lists disagree (an edge
+/// shuffled or dropped), and reading on would quietly make that crease flat. (An edge
+/// that bounds no face is refused by the mesh; an edge marked B between two faces is a
+/// cut, the rule for slits.)
+fn check_face_sides(faces: &[Vec<usize>], edges: &[Edge], n: usize) -> Result<(), String> {
+    if edges.is_empty() {
+        return Ok(());
+    }
+    let listed: std::collections::HashSet<(usize, usize)> = edges
+        .iter()
+        .map(|e| {
+            let [a, b] = e.vertices;
+            (a.min(b), a.max(b))
+        })
+        .collect();
+    for (f, face) in faces.iter().enumerate() {
+        for k in 0..face.len() {
+            let (a, b) = (face[k], face[(k + 1) % face.len()]);
+            // A vertex out of range is reported as such when the faces are read.
+            if a < n && b < n && !listed.contains(&(a.min(b), a.max(b))) {
+                return Err(format!(
+                    "face {f}'s side {a}–{b} is not in edges_vertices: the faces and edges disagree \
+                     (every side of a face must be listed as an edge, with its assignment)"
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// FOLD `faceOrders`: triples `[f, g, s]` of two different listed faces and s ∈ {−1, 0,
@@ -444,8 +482,12 @@ fn read_edges(frame: &Frame, n: usize) -> Result<Vec<Edge>, String> {
             .and_then(|f| f[i])
             .map(angle_from_fold);
         let assignment = match frame.edges_assignment.as_ref() {
-            Some(list) => Assignment::from_fold(&list[i])
-                .ok_or_else(|| format!("edge {i} has unknown assignment \"{}\"", list[i]))?,
+            Some(list) => Assignment::from_fold(&list[i]).ok_or_else(|| {
+                format!(
+                    "edge {i} has unknown assignment \"{}\"",
+                    crate::limits::short_text(&list[i])
+                )
+            })?,
             None => match fold {
                 Some(r) if r > 0.0 => Assignment::Mountain,
                 Some(r) if r < 0.0 => Assignment::Valley,

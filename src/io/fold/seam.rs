@@ -67,7 +67,10 @@ pub(super) fn close(
         let assignment = Assignment::from_fold(letter)
             .filter(|a| !a.is_boundary())
             .ok_or_else(|| {
-                format!("crease:seam[{k}] has assignment \"{letter}\"; a seam crease is M, V, F, U or J")
+                format!(
+                    "crease:seam[{k}] has assignment \"{}\"; a seam crease is M, V, F, U or J",
+                    crate::limits::short_text(letter)
+                )
             })?;
         for (&p, &q) in first.iter().zip(second) {
             let gap = (positions[p] - positions[q]).norm();
