@@ -419,6 +419,60 @@ fn fifos_nan_opacities_huge_strings_and_disagreeing_lists_are_refused() {
     );
 }
 
+/// Small FOLD files that used to take gigabytes (issue 50, item 3): thousands of
+/// `{"vertices_coords": 0}` keys before a 10k-vertex array (5.5 GB and 19 s before, a copy
+/// of the array per key), and 2,000 frames inheriting from a 10k-vertex frame (9 GB and
+/// 23 s, a copy of the frame per frame). Each is read in a tenth of a gigabyte.
+#[test]
+fn repeated_keys_and_inheriting_frames_cost_memory_by_the_file_not_by_its_repeats() {
+    let big = scratch("big-miura.fold");
+    let r = run(&[
+        "generate",
+        "miura",
+        "--nx",
+        "100",
+        "--ny",
+        "100",
+        "-o",
+        big.to_str().unwrap(),
+    ]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    let text = std::fs::read_to_string(&big).unwrap();
+    let at = text.find("\"vertices_coords\"").unwrap();
+    let junk: Vec<String> = (0..3000)
+        .map(|i| format!("\"k{i}\": {{\"vertices_coords\": 0}}"))
+        .collect();
+    let keys = scratch("keys.fold");
+    std::fs::write(
+        &keys,
+        format!(
+            "{}\"crease:junk\": {{{}}}, {}",
+            &text[..at],
+            junk.join(","),
+            &text[at..]
+        ),
+    )
+    .unwrap();
+    let mut fold: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let frames = fold["file_frames"].as_array_mut().unwrap();
+    for _ in 0..2000 {
+        frames.push(serde_json::json!({"frame_inherit": true, "frame_parent": 1,
+                                        "frame_classes": ["foldedForm"]}));
+    }
+    let inherit = scratch("inherit.fold");
+    std::fs::write(&inherit, fold.to_string()).unwrap();
+    for file in [&keys, &inherit] {
+        let r = run(&["info", file.to_str().unwrap()]);
+        assert_eq!(r.code, 0, "{}", r.stderr);
+        assert!(
+            r.peak_kb < 150_000,
+            "{}: peak {} kB",
+            file.display(),
+            r.peak_kb
+        );
+    }
+}
+
 #[test]
 fn plot_and_emulate_refuse_bad_rates_empty_jobs_and_a_path_that_is_not_theirs() {
     let job = scratch("empty.hpgl");

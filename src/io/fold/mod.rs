@@ -317,21 +317,51 @@ fn check_face_orders(orders: Option<&[serde_json::Value]>, faces: usize) -> Resu
 /// its parent.
 fn frames_of(frame: Frame, file_frames: Vec<Frame>) -> Result<Vec<Frame>, String> {
     let mut frames = vec![frame];
-    for (k, mut f) in file_frames.into_iter().enumerate() {
+    for (k, f) in file_frames.into_iter().enumerate() {
         if f.frame_inherit == Some(true) {
             let parent = f.frame_parent.unwrap_or(0);
-            let p = frames
-                .get(parent)
-                .ok_or(format!(
+            if parent >= frames.len() {
+                return Err(format!(
                     "frame {} inherits from missing frame {parent}",
                     k + 1
-                ))?
-                .clone();
-            f.inherit_from(&p);
+                ));
+            }
         }
         frames.push(f);
     }
     Ok(frames)
+}
+
+/// The frame a frame inherits from, if it does (always an earlier one: checked by
+/// [`frames_of`], so walking up ends).
+fn parent_of(frames: &[Frame], k: usize) -> Option<usize> {
+    let f = &frames[k];
+    (k > 0 && f.frame_inherit == Some(true)).then(|| f.frame_parent.unwrap_or(0))
+}
+
+/// Whether frame `k`, with what it inherits, has vertex coordinates.
+fn has_coords(frames: &[Frame], k: usize) -> bool {
+    let mut at = Some(k);
+    while let Some(i) = at {
+        if frames[i].vertices_coords.is_some() {
+            return true;
+        }
+        at = parent_of(frames, i);
+    }
+    false
+}
+
+/// Frame `k` with what it inherits filled in. Frames are resolved only when used, and a
+/// field is copied at most once: a file of thousands of inheriting frames over a large
+/// one cost a copy of it per frame (2 GB from 462 kB).
+fn resolved(frames: &[Frame], k: usize) -> Frame {
+    let mut frame = frames[k].clone();
+    let mut at = parent_of(frames, k);
+    while let Some(i) = at {
+        frame.inherit_from(&frames[i]);
+        at = parent_of(frames, i);
+    }
+    frame
 }
 
 /// A file's crease pattern (flat, in the plane) and folded form, each if it has one.
@@ -339,25 +369,25 @@ type Layouts = (Option<Vec<Vec2>>, Option<Vec<Vec3>>);
 
 /// The crease pattern and the folded form the frames hold.
 fn layouts(frames: &[Frame], face_lists: &[Vec<usize>]) -> Result<Layouts, String> {
-    let with_coords = |f: &&Frame| f.vertices_coords.is_some();
-    let cp_frame = frames
-        .iter()
+    let with_coords = |k: &usize| has_coords(frames, *k);
+    let cp_frame = (0..frames.len())
         .filter(with_coords)
-        .find(|f| f.has_class("creasePattern"));
-    let folded_frame = frames
-        .iter()
+        .find(|&k| frames[k].has_class("creasePattern"))
+        .map(|k| resolved(frames, k));
+    let folded_frame = (0..frames.len())
         .filter(with_coords)
-        .find(|f| !f.has_class("creasePattern"));
+        .find(|&k| !frames[k].has_class("creasePattern"))
+        .map(|k| resolved(frames, k));
     let mut flat: Option<Vec<Vec2>> = None;
     let mut folded: Option<Vec<Vec3>> = None;
-    if let Some(f) = cp_frame {
+    if let Some(f) = &cp_frame {
         let p = coords(f)?;
         match planar_layout(&p, face_lists) {
             Some(layout) => flat = Some(layout),
             None => folded = Some(p),
         }
     }
-    if let Some(f) = folded_frame {
+    if let Some(f) = &folded_frame {
         let p = coords(f)?;
         // A "folded form" lying flat without overlaps is a crease pattern (cube-cp.fold,
         // Origami Simulator's exports); one with overlapping faces is flat-folded.
