@@ -374,6 +374,10 @@ pub const OPACITY: Range = Range {
     max: 1.0,
 };
 
+/// Most `faceOrders` entries a FOLD file may hold: one per overlapping pair of faces,
+/// and the 16 × 16 waterbomb folded flat has 400,000 such pairs of triangles.
+pub const MAX_FACE_ORDERS: usize = 2_000_000;
+
 /// Largest file crease reads from disk (a pattern, a target, a script, a job, a
 /// profile): a binary STL of [`TARGET_TRIANGLES`] is 200 MB. Counted as the bytes are
 /// read, not taken from the size a file reports (a FIFO or a device reports none).

@@ -461,6 +461,19 @@ fn repeated_keys_and_inheriting_frames_cost_memory_by_the_file_not_by_its_repeat
     }
     let inherit = scratch("inherit.fold");
     std::fs::write(&inherit, fold.to_string()).unwrap();
+    // faceOrders past its cap is refused as it is read (10⁷ entries took 1.7 GB).
+    let mut fold: serde_json::Value = serde_json::from_str(&text).unwrap();
+    fold["faceOrders"] = vec![serde_json::json!([0, 1, 1]); 3_000_000].into();
+    let orders = scratch("orders.fold");
+    std::fs::write(&orders, fold.to_string()).unwrap();
+    let r = run(&["info", orders.to_str().unwrap()]);
+    assert_eq!(r.code, 2, "{}", r.stderr);
+    assert!(
+        r.stderr.contains("faceOrders has more than"),
+        "{}",
+        r.stderr
+    );
+    assert!(r.peak_kb < 500_000, "faceOrders: peak {} kB", r.peak_kb);
     for file in [&keys, &inherit] {
         let r = run(&["info", file.to_str().unwrap()]);
         assert_eq!(r.code, 0, "{}", r.stderr);

@@ -55,7 +55,11 @@ struct Frame {
     coordinate_precision: Option<f64>,
     #[serde(rename = "crease:coincidentVertices")]
     coincident: Option<Vec<Vec<usize>>>,
-    #[serde(rename = "faceOrders")]
+    #[serde(
+        rename = "faceOrders",
+        default,
+        deserialize_with = "bounded_face_orders"
+    )]
     face_orders: Option<Vec<serde_json::Value>>,
     #[serde(rename = "crease:seam")]
     seam: Option<Vec<seam::SeamEntry>>,
@@ -286,6 +290,40 @@ fn check_face_sides(faces: &[Vec<usize>], edges: &[Edge], n: usize) -> Result<()
         }
     }
     Ok(())
+}
+
+/// `faceOrders` read entry by entry, refused past [`crate::limits::MAX_FACE_ORDERS`]
+/// before the next is held (10⁷ entries took 1.7 GB as a list of JSON values).
+fn bounded_face_orders<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> Result<Option<Vec<serde_json::Value>>, D::Error> {
+    struct Orders;
+    impl<'de> serde::de::Visitor<'de> for Orders {
+        type Value = Option<Vec<serde_json::Value>>;
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("a list of [f, g, s] triples")
+        }
+        fn visit_unit<E>(self) -> Result<Self::Value, E> {
+            Ok(None)
+        }
+        fn visit_seq<A: serde::de::SeqAccess<'de>>(
+            self,
+            mut seq: A,
+        ) -> Result<Self::Value, A::Error> {
+            let cap = crate::limits::MAX_FACE_ORDERS;
+            let mut orders = Vec::new();
+            while let Some(order) = seq.next_element::<serde_json::Value>()? {
+                if orders.len() == cap {
+                    return Err(serde::de::Error::custom(format!(
+                        "faceOrders has more than {cap} entries, more than crease reads"
+                    )));
+                }
+                orders.push(order);
+            }
+            Ok(Some(orders))
+        }
+    }
+    d.deserialize_any(Orders)
 }
 
 /// FOLD `faceOrders`: triples `[f, g, s]` of two different listed faces and s ∈ {−1, 0,
