@@ -39,6 +39,7 @@ pub fn read_target_bytes(name: &Path, bytes: &[u8]) -> Result<TriSurface, FileEr
 
 /// Vertices and triangles of an OBJ file, every object merged; faces must be triangles.
 fn parse_obj(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[usize; 3]>), String> {
+    check_obj_counts(bytes)?;
     let options = tobj::LoadOptions {
         triangulate: false,
         single_index: false,
@@ -78,6 +79,41 @@ fn parse_obj(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[usize; 3]>), String> {
         }));
     }
     Ok((vertices, triangles))
+}
+
+/// Refuses an OBJ whose counts pass the target limits before `tobj` builds anything:
+/// it keeps several words per corner, so 10⁷ faces `f 1 1 1` (80 MB) took gigabytes
+/// before the triangle count could be checked. One pass over the bytes, nothing kept.
+fn check_obj_counts(bytes: &[u8]) -> Result<(), String> {
+    let (mut vertices, mut faces, mut corners) = (0u64, 0u64, 0u64);
+    for line in bytes.split(|&b| b == b'\n') {
+        let line = line.trim_ascii_start();
+        let mut words = line
+            .split(|b| b.is_ascii_whitespace())
+            .filter(|w| !w.is_empty());
+        match words.next() {
+            Some(b"v") => vertices += 1,
+            Some(b"f") => {
+                faces += 1;
+                corners += words.count() as u64;
+            }
+            _ => {}
+        }
+    }
+    let most = limits::TARGET_TRIANGLES.max as u64;
+    // No face at all is left to the surface's own check ("it has no triangles").
+    if faces > 0 {
+        limits::TARGET_TRIANGLES
+            .check_count("its face count", faces)
+            .map_err(|e| e.to_string())?;
+    }
+    if corners > 3 * most || vertices > 3 * most {
+        return Err(format!(
+            "{vertices} vertices and {corners} face corners are more than a target of {most} triangles needs (at most {} each)",
+            3 * most
+        ));
+    }
+    Ok(())
 }
 
 /// Vertices and triangles of an STL file, ASCII or binary.

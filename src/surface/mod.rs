@@ -73,11 +73,21 @@ impl TriSurface {
         let (lo, hi) = crate::mesh::bounds(&vertices);
         limits::TARGET_EXTENT.check("its extent", (hi - lo).norm())?;
         let scale = (hi - lo).norm();
+        // Coincident copies are kept once: the hierarchy cannot prune between triangles
+        // with one box, so 400k copies of one triangle took a minute of fitting. Corners
+        // are compared on a grid of 1e-9 of the extent, far below any fit's goal.
+        let grid = 1e-9 * scale;
+        let mut seen = std::collections::HashSet::new();
         let triangles: Vec<[usize; 3]> = triangles
             .into_iter()
             .filter(|t| {
                 let [a, b, c] = t.map(|v| vertices[v]);
                 (b - a).cross(&(c - a)).norm() > 1e-12 * scale * scale
+            })
+            .filter(|t| {
+                let mut corners = t.map(|v| ((vertices[v] - lo) / grid).map(|x| x.round() as i64));
+                corners.sort_by_key(|p| (p.x, p.y, p.z));
+                seen.insert(corners.map(|p| [p.x, p.y, p.z]))
             })
             .collect();
         if triangles.is_empty() {

@@ -487,6 +487,62 @@ fn repeated_keys_and_inheriting_frames_cost_memory_by_the_file_not_by_its_repeat
 }
 
 #[test]
+fn huge_and_coincident_targets_are_refused_or_fitted_within_bounds() {
+    // 10⁷ faces `f 1 2 3` (80 MB): tobj took gigabytes before the count was checked.
+    let huge = scratch("huge-faces.obj");
+    {
+        use std::io::Write;
+        let mut file = std::io::BufWriter::new(std::fs::File::create(&huge).unwrap());
+        file.write_all(b"v 0 0 0\nv 100 0 0\nv 0 100 0\n").unwrap();
+        for _ in 0..10_000_000 {
+            file.write_all(b"f 1 2 3\n").unwrap();
+        }
+    }
+    let out = scratch("huge-faces-fit.fold");
+    let miura = root("patterns/miura.fold");
+    let huge_arg = huge.to_str().unwrap();
+    let r = run(&["fit", &miura, "--to", huge_arg, "-o", out.to_str().unwrap()]);
+    assert_eq!(r.code, 2, "{}", r.stderr);
+    assert!(
+        r.stderr.contains("huge-faces.obj: its face count"),
+        "{}",
+        r.stderr
+    );
+    assert!(r.peak_kb < 500_000, "huge OBJ: peak {} kB", r.peak_kb);
+    assert!(!out.exists(), "nothing written for a refused target");
+    std::fs::remove_file(&huge).unwrap();
+    // 400k copies of one triangle: the hierarchy could not prune between them, and a
+    // fit took a minute (past HANG). Kept once, the fit ends with its report.
+    let coincident = scratch("coincident.obj");
+    let mut text = String::from("v 0 0 0\nv 100 0 0\nv 0 100 0\n");
+    text.push_str(&"f 1 2 3\n".repeat(400_000));
+    std::fs::write(&coincident, text).unwrap();
+    let out = scratch("coincident-fit.fold");
+    let r = run(&[
+        "fit",
+        &miura,
+        "--to",
+        coincident.to_str().unwrap(),
+        "--steps",
+        "20",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(r.code == 0 || r.code == 1, "{}", r.stderr);
+    assert!(
+        r.stderr.contains("fit: step limit after 20 steps"),
+        "{}",
+        r.stderr
+    );
+    assert!(
+        r.peak_kb < 500_000,
+        "coincident target: peak {} kB",
+        r.peak_kb
+    );
+    assert!(out.exists());
+}
+
+#[test]
 fn plot_and_emulate_refuse_bad_rates_empty_jobs_and_a_path_that_is_not_theirs() {
     let job = scratch("empty.hpgl");
     std::fs::write(&job, "").unwrap();
