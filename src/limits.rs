@@ -378,6 +378,13 @@ pub const OPACITY: Range = Range {
 /// and the 16 × 16 waterbomb folded flat has 400,000 such pairs of triangles.
 pub const MAX_FACE_ORDERS: usize = 2_000_000;
 
+/// Ear clipping's work on one file, as the sum over its polygon faces of their corner
+/// counts squared (clipping a face of n corners costs O(n²): 12,000 corners take 2.6 s,
+/// 30,000 took 18 s). A crease pattern's faces have tens of corners, a curved strip's
+/// a few hundred; 5·10⁷ allows one face of 7,000 corners (under a second), or any
+/// number of small ones.
+pub const TRIANGULATION_WORK: u64 = 50_000_000;
+
 /// Largest file crease reads from disk (a pattern, a target, a script, a job, a
 /// profile): a binary STL of [`TARGET_TRIANGLES`] is 200 MB. Counted as the bytes are
 /// read, not taken from the size a file reports (a FIFO or a device reports none).

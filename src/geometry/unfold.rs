@@ -43,7 +43,20 @@ pub fn check_overlap(faces: &[[usize; 3]], flat: &[Vec2]) -> Result<(), UnfoldEr
             0.5 * (b - a).perp(&(c - a))
         })
         .sum();
-    let cell = (area / faces.len() as f64).sqrt().max(1e-12) * 2.0;
+    let mut cell = (area / faces.len() as f64).sqrt().max(1e-12) * 2.0;
+    // Long slivers (a fan across a many-cornered face) each cover thousands of cells of
+    // that size, and every cell is compared with every earlier face in it: coarser
+    // cells until the faces cover at most a few cells each on average.
+    let extent = |f: [usize; 3], cell: f64| {
+        let [a, b, c] = tri(f);
+        let (lo, hi) = (a.inf(&b).inf(&c), a.sup(&b).sup(&c));
+        (((hi.x - lo.x) / cell).floor() + 2.0) * (((hi.y - lo.y) / cell).floor() + 2.0)
+    };
+    while cell < (hi - lo).norm()
+        && faces.iter().map(|&f| extent(f, cell)).sum::<f64>() > 16.0 * faces.len() as f64
+    {
+        cell *= 2.0;
+    }
     let mut grid: std::collections::HashMap<(i64, i64), Vec<usize>> =
         std::collections::HashMap::new();
     let key = |p: Vec2| {

@@ -2,7 +2,9 @@
 //! merge near-coincident points, split lines where they cross or touch, find the faces of
 //! the planar graph, drop holes, and triangulate every face with flat creases.
 
-use crate::mesh::{edge_key, triangulate_polygon, Assignment, Edge, MeshParts, Vec2};
+use crate::mesh::{
+    edge_key, triangulate_polygon, Assignment, Edge, MeshParts, TriangulationBudget, Vec2,
+};
 use std::collections::HashMap;
 
 /// One drawn line of a crease pattern.
@@ -341,6 +343,7 @@ fn trace_faces(
     let edge_kind: HashMap<(usize, usize), Assignment> =
         edges.iter().map(|e| (e.key(), e.assignment)).collect();
     let mut faces = Vec::new();
+    let mut budget = TriangulationBudget::default();
     for (id, c) in cycles.iter().enumerate() {
         if !bounded[id] {
             continue;
@@ -354,6 +357,7 @@ fn trace_faces(
             continue;
         }
         let corners: Vec<Vec2> = c.iter().map(|&v| flat[v]).collect();
+        budget.charge(corners.len())?;
         let tris = triangulate_polygon(&corners, tol)
             .or_else(|| triangulate_polygon(&corners, 0.0))
             .ok_or_else(|| {

@@ -21,7 +21,7 @@ pub use info::MeshInfo;
 pub use seam::{seam_keys, SeamError, Strip};
 pub use source::{polygon_faces, Fingerprint, SourceAttachment};
 pub use topology::{Topology, TopologySummary, VertexFan};
-pub use triangulate::triangulate_polygon;
+pub use triangulate::{triangulate_polygon, TriangulationBudget};
 pub use union_find::UnionFind;
 
 use nalgebra::{SVector, Vector2, Vector3};

@@ -2,6 +2,39 @@
 //! pattern into triangles joined by flat (target 0) creases, as the paper's model requires.
 
 use super::{distance_to_segment, Vec2};
+use crate::limits;
+
+/// Ear clipping's work left for one file's faces ([`limits::TRIANGULATION_WORK`]): a
+/// face is charged its corner count squared before it is clipped, so a file of one face
+/// with a million corners is refused at once instead of clipping for hours.
+#[derive(Debug)]
+pub struct TriangulationBudget {
+    left: u64,
+}
+
+impl Default for TriangulationBudget {
+    fn default() -> Self {
+        TriangulationBudget {
+            left: limits::TRIANGULATION_WORK,
+        }
+    }
+}
+
+impl TriangulationBudget {
+    /// Charges a face of `corners` corners, or says why it is past the budget.
+    pub fn charge(&mut self, corners: usize) -> Result<(), String> {
+        let cost = (corners as u64).saturating_mul(corners as u64);
+        if cost > self.left {
+            return Err(format!(
+                "a face of {corners} corners is past what crease triangulates \
+                 (faces of about {} corners in all): split it with creases, or draw fewer points on its outline",
+                (limits::TRIANGULATION_WORK as f64).sqrt().round()
+            ));
+        }
+        self.left -= cost;
+        Ok(())
+    }
+}
 
 /// Triangulates a simple polygon given by its corners in order (either orientation).
 /// Returns triangles as indices into `corners`, counter-clockwise when the polygon is.

@@ -104,6 +104,10 @@ pub fn fabricate_verified(
         options,
     };
     let (sheet, tiled) = sheet_of(mesh, &flat, tube.as_ref(), &placing)?;
+    // After the layout, whose refusal (media too small) is cheap: on a face of thousands
+    // of corners this check is the slow part.
+    crate::fab::check_overlap(mesh.faces(), &flat)
+        .map_err(|e| FabError::Rejected(Rejected(e.to_string())))?;
     let seam = tube.as_ref().map(|t| t.report(&sheet.vertices));
     check_cuttable(&sheet, machine)?;
     let settings = machine.score_settings();
@@ -468,7 +472,6 @@ fn flatten(mesh: &Mesh) -> Result<(Vec<crate::mesh::Vec2>, f64), FabError> {
             ((flat[a] - flat[b]).norm() - l3).abs() / l3
         })
         .fold(0.0, f64::max);
-    crate::fab::check_overlap(mesh.faces(), &flat).map_err(|e| rejected(e.to_string()))?;
     Ok((flat, isometry_error))
 }
 

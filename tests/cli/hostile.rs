@@ -543,6 +543,71 @@ fn huge_and_coincident_targets_are_refused_or_fitted_within_bounds() {
 }
 
 #[test]
+fn huge_faces_are_refused_before_they_are_clipped_and_sawtooth_faces_fabricate() {
+    // Ear clipping is quadratic in a face's corners: this face took 18 s; a face within
+    // the budget (a few hundred corners, as a curved strip has) still verifies.
+    // n corners on a circle of 100 mm; every other one at `inner` of the radius.
+    let face = |n: usize, inner: f64| {
+        let coords: Vec<[f64; 2]> = (0..n)
+            .map(|i| {
+                let t = std::f64::consts::TAU * i as f64 / n as f64;
+                let r = if i % 2 == 0 { 100.0 } else { 100.0 * inner };
+                [r * t.cos(), r * t.sin()]
+            })
+            .collect();
+        serde_json::json!({
+            "file_spec": 1.1,
+            "frame_classes": ["creasePattern"],
+            "vertices_coords": coords,
+            "edges_vertices": (0..n).map(|i| [i, (i + 1) % n]).collect::<Vec<_>>(),
+            "edges_assignment": vec!["B"; n],
+            "faces_vertices": [(0..n).collect::<Vec<_>>()],
+        })
+        .to_string()
+    };
+    let huge = scratch("face-30k.fold");
+    std::fs::write(&huge, face(30_000, 1.0)).unwrap();
+    let r = run(&["verify", huge.to_str().unwrap()]);
+    assert_eq!(r.code, 2, "{}", r.stderr);
+    assert_eq!(r.stderr.lines().count(), 1, "{}", r.stderr);
+    assert!(
+        r.stderr
+            .contains("face 0: a face of 30000 corners is past what crease triangulates"),
+        "{}",
+        r.stderr
+    );
+    assert!(r.peak_kb < 500_000, "peak {} kB", r.peak_kb);
+    let small = scratch("face-500.fold");
+    std::fs::write(&small, face(500, 1.0)).unwrap();
+    let r = run(&["verify", small.to_str().unwrap()]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    // A sawtooth face within the budget: its ear clipping leaves a fan of slivers, each
+    // over thousands of cells of the overlap check's grid (a 300 KB one took fab 120 s
+    // before failing on the media, which is now checked first).
+    let saw = scratch("saw-4000.fold");
+    std::fs::write(&saw, face(4000, 0.9)).unwrap();
+    let out = scratch("saw-sheet");
+    let r = run(&["fab", saw.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert_eq!(r.code, 1, "{}", r.stderr);
+    assert!(
+        r.stderr.contains("the pattern needs 220.0 × 220.0 mm"),
+        "{}",
+        r.stderr
+    );
+    assert!(!out.exists(), "nothing written on a refusal");
+    let r = run(&[
+        "fab",
+        saw.to_str().unwrap(),
+        "--media",
+        "a3",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert!(out.join("sheet.svg").exists());
+}
+
+#[test]
 fn plot_and_emulate_refuse_bad_rates_empty_jobs_and_a_path_that_is_not_theirs() {
     let job = scratch("empty.hpgl");
     std::fs::write(&job, "").unwrap();

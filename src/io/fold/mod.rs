@@ -6,7 +6,7 @@ use super::planar::{mesh_from_segments, Segment};
 use super::FileCause;
 use crate::mesh::{
     split_along_cuts, triangulate_polygon, Assignment, Edge, Mesh, MeshParts, SourceAttachment,
-    Vec2, Vec3,
+    TriangulationBudget, Vec2, Vec3,
 };
 use serde::Deserialize;
 use source::{coordinate_arrays, keep_file_numbering, source_record};
@@ -454,7 +454,13 @@ fn mesh_parts(
         return Ok((faces_from_edges(&edges, &flat)?, None));
     }
     let mut faces = Vec::with_capacity(face_lists.len());
+    let mut budget = TriangulationBudget::default();
     for (i, poly) in face_lists.iter().enumerate() {
+        // Past the budget the file is refused, not rebuilt from its edges: that would
+        // clip the same face again.
+        budget
+            .charge(poly.len())
+            .map_err(|why| format!("face {i}: {why}"))?;
         if let Some(&v) = poly.iter().find(|&&v| v >= n) {
             return Err(format!(
                 "face {i} refers to vertex {v}, but there are only {n} vertices"
