@@ -2,6 +2,7 @@
 //! merge near-coincident points, split lines where they cross or touch, find the faces of
 //! the planar graph, drop holes, and triangulate every face with flat creases.
 
+use crate::limits;
 use crate::mesh::{
     edge_key, triangulate_polygon, Assignment, Edge, MeshParts, TriangulationBudget, Vec2,
 };
@@ -89,8 +90,8 @@ pub fn mesh_from_segments(segments: &[Segment]) -> Result<(MeshParts, PlanarRepo
         tol,
     };
     let segs = unique_segments(&segs, &mut pool);
-    insert_crossings(&segs, &mut pool);
-    let mut graph = split_at_points(&segs, &pool);
+    insert_crossings(&segs, &mut pool)?;
+    let mut graph = split_at_points(&segs, &pool)?;
     let mut report = PlanarReport::default();
     prune_dangling(&mut graph, &mut report);
     if graph.is_empty() {
@@ -183,10 +184,27 @@ fn max_x(s: &Segment) -> f64 {
 
 /// Adds the proper crossings of the segments to the pool; a sweep by x compares only
 /// overlapping spans.
-fn insert_crossings(segs: &[&Segment], pool: &mut VertexPool) {
+/// The pairs compared are counted first and refused past [`limits::ARRANGEMENT_WORK`].
+fn insert_crossings(segs: &[&Segment], pool: &mut VertexPool) -> Result<(), String> {
     let tol = pool.tol;
     let mut order: Vec<usize> = (0..segs.len()).collect();
     order.sort_by(|&i, &j| min_x(segs[i]).total_cmp(&min_x(segs[j])));
+    let starts: Vec<f64> = order.iter().map(|&i| min_x(segs[i])).collect();
+    let pairs: u64 = order
+        .iter()
+        .enumerate()
+        .map(|(oi, &i)| {
+            let end = starts.partition_point(|&x| x <= max_x(segs[i]) + tol);
+            end.saturating_sub(oi + 1) as u64
+        })
+        .sum();
+    if pairs > limits::ARRANGEMENT_WORK {
+        return Err(too_tangled(
+            segs.len(),
+            pairs,
+            "pairs of lines side by side",
+        ));
+    }
     for (oi, &i) in order.iter().enumerate() {
         for &j in &order[oi + 1..] {
             if min_x(segs[j]) > max_x(segs[i]) + tol {
@@ -197,25 +215,53 @@ fn insert_crossings(segs: &[&Segment], pool: &mut VertexPool) {
             }
         }
     }
+    Ok(())
 }
+
+/// The refusal of a drawing past [`limits::ARRANGEMENT_WORK`].
+fn too_tangled(lines: usize, work: u64, what: &str) -> String {
+    format!(
+        "its {lines} lines make {work} {what}, more than crease arranges ({}): \
+         a crease pattern has no such pile of overlapping lines; remove the duplicates or split the drawing",
+        limits::ARRANGEMENT_WORK
+    )
+}
+
+/// Pieces of the drawing between points, each with the assignment and fold angle that won it.
+type PieceGraph = HashMap<(usize, usize), (Assignment, f64)>;
 
 /// Every segment split at the pool's points lying on it: the pieces as vertex pairs, with
 /// the assignment and fold angle of the segment that wins each piece by priority.
-fn split_at_points(
-    segs: &[&Segment],
-    pool: &VertexPool,
-) -> HashMap<(usize, usize), (Assignment, f64)> {
+fn split_at_points(segs: &[&Segment], pool: &VertexPool) -> Result<PieceGraph, String> {
     let tol = pool.tol;
     let mut by_x: Vec<usize> = (0..pool.points.len()).collect();
     by_x.sort_by(|&i, &j| pool.points[i].x.total_cmp(&pool.points[j].x));
     let xs: Vec<f64> = by_x.iter().map(|&i| pool.points[i].x).collect();
-    let mut graph: HashMap<(usize, usize), (Assignment, f64)> = HashMap::new();
+    let span = |s: &Segment| {
+        let from = xs.partition_point(|&x| x < min_x(s) - tol);
+        let to = xs.partition_point(|&x| x <= max_x(s) + tol);
+        (from, to)
+    };
+    let tests: u64 = segs
+        .iter()
+        .map(|s| {
+            let (from, to) = span(s);
+            to.saturating_sub(from) as u64
+        })
+        .sum();
+    if tests > limits::ARRANGEMENT_WORK {
+        return Err(too_tangled(
+            segs.len(),
+            tests,
+            "tests of a point against a line",
+        ));
+    }
+    let mut graph: PieceGraph = HashMap::new();
     for s in segs {
         let d = s.b - s.a;
         let len = d.norm();
         let u = d / len;
-        let from = xs.partition_point(|&x| x < min_x(s) - tol);
-        let to = xs.partition_point(|&x| x <= max_x(s) + tol);
+        let (from, to) = span(s);
         let mut on: Vec<(f64, usize)> = by_x[from..to]
             .iter()
             .filter_map(|&k| {
@@ -240,7 +286,7 @@ fn split_at_points(
             }
         }
     }
-    graph
+    Ok(graph)
 }
 
 fn crossing(s: &Segment, t: &Segment, tol: f64) -> Option<Vec2> {
@@ -257,10 +303,7 @@ fn crossing(s: &Segment, t: &Segment, tol: f64) -> Option<Vec2> {
     (u > -eu && u < 1.0 + eu && v > -ev && v < 1.0 + ev).then(|| s.a + r * u)
 }
 
-fn prune_dangling(
-    graph: &mut HashMap<(usize, usize), (Assignment, f64)>,
-    report: &mut PlanarReport,
-) {
+fn prune_dangling(graph: &mut PieceGraph, report: &mut PlanarReport) {
     loop {
         let mut degree: HashMap<usize, usize> = HashMap::new();
         for &(a, b) in graph.keys() {

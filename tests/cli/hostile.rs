@@ -608,6 +608,61 @@ fn huge_faces_are_refused_before_they_are_clipped_and_sawtooth_faces_fabricate()
 }
 
 #[test]
+fn piles_of_overlapping_or_crossing_lines_are_refused_before_they_are_arranged() {
+    // 80,000 overlapping pieces of one horizontal line: every pair was compared (27 s).
+    let mut rng = Rng(50);
+    let mut cp = String::from("1 0 0 100 100\n2 0 100 100 0\n");
+    for _ in 0..80_000 {
+        let (a, b) = (
+            rng.below(10_000) as f64 / 100.0,
+            rng.below(10_000) as f64 / 100.0,
+        );
+        cp.push_str(&format!("2 {a} 50 {b} 50\n"));
+    }
+    let collinear = scratch("collinear.cp");
+    std::fs::write(&collinear, cp).unwrap();
+    // 3,000 random lines crossing about a million times (21 s, 600 MB).
+    let mut svg =
+        String::from("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"200\" height=\"200\">\n");
+    for _ in 0..3000 {
+        let c: Vec<usize> = (0..4).map(|_| rng.below(20_000)).collect();
+        svg.push_str(&format!(
+            "<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"#f00\"/>\n",
+            c[0] as f64 / 100.0,
+            c[1] as f64 / 100.0,
+            c[2] as f64 / 100.0,
+            c[3] as f64 / 100.0
+        ));
+    }
+    svg.push_str("</svg>\n");
+    let zigzag = scratch("zigzag.svg");
+    std::fs::write(&zigzag, svg).unwrap();
+    for (file, what) in [
+        (&collinear, "pairs of lines side by side"),
+        (&zigzag, "tests of a point against a line"),
+    ] {
+        let r = run(&["verify", file.to_str().unwrap()]);
+        assert_eq!(r.code, 2, "{}", r.stderr);
+        assert_eq!(r.stderr.lines().count(), 1, "{}", r.stderr);
+        assert!(r.stderr.contains(what), "{}", r.stderr);
+        assert!(
+            r.stderr.contains("more than crease arranges"),
+            "{}",
+            r.stderr
+        );
+        assert!(
+            r.peak_kb < 500_000,
+            "{}: peak {} kB",
+            file.display(),
+            r.peak_kb
+        );
+    }
+    // The bound leaves real drawings alone: Flat-Folder's crane, drawn as an SVG.
+    let r = run(&["verify", &root("tests/data/flat-folder/original/crane.svg")]);
+    assert_ne!(r.code, 2, "{}", r.stderr);
+}
+
+#[test]
 fn plot_and_emulate_refuse_bad_rates_empty_jobs_and_a_path_that_is_not_theirs() {
     let job = scratch("empty.hpgl");
     std::fs::write(&job, "").unwrap();
