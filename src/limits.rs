@@ -393,6 +393,16 @@ pub const TRIANGULATION_WORK: u64 = 50_000_000;
 /// crossing a million times 21 s and 600 MB.
 pub const ARRANGEMENT_WORK: u64 = 100_000_000;
 
+/// Lines a drawing may hold before it is arranged: the largest real designs in
+/// Flat-Folder's examples have about 10,000; a million tiny lines took 5 s and 630 MB
+/// only to be refused by [`ARRANGEMENT_WORK`].
+pub const DRAWING_LINES: Range = Range {
+    what: "the number of lines",
+    unit: "",
+    min: 1.0,
+    max: 200_000.0,
+};
+
 /// Largest file crease reads from disk (a pattern, a target, a script, a job, a
 /// profile): a binary STL of [`TARGET_TRIANGLES`] is 200 MB. Counted as the bytes are
 /// read, not taken from the size a file reports (a FIFO or a device reports none).

@@ -133,6 +133,9 @@ fn merge_tolerance(segments: &[Segment]) -> Result<f64, String> {
     if segments.is_empty() {
         return Err("no crease or boundary lines found".into());
     }
+    limits::DRAWING_LINES
+        .check_count("its line count", segments.len() as u64)
+        .map_err(|e| e.to_string())?;
     let mut lo = Vec2::repeat(f64::INFINITY);
     let mut hi = Vec2::repeat(f64::NEG_INFINITY);
     for s in segments {

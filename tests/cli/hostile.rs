@@ -657,6 +657,22 @@ fn piles_of_overlapping_or_crossing_lines_are_refused_before_they_are_arranged()
             r.peak_kb
         );
     }
+    // A million tiny lines are refused by their count before any is arranged.
+    let mut svg = String::from("<svg xmlns=\"http://www.w3.org/2000/svg\">\n");
+    for k in 0..250_000 {
+        let (x, y) = ((k % 500) as f64 * 0.4, (k / 500) as f64 * 0.4);
+        svg.push_str(&format!(
+            "<line x1=\"{x}\" y1=\"{y}\" x2=\"{}\" y2=\"{y}\" stroke=\"red\"/>\n",
+            x + 0.1
+        ));
+    }
+    svg.push_str("</svg>\n");
+    let tiny = scratch("tiny-lines.svg");
+    std::fs::write(&tiny, svg).unwrap();
+    let r = run(&["verify", tiny.to_str().unwrap()]);
+    assert_eq!(r.code, 2, "{}", r.stderr);
+    assert!(r.stderr.contains("its line count = 250000"), "{}", r.stderr);
+    assert!(r.peak_kb < 500_000, "tiny lines: peak {} kB", r.peak_kb);
     // The bound leaves real drawings alone: Flat-Folder's crane, drawn as an SVG.
     let r = run(&["verify", &root("tests/data/flat-folder/original/crane.svg")]);
     assert_ne!(r.code, 2, "{}", r.stderr);
