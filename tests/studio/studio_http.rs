@@ -180,3 +180,88 @@ fn a_chunked_body_cut_short_changes_nothing() {
     assert!(reply.starts_with("HTTP/1.1 200"), "{reply}");
     assert_eq!(still_answering(&mut studio)["mode"], "simulation");
 }
+
+/// Runs `request` on its own thread while `/api/state` is asked every 100 ms; each
+/// answer must come within a second. Returns the request's status and body.
+fn answering_while(
+    studio: &mut StudioProcess,
+    request: impl FnOnce(u16) -> (u16, Vec<u8>) + Send + 'static,
+) -> (u16, String) {
+    let port = studio.port;
+    let worker = std::thread::spawn(move || request(port));
+    while !worker.is_finished() {
+        still_answering(studio);
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    still_answering(studio);
+    let (status, body) = worker.join().unwrap();
+    (status, String::from_utf8_lossy(&body).into_owned())
+}
+
+#[test]
+fn hostile_uploads_and_a_fit_to_a_degenerate_target_leave_it_answering_within_a_second() {
+    let mut studio = StudioProcess::start_limited(&["patterns/miura.fold"], ADDRESS_SPACE_KB);
+    // One face of 30,000 corners (ear clipping took 18 s) and 80,000 overlapping pieces of
+    // one line (the arrangement took 27 s): refused at once, the design unchanged.
+    let n = 30_000;
+    let coords: Vec<[f64; 2]> = (0..n)
+        .map(|i| {
+            let t = std::f64::consts::TAU * i as f64 / n as f64;
+            [100.0 * t.cos(), 100.0 * t.sin()]
+        })
+        .collect();
+    let face = serde_json::json!({
+        "file_spec": 1.1,
+        "frame_classes": ["creasePattern"],
+        "vertices_coords": coords,
+        "edges_vertices": (0..n).map(|i| [i, (i + 1) % n]).collect::<Vec<_>>(),
+        "edges_assignment": vec!["B"; n],
+        "faces_vertices": [(0..n).collect::<Vec<_>>()],
+    })
+    .to_string();
+    let mut cp = String::from("1 0 0 100 100\n2 0 100 100 0\n");
+    for k in 0..80_000u64 {
+        let (a, b) = ((k * 7919) % 10_000, (k * 104_729) % 10_000);
+        cp.push_str(&format!(
+            "2 {} 50 {} 50\n",
+            a as f64 / 100.0,
+            b as f64 / 100.0
+        ));
+    }
+    let before = still_answering(&mut studio);
+    for (name, bytes) in [("face.fold", face), ("pile.cp", cp)] {
+        let path = format!("/api/open?name={name}");
+        let (status, body) = answering_while(&mut studio, move |port| {
+            studio_process::http(port, "POST", &path, bytes.as_bytes())
+        });
+        assert!((400..500).contains(&status), "{name}: {status} {body}");
+        let now = still_answering(&mut studio);
+        assert_eq!(
+            now["vertices"], before["vertices"],
+            "{name} changed the design"
+        );
+    }
+    // 400,000 copies of one triangle as the target: a fit's steps took seconds each and
+    // Stop 9.6 s; kept once, the fit runs and stops while the page is answered.
+    let mut obj = String::from("v 0 0 0\nv 100 0 0\nv 0 100 0\n");
+    obj.push_str(&"f 1 2 3\n".repeat(400_000));
+    let (status, body) = answering_while(&mut studio, move |port| {
+        studio_process::http(port, "POST", "/api/target?name=copies.obj", obj.as_bytes())
+    });
+    assert_eq!(status, 200, "{body}");
+    let (status, fit) = studio.json("POST", "/api/fit", r#"{"steps": 400}"#);
+    assert_eq!(status, 200, "{fit}");
+    for _ in 0..10 {
+        still_answering(&mut studio);
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    let stopping = Instant::now();
+    let (status, stopped) = studio.json("POST", "/api/fit/stop", "{}");
+    assert_eq!(status, 200, "{stopped}");
+    assert!(
+        stopping.elapsed() < Duration::from_secs(1),
+        "stop took {:?}",
+        stopping.elapsed()
+    );
+    still_answering(&mut studio);
+}
