@@ -294,6 +294,16 @@ pub fn read_file_text(path: &Path) -> Result<String, FileError> {
     String::from_utf8(bytes).map_err(|_| FileError::new(path, "the file is not UTF-8 text"))
 }
 
+/// [`read_file_text`] for readers whose errors carry the system's `io::Error` (machine
+/// and material profiles): the same bounds and refusals, a refusal that is not the
+/// system's given as `InvalidData` with its message.
+pub fn read_text_as_io(path: &Path) -> std::io::Result<String> {
+    read_file_text(path).map_err(|e| match e.cause {
+        FileCause::Io(io) => io,
+        other => std::io::Error::new(std::io::ErrorKind::InvalidData, other.to_string()),
+    })
+}
+
 /// Reads a pattern file of any supported format.
 pub fn read(path: &Path) -> Result<Mesh, FileError> {
     read_with_notes(path).map(|i| i.mesh)

@@ -114,10 +114,11 @@ impl Material {
                 known: known_materials().join(", "),
             });
         };
-        let text = std::fs::read_to_string(&path).map_err(|source| MaterialError::Unreadable {
-            path: path.clone(),
-            source,
-        })?;
+        let text =
+            crate::io::read_text_as_io(&path).map_err(|source| MaterialError::Unreadable {
+                path: path.clone(),
+                source,
+            })?;
         Material::parse(&text).map_err(|cause| MaterialError::Invalid { path, cause })
     }
 

@@ -236,10 +236,11 @@ impl Machine {
             path: path.display().to_string(),
             cause,
         };
-        let text = std::fs::read_to_string(&path).map_err(|source| MachineError::Unreadable {
-            path: path.display().to_string(),
-            source,
-        })?;
+        let text =
+            crate::io::read_text_as_io(&path).map_err(|source| MachineError::Unreadable {
+                path: path.display().to_string(),
+                source,
+            })?;
         Machine::parse(&text).map_err(invalid)
     }
 
