@@ -404,6 +404,11 @@ pub const DRAWING_LINES: Range = Range {
     max: 200_000.0,
 };
 
+/// Points of a drawing's arrangement (ends of lines and their crossings): the largest
+/// anchor designs have about 5,000; 3,000 random lines crossing a million times took
+/// 0.8 s and 120 MB only to be refused later by [`ARRANGEMENT_WORK`].
+pub const DRAWING_POINTS: usize = 250_000;
+
 /// Largest file crease reads from disk (a pattern, a target, a script, a job, a
 /// profile): a binary STL of [`TARGET_TRIANGLES`] is 200 MB. Counted as the bytes are
 /// read, not taken from the size a file reports (a FIFO or a device reports none).

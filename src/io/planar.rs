@@ -215,6 +215,13 @@ fn insert_crossings(segs: &[&Segment], pool: &mut VertexPool) -> Result<(), Stri
             }
             if let Some(p) = crossing(segs[i], segs[j], tol) {
                 pool.insert(p);
+                if pool.points.len() > limits::DRAWING_POINTS {
+                    return Err(format!(
+                        "its {} lines cross at more than {} points, more than a crease pattern has: remove the stray lines",
+                        segs.len(),
+                        limits::DRAWING_POINTS
+                    ));
+                }
             }
         }
     }

@@ -228,8 +228,21 @@ fn hostile_uploads_and_a_fit_to_a_degenerate_target_leave_it_answering_within_a_
             b as f64 / 100.0
         ));
     }
+    // 3,000 long lines crossing about a million times (21 s and 600 MB).
+    let mut svg = String::from("<svg xmlns=\"http://www.w3.org/2000/svg\">\n");
+    for k in 0..3000u64 {
+        let c = |m: u64| ((k * 7919 + m * 104_729) * (m + 3)) % 20_000;
+        svg.push_str(&format!(
+            "<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"red\"/>\n",
+            c(0) as f64 / 100.0,
+            c(1) as f64 / 100.0,
+            c(2) as f64 / 100.0,
+            c(3) as f64 / 100.0
+        ));
+    }
+    svg.push_str("</svg>\n");
     let before = still_answering(&mut studio);
-    for (name, bytes) in [("face.fold", face), ("pile.cp", cp)] {
+    for (name, bytes) in [("face.fold", face), ("pile.cp", cp), ("zigzag.svg", svg)] {
         let path = format!("/api/open?name={name}");
         let (status, body) = answering_while(&mut studio, move |port| {
             studio_process::http(port, "POST", &path, bytes.as_bytes())
