@@ -36,6 +36,15 @@ fn journal_to_resume(journal_file: &Path, job_hash: u64) -> Result<Journal, Stre
             journal_file.display()
         )));
     }
+    // A finished job has no last command to resend: resending it would cut it twice.
+    if old.done {
+        return Err(StreamError::Input(format!(
+            "the job was already complete ({} of {} bytes drawn, says {}); nothing to resume (plot it without --resume to cut another sheet)",
+            old.drawn.max(old.received),
+            old.job_len,
+            journal_file.display()
+        )));
+    }
     Ok(old)
 }
 

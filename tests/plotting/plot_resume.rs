@@ -260,3 +260,54 @@ fn a_cameo_job_written_to_a_usb_device_node_resumes_after_a_pulled_cable() {
         );
     }
 }
+
+/// `--resume` on a job that was plotted to the end sends nothing (it used to resend the
+/// last command) and says the job was already complete.
+#[test]
+fn resuming_a_finished_job_sends_nothing_and_says_it_was_complete() {
+    let (text, expected, file) = job_for(Language::Hpgl);
+    let dir = scratch("resume-finished");
+    let link = dir.join("plotter");
+    let config = EmulatorConfig {
+        baud: 115200,
+        rate: 100_000.0,
+        language: Language::Hpgl,
+        ..Default::default()
+    };
+    let emulator = Emulator::start(&link, config).unwrap();
+    let job_path = dir.join(file);
+    std::fs::write(&job_path, &text).unwrap();
+    let mut opts = StreamOptions {
+        device: false,
+        port: link.clone(),
+        baud: 115200,
+        language: Language::Hpgl,
+        flow: FlowMode::Query,
+        buffer: 1024,
+        resume: false,
+        answer_timeout: Duration::from_secs(5),
+    };
+    let plot = |opts: &StreamOptions| {
+        stream(
+            text.as_bytes(),
+            &job_path,
+            opts,
+            &mut |_| {},
+            &AtomicBool::new(false),
+        )
+    };
+    plot(&opts).expect("the whole job plots");
+    emulator.wait_idle(Duration::from_millis(300), Duration::from_secs(60));
+    let received = emulator.state().received;
+    opts.resume = true;
+    match plot(&opts) {
+        Err(StreamError::Input(why)) => {
+            assert!(why.contains("already complete"), "{why}")
+        }
+        other => panic!("a finished job resumed: {other:?}"),
+    }
+    emulator.wait_idle(Duration::from_millis(300), Duration::from_secs(10));
+    let state = emulator.stop();
+    assert_eq!(state.received, received, "bytes sent after the job ended");
+    assert_eq!(state.path.segments, expected);
+}
