@@ -29,8 +29,9 @@ pub struct FabArgs {
     /// Margin kept free on every side, mm (default: the machine's).
     #[arg(long)]
     margin: Option<f64>,
-    /// Output folder (default: out/DESIGN-NAME).
-    #[arg(long)]
+    /// Output folder (default: out/DESIGN-NAME). `-o`/`--output` as in every other
+    /// command; `--out` kept for the scripts that use it.
+    #[arg(short = 'o', long = "output", visible_alias = "out")]
     out: Option<PathBuf>,
     /// Cut even if the design fails verification.
     #[arg(long)]

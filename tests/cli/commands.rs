@@ -593,3 +593,35 @@ fn a_negative_value_is_range_checked_not_taken_for_a_flag() {
         "{err}"
     );
 }
+
+/// `fab` names its output folder as every other command names its output (`-o`,
+/// `--output`), and still takes `--out`.
+#[test]
+fn fab_takes_dash_o_and_output_like_the_other_commands() {
+    let pattern = scratch("fab-o.fold", include_str!("../data/fold/simple.fold"));
+    for flag in ["-o", "--output", "--out"] {
+        let dir = std::env::temp_dir().join(format!(
+            "crease-fab-o-{}-{}",
+            std::process::id(),
+            flag.trim_start_matches('-')
+        ));
+        let (code, _, err) = run_crease(&[
+            "fab",
+            pattern.to_str().unwrap(),
+            flag,
+            dir.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{flag}: {err}");
+        assert!(
+            dir.join("sheet.svg").exists(),
+            "{flag}: no sheet.svg in {}",
+            dir.display()
+        );
+    }
+    let help = option_help("fab");
+    assert!(
+        help.iter()
+            .any(|(long, text)| long == "--output" && text.starts_with("-o, --output")),
+        "{help:?}"
+    );
+}
