@@ -160,8 +160,11 @@ fn say_what_was_made(dir: &std::path::Path, result: &crease::pipeline::FabOutput
     }
     if let Some(next) = &result.next_steps {
         eprintln!("next, in {}:", next.software);
+        // The library names the output folder OUT (report.json keeps it so); here the
+        // folder is known, and the command is given as the maker types it.
+        let plot = format!("crease plot {}", dir.display());
         for (i, step) in next.steps.iter().enumerate() {
-            eprintln!("  {}. {step}", i + 1);
+            eprintln!("  {}. {}", i + 1, step.replace("crease plot OUT", &plot));
         }
     }
     if let Some(hinge) = &result.report.hinge {

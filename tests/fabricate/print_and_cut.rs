@@ -465,3 +465,31 @@ fn print_and_cut_is_refused_clearly_where_it_cannot_work() {
         Ok([255, 232, 160])
     );
 }
+
+/// The printed next steps name the folder fab wrote as the thing to plot, as the maker
+/// types it (they said `crease plot OUT`, a placeholder the maker had to replace).
+#[test]
+fn next_steps_name_the_output_folder_to_plot() {
+    let dir = std::env::temp_dir().join(format!("crease-pc-steps-{}", std::process::id()));
+    let design = format!("{}/patterns/miura.fold", env!("CARGO_MANIFEST_DIR"));
+    let (code, _, err) = common::run_crease(&[
+        "fab",
+        &design,
+        "--machine",
+        "silhouette-cameo",
+        "--print-and-cut",
+        "-o",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let step = err
+        .lines()
+        .find(|l| l.contains("crease plot"))
+        .unwrap_or_else(|| panic!("no plot step: {err}"));
+    assert!(
+        step.contains(&format!("crease plot {} --port", dir.display())),
+        "{step}"
+    );
+    assert!(!err.contains("crease plot OUT"), "{err}");
+    assert!(dir.join("sheet.gpgl").exists());
+}
