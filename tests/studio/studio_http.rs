@@ -254,6 +254,54 @@ fn hostile_uploads_and_a_fit_to_a_degenerate_target_leave_it_answering_within_a_
             "{name} changed the design"
         );
     }
+    // Item 3's small files of huge memory, built on a 60 × 60 Miura-ori: 3,000 nested
+    // coordinate keys before the real array and 2,000 inheriting frames open as the
+    // design; 3 million faceOrders are refused as they are read.
+    let mut params = crease::generate::Params::defaults(crease::generate::PatternKind::Miura);
+    (params.nx, params.ny) = (60, 60);
+    let miura = crease::io::fold::to_string(&crease::generate::generate(&params).unwrap());
+    let vertices = serde_json::from_str::<Value>(&miura).unwrap()["vertices_coords"]
+        .as_array()
+        .unwrap()
+        .len();
+    let at = miura.find("\"vertices_coords\"").unwrap();
+    let junk: Vec<String> = (0..3000)
+        .map(|i| format!("\"k{i}\": {{\"vertices_coords\": 0}}"))
+        .collect();
+    let keys = format!(
+        "{}\"crease:junk\": {{{}}}, {}",
+        &miura[..at],
+        junk.join(","),
+        &miura[at..]
+    );
+    let mut fold: Value = serde_json::from_str(&miura).unwrap();
+    for _ in 0..2000 {
+        fold["file_frames"]
+            .as_array_mut()
+            .unwrap()
+            .push(serde_json::json!(
+                {"frame_inherit": true, "frame_parent": 1, "frame_classes": ["foldedForm"]}
+            ));
+    }
+    let frames = fold.to_string();
+    let mut fold: Value = serde_json::from_str(&miura).unwrap();
+    fold["faceOrders"] = vec![serde_json::json!([0, 1, 1]); 3_000_000].into();
+    let orders = fold.to_string();
+    for (name, bytes, opens) in [
+        ("keys.fold", keys, true),
+        ("frames.fold", frames, true),
+        ("orders.fold", orders, false),
+    ] {
+        let path = format!("/api/open?name={name}");
+        let (status, body) = answering_while(&mut studio, move |port| {
+            studio_process::http(port, "POST", &path, bytes.as_bytes())
+        });
+        assert_eq!(status == 200, opens, "{name}: {status} {body}");
+        let now = still_answering(&mut studio);
+        if opens {
+            assert_eq!(now["vertices"], vertices, "{name}");
+        }
+    }
     // 400,000 copies of one triangle as the target: a fit's steps took seconds each and
     // Stop 9.6 s; kept once, the fit runs and stops while the page is answered.
     let mut obj = String::from("v 0 0 0\nv 100 0 0\nv 0 100 0\n");
