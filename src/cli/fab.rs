@@ -146,10 +146,20 @@ fn options_of(args: &FabArgs) -> Result<crease::pipeline::FabOptions, String> {
 
 /// The summary on stderr: the job, the steps to take, and what the maker must do by hand.
 fn say_what_was_made(dir: &std::path::Path, result: &crease::pipeline::FabOutput) {
+    let sheet = &result.report.sheet;
+    let material = sheet
+        .material
+        .as_deref()
+        .map_or(String::new(), |m| format!(", {m}"));
     eprintln!(
-        "{}: {} strokes; {}",
+        "{}: the pattern is {:.1} × {:.1} mm on {} ({:.0} × {:.0} mm{material}); {} strokes; {}",
         dir.display(),
-        result.report.sheet.strokes,
+        sheet.size_mm[0],
+        sheet.size_mm[1],
+        sheet.media.name,
+        sheet.media.width_mm,
+        sheet.media.height_mm,
+        sheet.strokes,
         result.job_line
     );
     if !result.steps.is_empty() {

@@ -211,7 +211,16 @@ fn tube_of(mesh: &Mesh, options: &FabOptions) -> Result<Option<TubeStrip>, FabEr
         "--tab",
         options.tab.unwrap_or(super::fab_options::GLUE_TAB_MM),
     )?;
-    super::tube::tube_strip(mesh, tab_mm).map_err(|e| FabError::Rejected(Rejected(e)))
+    let strip =
+        super::tube::tube_strip(mesh, tab_mm).map_err(|e| FabError::Rejected(Rejected(e)))?;
+    // A tab asked for on a sheet would be silently dropped: say so instead.
+    if strip.is_none() && options.tab.is_some() {
+        return Err(FabError::Input(
+            "--tab: the design is a sheet, not a tube, so it has no seam to glue; leave --tab out"
+                .into(),
+        ));
+    }
+    Ok(strip)
 }
 
 /// Where a sheet goes: a print-and-cut frame, else the media within the margin.

@@ -625,3 +625,47 @@ fn fab_takes_dash_o_and_output_like_the_other_commands() {
         "{help:?}"
     );
 }
+
+/// `fab` says the pattern's size on its media (Cricut's steps send the maker to it), and
+/// refuses `--tab` on a sheet instead of dropping it without a word.
+#[test]
+fn fab_prints_the_sheet_size_and_refuses_a_tab_on_a_sheet() {
+    let pattern = format!("{}/patterns/miura.fold", env!("CARGO_MANIFEST_DIR"));
+    let dir = std::env::temp_dir().join(format!("crease-fab-size-{}", std::process::id()));
+    let (code, _, err) = run_crease(&[
+        "fab",
+        &pattern,
+        "--material",
+        "heavy-card-300gsm",
+        "--width",
+        "150",
+        "-o",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    let size = &report["sheet"]["size_mm"];
+    assert!((size[0].as_f64().unwrap() - 150.0).abs() < 0.05, "{size}");
+    let said = format!(
+        "the pattern is 150.0 × {:.1} mm on a4 (210 × 297 mm, Heavy card 300 g/m²)",
+        size[1].as_f64().unwrap()
+    );
+    assert!(err.contains(&said), "{said} not in {err}");
+    let refused = dir.join("tab");
+    let (code, _, err) = run_crease(&[
+        "fab",
+        &pattern,
+        "--tab",
+        "5",
+        "-o",
+        refused.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("--tab: the design is a sheet, not a tube"),
+        "{err}"
+    );
+    assert!(!refused.exists());
+}
