@@ -170,6 +170,19 @@ impl Machine {
         }
         m.material = Some(material.name.clone());
         m.hinge_thickness_mm = material.hinge_gap.then_some(material.thickness_mm);
+        let takes = |used: fn(&super::profile::Tool) -> bool| m.tools.values().any(used);
+        m.material_unused = [
+            (
+                takes(|t| t.dash.is_some()),
+                "dash lengths (it draws whole lines)",
+            ),
+            (takes(|t| t.force.is_some()), "force"),
+            (takes(|t| t.speed_mm_s.is_some()), "speed"),
+        ]
+        .into_iter()
+        .filter(|(used, _)| !used)
+        .map(|(_, what)| what.to_string())
+        .collect();
         m
     }
 }

@@ -96,6 +96,11 @@ pub struct Machine {
     /// gaps ([`crate::fab::hinge`]); not a profile key.
     #[serde(skip)]
     pub hinge_thickness_mm: Option<f64>,
+    /// What of the material laid over the profile the machine has no use for (its
+    /// dashes on a machine that scores whole lines, a force or speed it does not take),
+    /// said when it cuts; not a profile key.
+    #[serde(skip)]
+    pub material_unused: Vec<String>,
 }
 
 fn serial() -> String {

@@ -172,6 +172,19 @@ pub fn fabricate_verified(
     let job_line = run.job_line(&figures);
     let mut warnings: Vec<String> = run.unscored_warning().into_iter().collect();
     warnings.extend(hinge.as_ref().and_then(too_far_warning));
+    if let (Some(material), false) = (&machine.material, machine.material_unused.is_empty()) {
+        let unused = &machine.material_unused;
+        let list = match unused.split_last() {
+            Some((last, [])) => last.clone(),
+            Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+            None => String::new(),
+        };
+        warnings.push(format!(
+            "{} takes no {list} from {material}: set {} in its own software",
+            machine.name,
+            if unused.len() == 1 { "it" } else { "them" }
+        ));
+    }
     let mut summary = run.summary(&verification.verdict(), &job_line, &warnings);
     if let Some(seam) = &report.seam {
         summary.push(format!(

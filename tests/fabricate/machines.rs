@@ -477,3 +477,50 @@ fn thick_board_is_cut_as_panels_set_back_from_each_valley_by_half_its_gap() {
     assert!(plain.files.iter().all(|f| f.0 != "panels.dxf"));
     assert!(plain.report.hinge.is_none());
 }
+
+/// A machine says which of a material's settings it takes none of, and says it truly:
+/// a material differing only in that setting leaves the machine's files byte for byte
+/// the same, while a machine that takes it writes a different job and says nothing.
+#[test]
+fn a_machine_names_the_material_settings_it_ignores_and_they_change_nothing() {
+    use crease::machine::Material;
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("materials/cardstock-250gsm.toml"),
+    )
+    .unwrap();
+    let card = Material::parse(&text).unwrap();
+    let forced = Material::parse(&text.replace("force_scale = 1.0", "force_scale = 2.0")).unwrap();
+    let mesh = crease::io::read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura.fold"))
+        .unwrap();
+    let options = crease::pipeline::FabOptions::default();
+    for (name, takes_force) in [
+        ("generic-hpgl", true),
+        ("laser-dxf", false),
+        ("cricut-maker", false),
+    ] {
+        let base = Machine::load(name).unwrap();
+        let run = |m: &Material| {
+            crease::pipeline::fabricate(&mesh, &base.with_material(m), &options).unwrap()
+        };
+        let (a, b) = (run(&card), run(&forced));
+        let job = |o: &crease::pipeline::FabOutput| {
+            o.files
+                .iter()
+                .filter(|(f, _)| f.starts_with("sheet.") && !f.ends_with(".pdf"))
+                .map(|(f, bytes)| (f.clone(), bytes.clone()))
+                .collect::<Vec<_>>()
+        };
+        let said = a.warnings.iter().find(|w| w.contains("takes no"));
+        if takes_force {
+            assert_ne!(job(&a), job(&b), "{name}: force changed nothing");
+            assert!(said.is_none(), "{name}: {said:?}");
+        } else {
+            assert_eq!(job(&a), job(&b), "{name}: force changed the job");
+            let said = said.unwrap_or_else(|| panic!("{name}: {:?}", a.warnings));
+            assert!(
+                said.contains("force") && said.contains("Cardstock"),
+                "{said}"
+            );
+        }
+    }
+}
