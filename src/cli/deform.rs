@@ -1,6 +1,6 @@
 //! `crease deform`: the paper's design method from the command line.
 
-use super::{design_failure, parse_drag, progress_bar, DragArg};
+use super::{design_failure, parse_drag, progress_bar, DragArg, Remedy};
 use crease::constraints::ConstraintSet;
 use crease::io;
 use crease::pipeline::Script;
@@ -23,9 +23,9 @@ pub struct DeformArgs {
     /// A TOML script of drags (see patterns/*.toml).
     #[arg(long)]
     script: Option<PathBuf>,
-    /// Euler steps for the --drag moves.
-    #[arg(long, default_value_t = 20)]
-    steps: usize,
+    /// Euler steps for the --drag moves [default: 20].
+    #[arg(long)]
+    steps: Option<usize>,
     /// design (chosen conditions, lengths free) or simulation (lengths kept); default
     /// design, or the script's.
     #[arg(long)]
@@ -54,10 +54,17 @@ pub struct DeformArgs {
     /// mean edge, in (0, 1). Default: off (the script's); 0.25 when given without a value.
     #[arg(long, num_args = 0..=1, default_missing_value = "0.25")]
     remesh: Option<f64>,
+    /// When a step cannot be corrected, write the last state that held every condition
+    /// (exit 1, naming the step and the condition that stopped it) instead of nothing.
+    #[arg(long)]
+    keep_partial: bool,
     /// Output FOLD file.
     #[arg(short, long)]
     output: PathBuf,
 }
+
+/// Euler steps of the --drag moves unless `--steps` says.
+const DEFAULT_STEPS: usize = 20;
 
 pub fn deform(args: DeformArgs) -> Result<u8, String> {
     let DeformArgs {
@@ -72,6 +79,7 @@ pub fn deform(args: DeformArgs) -> Result<u8, String> {
         radius,
         fold,
         remesh,
+        keep_partial,
         output,
     } = args;
     let mesh = file
@@ -94,7 +102,10 @@ pub fn deform(args: DeformArgs) -> Result<u8, String> {
             .iter()
             .map(|d| d.resolve(&job.mesh))
             .collect::<Result<_, _>>()?;
-        job.stages.push(Stage { steps, moves });
+        job.stages.push(Stage {
+            steps: steps.unwrap_or(DEFAULT_STEPS),
+            moves,
+        });
     }
     if job.stages.is_empty() && job.fold.is_none() && job.fit.is_none() {
         return Err(
@@ -116,13 +127,38 @@ pub fn deform(args: DeformArgs) -> Result<u8, String> {
     job.fold = fold.or(job.fold);
     let job_remesh = job.remesh.is_some();
     let asked_fold = job.fold.is_some();
+    job.keep_partial = keep_partial;
     let source = script.as_deref().or(file.as_deref()).unwrap_or(&output);
+    let remedies = [
+        Remedy::new(
+            match steps {
+                Some(n) => format!("a smaller move or more steps than --steps {n}"),
+                None => "a smaller move or more --steps".into(),
+            },
+            false,
+        ),
+        Remedy::new("a twist allowance (--alpha 0.1)", job.alpha.is_some()),
+        Remedy::new("holding other vertices (--fix)", job.fixed.is_some()),
+        Remedy::new(
+            "--keep-partial, which writes the last state that held every condition",
+            false,
+        ),
+    ];
     let outcome = match run_design(job, &mut progress_bar()) {
         Ok(o) => o,
-        Err(e) => return design_failure(e, source),
+        Err(e) => return design_failure(e, source, &remedies),
     };
     io::write(&outcome.mesh, &output).map_err(|e| e.to_string())?;
     print_summary(&outcome, &output, asked_fold, job_remesh);
+    if let Some((stage, drag)) = outcome.stalled() {
+        eprintln!(
+            "error: stage {} did not finish ({}); {} holds the last state that held every condition",
+            stage + 1,
+            drag.refused.as_deref().unwrap_or("a step could not be corrected"),
+            output.display()
+        );
+        return Ok(1);
+    }
     Ok(0)
 }
 
@@ -154,7 +190,8 @@ fn print_summary(outcome: &DesignOutcome, output: &Path, asked_fold: bool, job_r
     if let Some(fit) = &outcome.fit {
         eprintln!("{}", fit.summary());
     }
-    for (i, d) in outcome.drags.iter().enumerate() {
+    // A stalled stage is the error `deform` ends with.
+    for (i, d) in outcome.drags.iter().enumerate().filter(|(_, d)| !d.stalled) {
         if let Some(why) = &d.refused {
             eprintln!("stage {} stopped at {why}", i + 1);
         }

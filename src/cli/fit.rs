@@ -1,7 +1,7 @@
 //! `crease fit`: a design pulled onto a target surface, and `crease surface`: the target
 //! shapes a maker asks for by name.
 
-use super::{design_failure, progress_bar};
+use super::{design_failure, progress_bar, Remedy};
 use crease::constraints::ConstraintSet;
 use crease::fit::{FitOptions, SurfaceChoice};
 use crease::io;
@@ -73,6 +73,7 @@ pub fn fit(args: FitArgs) -> Result<u8, String> {
     let target = io::read_target(&args.to).map_err(|e| e.to_string())?;
     let mut job = DesignJob::new(mesh);
     job.conditions = conditions;
+    let (alpha_given, fix_given) = (args.alpha.is_some(), !args.fix.is_empty());
     job.alpha = args.alpha;
     job.remesh = args.remesh;
     if !args.fix.is_empty() {
@@ -91,7 +92,13 @@ pub fn fit(args: FitArgs) -> Result<u8, String> {
     });
     let outcome = match run_design(job, &mut progress_bar()) {
         Ok(o) => o,
-        Err(e) => return design_failure(e, &args.pattern),
+        Err(e) => {
+            let remedies = [
+                Remedy::new("a twist allowance (--alpha 0.1)", alpha_given),
+                Remedy::new("holding other vertices (--fix)", fix_given),
+            ];
+            return design_failure(e, &args.pattern, &remedies);
+        }
     };
     let mut report = outcome.fit.expect("a fit job reports its fit");
     report.target = args.to.display().to_string();

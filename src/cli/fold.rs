@@ -1,7 +1,7 @@
 //! `crease fold`: a pattern folded in simulation mode toward a fraction of its targets,
 //! or (`--flat`) its flat-folded state with the layer order.
 
-use super::{design_failure, progress_bar};
+use super::{design_failure, progress_bar, Remedy};
 use crease::fab::{flat_folded, layer_order, LayerOrder};
 use crease::io;
 use crease::mesh::{Mesh, Vec3};
@@ -52,11 +52,18 @@ pub fn fold(args: FoldArgs) -> Result<u8, String> {
     let amount = amount.expect("clap requires --amount without --flat");
     let mut job = DesignJob::new(mesh);
     job.fold = Some(amount);
-    job.fold_fixed = (!fix.is_empty()).then_some(fix);
+    let fixed_given = !fix.is_empty();
+    job.fold_fixed = fixed_given.then_some(fix);
     job.mode = Mode::Simulation;
     let outcome = match run_design(job, &mut progress_bar()) {
         Ok(o) => o,
-        Err(e) => return design_failure(e, &file),
+        Err(e) => {
+            let remedies = [
+                Remedy::new("folding less far (a smaller --amount)", false),
+                Remedy::new("holding other vertices (--fix)", fixed_given),
+            ];
+            return design_failure(e, &file, &remedies);
+        }
     };
     // A fold that reached almost none of what was asked is a failure, not a file: a
     // pattern without folded creases, or one held flat by its --fix vertices.

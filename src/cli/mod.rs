@@ -201,19 +201,54 @@ pub fn progress_bar() -> impl FnMut(&str, usize, usize) {
 }
 
 /// Exit status for a failed design job: 2 for bad input (named after `input`, the file
-/// or script at fault), 1 for a solve that failed.
-pub fn design_failure(e: PipelineError, input: &Path) -> Result<u8, String> {
+/// or script at fault), 1 for a solve that failed, after which a solve that did not
+/// converge gets a hint of what to try: the `remedies` of the command not already given.
+pub fn design_failure(e: PipelineError, input: &Path, remedies: &[Remedy]) -> Result<u8, String> {
     if e.is_input_error() {
         Err(format!("{}: {e}", input.display()))
     } else {
         eprintln!("error: {e}; nothing was written");
-        if matches!(
+        let untried: Vec<&str> = remedies
+            .iter()
+            .filter(|r| !r.given)
+            .map(|r| r.advice.as_str())
+            .collect();
+        let stalled = matches!(
             e,
             PipelineError::Solver(crease::solver::SolverError::NotConverged { .. })
-        ) {
-            eprintln!("hint: try a smaller move or more --steps, a twist allowance (--alpha 0.1), or hold other vertices (--fix)");
+        );
+        if stalled && !untried.is_empty() {
+            eprintln!("hint: try {}", join_or(&untried));
         }
         Ok(1)
+    }
+}
+
+/// Something to try after a solve that did not converge, and whether the run already
+/// did it (then it is not suggested again).
+pub struct Remedy {
+    /// What to try, naming its option.
+    pub advice: String,
+    /// The option was given.
+    pub given: bool,
+}
+
+impl Remedy {
+    /// A remedy the run has or has not tried.
+    pub fn new(advice: impl Into<String>, given: bool) -> Remedy {
+        Remedy {
+            advice: advice.into(),
+            given,
+        }
+    }
+}
+
+/// "a", "a or b", "a, b or c".
+fn join_or(items: &[&str]) -> String {
+    match items {
+        [] => String::new(),
+        [one] => one.to_string(),
+        [rest @ .., last] => format!("{} or {last}", rest.join(", ")),
     }
 }
 

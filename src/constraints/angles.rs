@@ -167,8 +167,7 @@ pub fn boundary_angle(mesh: &Mesh, reference: &Reference, c: &Corners, rows: &mu
 pub fn convexity(mesh: &Mesh, c: &Corners, rows: &mut Rows) {
     for v in (0..mesh.vertex_count()).filter(|&v| !mesh.is_interior(v)) {
         let g = angle_sum(mesh, c, v) - PI;
-        let row = rows.push(Family::Convexity, Element::Vertex(v), g.max(0.0));
-        if g > 0.0 {
+        if let Some(row) = rows.push_inequality(Family::Convexity, Element::Vertex(v), g) {
             add_weighted_gradient(mesh, c, v, fan(mesh, v, 1.0), row, rows);
         }
     }
@@ -240,8 +239,7 @@ pub fn angular_inequality(mesh: &Mesh, reference: &Reference, c: &Corners, rows:
             for (eq, (bound, bound_sector)) in conditions.into_iter().flatten() {
                 let element = element(eq);
                 let g = bound - s;
-                let row = rows.push(Family::AngularInequality, element, g.max(0.0));
-                if g > 0.0 {
+                if let Some(row) = rows.push_inequality(Family::AngularInequality, element, g) {
                     let w = sector_faces(bound_sector)
                         .map(|f| (f, 1.0))
                         .chain(sector_faces(i).map(|f| (f, -1.0)));
@@ -331,8 +329,8 @@ pub fn fold_angle_range(mesh: &Mesh, folds: &FoldAngles, x: &[Vec3], rows: &mut 
         } else {
             (-rho - limit, -1.0)
         };
-        let row = rows.push(Family::FoldAngleRange, Element::Edge(e), g.max(0.0));
-        if g > 0.0 && !rows.values_only {
+        let row = rows.push_inequality(Family::FoldAngleRange, Element::Edge(e), g);
+        if let Some(row) = row.filter(|_| !rows.values_only) {
             let [a, b, k, l] = hinge(mesh, e);
             let grad = fold_angle_gradient(x, a, b, k, l);
             for (v, gv) in [a, b, k, l].into_iter().zip(grad) {
@@ -368,8 +366,7 @@ pub fn twist_range(mesh: &Mesh, folds: &FoldAngles, x: &[Vec3], rows: &mut Rows)
             grad(rows, row, 1.0);
         } else {
             let g = rho.abs() - edge.alpha * PI;
-            let row = rows.push(Family::TwistRange, Element::Edge(e), g.max(0.0));
-            if g > 0.0 {
+            if let Some(row) = rows.push_inequality(Family::TwistRange, Element::Edge(e), g) {
                 grad(rows, row, rho.signum());
             }
         }

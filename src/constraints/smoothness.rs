@@ -115,8 +115,7 @@ pub fn smoothness(mesh: &Mesh, reference: &Reference, c: &Corners, x: &[Vec3], r
                 .map(|i| weights[i] * pattern_turn(mesh, c, triple[i]))
                 .sum();
             let g = d2.abs() - MAX_SECOND_DIFFERENCE;
-            let row = rows.push(Family::Smoothness, element, g.max(0.0));
-            if g > 0.0 {
+            if let Some(row) = rows.push_inequality(Family::Smoothness, element, g) {
                 for i in 0..3 {
                     let scale = weights[i] * d2.signum();
                     add_pattern_turn_gradient(mesh, c, triple[i], scale, row, rows);
@@ -126,8 +125,7 @@ pub fn smoothness(mesh: &Mesh, reference: &Reference, c: &Corners, x: &[Vec3], r
             let turns = signed_space_turns(x, triple);
             let d2: f64 = (0..3).map(|i| weights[i] * turns[i].0).sum();
             let g = d2.abs() - MAX_SECOND_DIFFERENCE;
-            let row = rows.push(Family::Smoothness, element, g.max(0.0));
-            if g > 0.0 {
+            if let Some(row) = rows.push_inequality(Family::Smoothness, element, g) {
                 for i in 0..3 {
                     let scale = weights[i] * turns[i].2 * d2.signum();
                     for (j, &vertex) in triple[i].iter().enumerate() {

@@ -98,6 +98,10 @@ pub struct DesignJob {
     pub fit: Option<FitStage>,
     /// Solver settings.
     pub options: Options,
+    /// When a drag step cannot be corrected, keep the last state that held every
+    /// condition (the stage stops there, [`DragReport::stalled`]; later stages and the
+    /// fit are not run) instead of failing with nothing.
+    pub keep_partial: bool,
 }
 
 /// What a design job produced.
@@ -131,6 +135,7 @@ impl DesignJob {
             stages: Vec::new(),
             fit: None,
             options: Options::default(),
+            keep_partial: false,
         }
     }
 
@@ -192,6 +197,7 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
         stages,
         fit,
         options,
+        keep_partial,
     } = job;
     if let Some(a) = alpha {
         set_alpha(&mut mesh, a)?;
@@ -222,12 +228,13 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
     if !stages.is_empty() {
         check_targets(&mesh, &stages, &fixed, mode)?;
         let mut solver = Solver::new(mesh, set.clone(), &fixed, options.clone())?;
-        drags = drag_phase(&mut solver, &stages, radius, remesh, progress)?;
+        drags = drag_phase(&mut solver, &stages, radius, remesh, keep_partial, progress)?;
         stats = solver.stats.clone();
         mesh = solver.into_mesh();
     }
+    let stalled = drags.iter().any(|d| d.stalled);
     let mut fit_phase = None;
-    if let Some(stage) = &fit {
+    if let Some(stage) = fit.as_ref().filter(|_| !stalled) {
         let (fitted, phase, fit_stats) =
             fit::fit_phase(mesh, stage, pins.as_deref(), &set, &options, progress)?;
         add_stats(&mut stats, &fit_stats);
@@ -244,6 +251,15 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
         fold: fold_report,
         fit: fit_report,
     })
+}
+
+impl DesignOutcome {
+    /// The stage that stopped at a step Newton could not correct (a job with
+    /// [`DesignJob::keep_partial`]): the design is the last state that held every
+    /// condition, short of what was asked.
+    pub fn stalled(&self) -> Option<(usize, &DragReport)> {
+        self.drags.iter().enumerate().find(|(_, d)| d.stalled)
+    }
 }
 
 /// Adds a later phase's solver counters to the job's.
@@ -376,6 +392,7 @@ fn drag_phase(
     stages: &[Stage],
     radius: Option<f64>,
     remesh: Option<f64>,
+    keep_partial: bool,
     progress: Progress,
 ) -> Result<Vec<DragReport>, PipelineError> {
     solver.correct()?;
@@ -393,11 +410,15 @@ fn drag_phase(
             radius,
             remesh,
             &mut check,
+            keep_partial,
             &mut || {
                 done += 1;
                 progress("drag", done, total)
             },
         )?);
+        if drags.last().is_some_and(|d| d.stalled) {
+            break;
+        }
     }
     solver.polish(crate::tolerance::SAVED_RESIDUAL);
     Ok(drags)

@@ -3,7 +3,9 @@
 //! starting from a predicted correction on large meshes.
 
 use super::{Solver, SolverError};
+use crate::constraints::{HeldRows, Rows};
 use crate::mesh::Vec3;
+use std::sync::Arc;
 
 /// Chord iterations a live step ([`Solver::live_step`]) may still need at its chord's
 /// rate for the chord to be kept: a refactorisation of J Jᵀ on the 10k-vertex Miura-ori
@@ -11,6 +13,12 @@ use crate::mesh::Vec3;
 /// chord reaches in a few. Over 200 steps of a pointer drag there, 1 → 3 took the
 /// refactorisations from 26 to 19 (with the stalled chord refactorised in place).
 const LIVE_CHORD_LEFT: i32 = 3;
+
+/// A Newton iteration that leaves more than this share of the residual is slow: the
+/// correction then holds the inequality rows it has met (see
+/// [`crate::constraints::HeldRows`]), where one that converges fast keeps to the rows
+/// active at each iterate.
+const SLOW_RATE: f64 = 0.25;
 
 /// The slowest rate (residual ratio per iteration) at which a live step's chord is kept.
 const LIVE_CHORD_RATE: f64 = 0.7;
@@ -31,13 +39,23 @@ impl Solver {
         let tol = self.options.tolerance;
         let mut last = f64::INFINITY;
         let mut fresh = false;
+        // Inequality rows active at any iteration since a slow one stay in (see `HeldRows`).
+        let mut held: Option<Arc<HeldRows>> = None;
         for it in 0..=self.options.max_newton {
-            let rows = self.active_rows(x, true);
-            let r = rows.residuals.iter().fold(0.0, |a: f64, v| a.max(v.abs()));
+            // Held rows satisfied by more than the last violation are let go.
+            let holding = held.clone().map(|h| (h, last));
+            let rows = self.active_rows_holding(x, true, holding.clone());
+            let r = rows.largest_violation();
             if r <= tol {
-                self.accepted_folds = rows.fold_angles;
-                self.last_labels = Some((x.to_vec(), rows.labels));
+                let mut rows = rows;
+                self.accepted_folds = rows.fold_angles.take();
+                self.last_labels = Some((x.to_vec(), active_labels(rows)));
                 return Ok((it, r));
+            }
+            // Newton converges fast or not at all unless rows take turns: holding starts
+            // at the first slow iteration, and goes on once started.
+            if held.is_some() || (it > 0 && r > SLOW_RATE * last) {
+                held = grow_held(held, &rows);
             }
             if it == self.options.max_newton || !r.is_finite() {
                 return Err((r, it));
@@ -66,7 +84,11 @@ impl Solver {
                 return Err((r, it));
             }
             if !reuse {
-                if self.factorise(&self.active_rows(x, false)).is_err() {
+                // The same rows as `rows`: held by the set and band they were read with.
+                if self
+                    .factorise(&self.active_rows_holding(x, false, holding))
+                    .is_err()
+                {
                     return Err((r, it));
                 }
                 fresh = true;
@@ -149,4 +171,36 @@ impl Solver {
             .map(|(it, r)| (it + spent, r))
             .map_err(|(r, it)| (r, it + spent))
     }
+}
+
+/// `held` with the inequality rows active in `rows` added (the same set, not copied, when
+/// none is new).
+fn grow_held(held: Option<Arc<HeldRows>>, rows: &Rows) -> Option<Arc<HeldRows>> {
+    let active = || {
+        (0..rows.residuals.len())
+            .filter(|&i| rows.inequality[i] && rows.residuals[i] > 0.0)
+            .map(|i| rows.keys[i])
+    };
+    let known = held.as_deref();
+    if active().all(|k| known.is_some_and(|h| h.contains(&k))) {
+        return held;
+    }
+    let mut grown = known.cloned().unwrap_or_default();
+    grown.extend(active());
+    Some(Arc::new(grown))
+}
+
+/// The labels of the rows an evaluation without held rows would have: a held row below
+/// its bound is left out, so that the next step's projection does not keep the motion
+/// inside it.
+fn active_labels(rows: Rows) -> super::Labels {
+    if rows.held.is_none() {
+        return rows.labels;
+    }
+    rows.labels
+        .into_iter()
+        .zip(rows.inequality.iter().zip(&rows.residuals))
+        .filter(|(_, (&ineq, &r))| !ineq || r > 0.0)
+        .map(|(l, _)| l)
+        .collect()
 }

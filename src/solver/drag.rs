@@ -37,8 +37,13 @@ pub struct DragReport {
     /// Flat creases flipped during the stage.
     pub flips: usize,
     /// Why the stage stopped before its last step: a step that, even halved
-    /// [`KEEP_HALVINGS`] times, would lose what the caller keeps (the layer order).
+    /// [`KEEP_HALVINGS`] times, would lose what the caller keeps (the layer order), or
+    /// (when the caller keeps a partial drag) a step that could not be corrected.
     pub refused: Option<String>,
+    /// The stage stopped at a step Newton could not correct, even halved (see
+    /// [`run_stage`]'s `keep_partial`): the state is the last step's, which held every
+    /// condition.
+    pub stalled: bool,
 }
 
 /// Halvings of a drag step the caller's check refuses before the stage stops there.
@@ -159,12 +164,18 @@ pub fn pointer_release(solver: &mut Solver) -> bool {
 /// Runs one stage. `progress` is called after every accepted step. A step `check`
 /// refuses is undone and tried at half the length, [`KEEP_HALVINGS`] times, before the
 /// stage stops with the reason ([`DragReport::refused`]).
+///
+/// A step whose correction fails even halved (the solver's own halvings) ends the run
+/// with the error, or with `keep_partial` ends the stage there ([`DragReport::stalled`]):
+/// the solver keeps the last state that held every condition, which the caller may keep.
+#[allow(clippy::too_many_arguments)] // the stage, its settings and the caller's hooks
 pub fn run_stage(
     solver: &mut Solver,
     stage: &Stage,
     radius: f64,
     remesh: Option<f64>,
     check: StepCheck,
+    keep_partial: bool,
     progress: &mut dyn FnMut(),
 ) -> Result<DragReport, SolverError> {
     let mut stage = stage.clone();
@@ -185,6 +196,7 @@ pub fn run_stage(
         .map(|m| (target(m) - solver.positions()[m.vertex]).norm())
         .collect();
     let mut refused = None;
+    let mut stalled = false;
     'steps: for k in 0..stage.steps {
         let n = solver.positions().len();
         let x = solver.positions().to_vec();
@@ -195,7 +207,15 @@ pub fn run_stage(
         }
         let mut halvings = 0;
         loop {
-            solver.step(&dx0)?;
+            match solver.step(&dx0) {
+                Ok(_) => {}
+                Err(e @ SolverError::NotConverged { .. }) if keep_partial => {
+                    refused = Some(format!("step {} of {}: {e}", k + 1, stage.steps));
+                    stalled = true;
+                    break 'steps;
+                }
+                Err(e) => return Err(e),
+            }
             let Some(why) = check(solver) else { break };
             solver.restore(x.clone());
             if halvings == KEEP_HALVINGS {
@@ -237,6 +257,7 @@ pub fn run_stage(
         collapses,
         flips,
         refused,
+        stalled,
     })
 }
 

@@ -298,8 +298,19 @@ impl Solver {
     /// Rows at `x` that constrain motion: every equality row and the active inequalities.
     /// With `values_only` the Jacobian is left out (enough while the factor is reused).
     fn active_rows(&self, x: &[Vec3], values_only: bool) -> Rows {
+        self.active_rows_holding(x, values_only, None)
+    }
+
+    /// [`Solver::active_rows`] with the `held` inequality rows kept (see
+    /// [`crate::constraints::HeldRows`]).
+    fn active_rows_holding(
+        &self,
+        x: &[Vec3],
+        values_only: bool,
+        held: Option<(std::sync::Arc<crate::constraints::HeldRows>, f64)>,
+    ) -> Rows {
         self.set
-            .evaluate_active(&self.mesh, &self.reference, x, values_only)
+            .evaluate_holding(&self.mesh, &self.reference, x, values_only, held)
     }
 
     /// Factorises J Jᵀ at `rows`. The corrections recorded so far lie in the old factor's

@@ -669,3 +669,106 @@ fn fab_prints_the_sheet_size_and_refuses_a_tab_on_a_sheet() {
     );
     assert!(!refused.exists());
 }
+
+/// Issue 47, item 2: the pull that stopped at step 75 of 120 with a twist allowance
+/// (two smoothness rows took turns in Newton's correction) reaches its target, and the
+/// design verifies and cuts.
+#[test]
+fn the_concentric_bowl_takes_a_20_mm_pull_with_a_twist_allowance_verifies_and_cuts() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let bowl = root.join("patterns/concentric.fold");
+    let dir = std::env::temp_dir().join(format!("crease-cli-bowl-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("bowl.fold");
+    let (code, _, err) = run_crease(&[
+        "deform",
+        bowl.to_str().unwrap(),
+        "--drag",
+        "80=+0,+0,+20",
+        "--steps",
+        "120",
+        "--alpha",
+        "0.1",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let start = crease::io::read(&bowl).unwrap().positions()[80];
+    let end = crease::io::read(&out).unwrap().positions()[80];
+    let target = start + crease::mesh::Vec3::new(0.0, 0.0, 20.0);
+    assert!((end - target).norm() < 0.1, "{end:?} for {target:?}");
+    let (code, _, err) = run_crease(&["verify", out.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let sheet = dir.join("sheet");
+    let (code, _, err) = run_crease(&[
+        "fab",
+        out.to_str().unwrap(),
+        "--media",
+        "a3",
+        "-o",
+        sheet.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let job = std::fs::read_to_string(sheet.join("sheet.hpgl")).unwrap();
+    assert!(job.matches("PD").count() > 20, "{job}");
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// Issue 47, item 2: a drag that cannot finish (the arc with rigid strips, whose
+/// smoothness bound leaves no room at the last step) says what to try without repeating
+/// what was given and writes nothing; with --keep-partial it writes the last state that
+/// held every condition, names the step and still exits 1.
+#[test]
+fn a_drag_that_cannot_finish_keeps_its_last_good_state_only_when_asked() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let arc = root.join("patterns/arc.fold");
+    let out = std::env::temp_dir().join(format!("crease-cli-partial-{}.fold", std::process::id()));
+    let conditions = "developability,fold-angle-range,twist-range,boundary-angle,smoothness";
+    let args = |partial: bool| {
+        let mut a = vec![
+            "deform",
+            arc.to_str().unwrap(),
+            "--drag",
+            "80=83.48,121.6,40",
+            "--steps",
+            "60",
+            "--fix",
+            "40,31,49",
+            "--alpha",
+            "0",
+            "--conditions",
+            conditions,
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        if partial {
+            a.push("--keep-partial");
+        }
+        a
+    };
+    let (code, _, err) = run_crease(&args(false));
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("nothing was written"), "{err}");
+    let hint = err.lines().find(|l| l.starts_with("hint:")).expect(&err);
+    assert!(hint.contains("--keep-partial"), "{hint}");
+    assert!(hint.contains("more steps than --steps 60"), "{hint}");
+    assert!(
+        !hint.contains("--alpha") && !hint.contains("--fix"),
+        "{hint}"
+    );
+    assert!(!out.exists());
+
+    let (code, _, err) = run_crease(&args(true));
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("stage 1 did not finish (step 60 of 60")
+            && err.contains("holds the last state that held every condition"),
+        "{err}"
+    );
+    let (code, _, err) = run_crease(&["verify", out.to_str().unwrap(), "--conditions", conditions]);
+    assert_eq!(code, 0, "{err}");
+    // It went most of the way: the corner rose 20 mm or more of its 40.
+    let z = crease::io::read(&out).unwrap().positions()[80].z;
+    assert!(z > 20.0, "{z}");
+    let _ = std::fs::remove_file(out);
+}
