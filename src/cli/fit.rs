@@ -54,6 +54,9 @@ pub struct FitArgs {
     /// Print the report as JSON on stdout.
     #[arg(long)]
     json: bool,
+    /// Write the fitted design even when faces pass through each other in it.
+    #[arg(long)]
+    force: bool,
 }
 
 /// Where the report of a fit written to `output` goes: `OUT.fit.json` beside it.
@@ -102,6 +105,14 @@ pub fn fit(args: FitArgs) -> Result<u8, String> {
     };
     let mut report = outcome.fit.expect("a fit job reports its fit");
     report.target = args.to.display().to_string();
+    if report.self_intersections > 0 && !args.force {
+        eprintln!("{}", report.summary());
+        eprintln!(
+            "error: the fitted design passes through itself ({} pairs of faces cross); nothing was written (--force writes it anyway)",
+            report.self_intersections
+        );
+        return Ok(1);
+    }
     let json = serde_json::to_string_pretty(&report).expect("a report serialises");
     let report_file = report_path(&args.output);
     io::write(&outcome.mesh, &args.output).map_err(|e| e.to_string())?;

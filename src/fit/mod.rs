@@ -46,7 +46,7 @@ const KEEP_SIZE: f64 = 0.05;
 const MIN_SOFTNESS: f64 = 1.0 / 64.0;
 
 /// Steps over which a fit must improve its distance by [`STALL_IMPROVEMENT`] to go on.
-const STALL_WINDOW: usize = 15;
+pub const STALL_WINDOW: usize = 15;
 
 /// The relative improvement of the RMS and largest distance over [`STALL_WINDOW`]
 /// steps below which the fit has stopped improving.
@@ -147,6 +147,32 @@ pub fn measure(x: &[Vec3], groups: &[Vec<usize>], target: &TriSurface) -> Measur
         largest,
         worst,
     }
+}
+
+/// Whether a fit's distances, (RMS, largest) after each step, still improve: either
+/// fell by [`STALL_IMPROVEMENT`] over the last [`STALL_WINDOW`] steps.
+fn still_improving(history: &[(f64, f64)]) -> bool {
+    let Some(&(rms0, max0)) = history
+        .len()
+        .checked_sub(1 + STALL_WINDOW)
+        .map(|i| &history[i])
+    else {
+        return true;
+    };
+    let &(rms, largest) = history.last().expect("the window's start is in it");
+    let improved = |before: f64, now: f64| now < before * (1.0 - STALL_IMPROVEMENT);
+    improved(rms0, rms) || improved(max0, largest)
+}
+
+/// Whether the largest distance, the one the goal is set on, still fell by
+/// [`STALL_IMPROVEMENT`] over the last [`STALL_WINDOW`] steps of `history` ((RMS,
+/// largest) after each step): a fit stopped at its step limit so wants more steps,
+/// where one that no longer comes nearer is held by the conditions.
+pub fn largest_still_falling(history: &[(f64, f64)]) -> bool {
+    let Some(first) = history.len().checked_sub(1 + STALL_WINDOW) else {
+        return history.len() > 1 && history[history.len() - 1].1 < history[0].1;
+    };
+    history[history.len() - 1].1 < history[first].1 * (1.0 - STALL_IMPROVEMENT)
 }
 
 /// Why a fit stopped.
@@ -459,23 +485,19 @@ impl Fitter {
             self.stop = Some(Stop::Converged);
             return;
         }
-        if steps >= self.settled_at + STALL_WINDOW {
-            let (rms0, max0) = self.history[self.history.len() - 1 - STALL_WINDOW];
-            let improved = |before: f64, now: f64| now < before * (1.0 - STALL_IMPROVEMENT);
-            if !(improved(rms0, m.rms) || improved(max0, m.largest)) {
-                if self.softness > MIN_SOFTNESS {
-                    // The preference for the starting lengths has done its work: the design
-                    // is as near the target as it lets it come. Loosen it and go on.
-                    self.softness *= 0.25;
-                    self.settled_at = steps;
+        if steps >= self.settled_at + STALL_WINDOW && !still_improving(&self.history) {
+            if self.softness > MIN_SOFTNESS {
+                // The preference for the starting lengths has done its work: the design
+                // is as near the target as it lets it come. Loosen it and go on.
+                self.softness *= 0.25;
+                self.settled_at = steps;
+            } else {
+                self.stop = Some(if m.largest <= self.goal(solver) {
+                    Stop::Converged
                 } else {
-                    self.stop = Some(if m.largest <= self.goal(solver) {
-                        Stop::Converged
-                    } else {
-                        Stop::Stalled
-                    });
-                    return;
-                }
+                    Stop::Stalled
+                });
+                return;
             }
         }
         if steps >= self.options.max_steps {

@@ -57,8 +57,12 @@ pub struct FitReport {
     pub seconds: f64,
     /// "converged", "stalled", "step limit" or "blocked".
     pub stopped: String,
-    /// When the goal was not met: the condition refusing most of what the target still
-    /// asks for.
+    /// Stopped at the step limit while the largest distance was still falling
+    /// ([`crate::fit::largest_still_falling`]): more steps bring it nearer.
+    #[serde(default)]
+    pub still_improving: bool,
+    /// When the goal was not met and the fit was no longer improving: the condition
+    /// refusing most of what the target still asks for.
     pub blocked_by: Option<BlockedBy>,
     /// The rigid placement applied before the pull: x ↦ R x + t (rows of R, t in mm).
     pub placement: PlacementRecord,
@@ -155,6 +159,15 @@ impl FitReport {
         }
         if let Some(why) = &self.held_back {
             s += &format!("\nheld back: a step was undone because {why}");
+        }
+        if let (true, Some(last)) = (self.still_improving, self.history.last()) {
+            let window = (self.history.len() - 1).min(crate::fit::STALL_WINDOW);
+            s += &format!(
+                "\nstill improving at the step limit: the largest distance fell from {:.3} to {:.3} mm over the last {window} steps; raise --steps (it is {}) to go on",
+                self.history[self.history.len() - 1 - window][1],
+                last[1],
+                self.steps,
+            );
         }
         if let Some(b) = &self.blocked_by {
             s += &format!(
@@ -317,6 +330,8 @@ pub(super) fn report(
         (Stop::Converged, false) => Stop::Stalled,
         (s, _) => s,
     };
+    let improving =
+        !met && phase.stop == Stop::StepLimit && crate::fit::largest_still_falling(&phase.history);
     let r = phase.placement.rotation;
     FitReport {
         target: phase.stage_target,
@@ -332,16 +347,20 @@ pub(super) fn report(
         newton_iterations: stats.newton_iterations,
         seconds: phase.seconds,
         stopped: stopped.name().to_string(),
-        blocked_by: phase.resistance.filter(|_| !met).map(|r| BlockedBy {
-            condition: r.family.name().to_string(),
-            element: r.element.to_string(),
-            refused_share: r.refused,
-            by_condition: r
-                .by_family
-                .iter()
-                .map(|(f, v)| (f.name().to_string(), *v))
-                .collect(),
-        }),
+        still_improving: improving,
+        blocked_by: phase
+            .resistance
+            .filter(|_| !met && !improving)
+            .map(|r| BlockedBy {
+                condition: r.family.name().to_string(),
+                element: r.element.to_string(),
+                refused_share: r.refused,
+                by_condition: r
+                    .by_family
+                    .iter()
+                    .map(|(f, v)| (f.name().to_string(), *v))
+                    .collect(),
+            }),
         placement: PlacementRecord {
             aligned: phase.aligned,
             rotation: [0, 1, 2].map(|i| [r[(i, 0)], r[(i, 1)], r[(i, 2)]]),

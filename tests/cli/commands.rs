@@ -772,3 +772,72 @@ fn a_drag_that_cannot_finish_keeps_its_last_good_state_only_when_asked() {
     assert!(z > 20.0, "{z}");
     let _ = std::fs::remove_file(out);
 }
+
+/// Issue 47, item 4: a fit cut short while it still comes nearer says to raise --steps
+/// and blames no condition; a fit whose design passes through itself writes nothing
+/// unless --force.
+#[test]
+fn fit_tells_a_step_limit_from_a_block_and_writes_no_design_through_itself_unforced() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = std::env::temp_dir().join(format!("crease-cli-fit-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = |name: &str| dir.join(name).to_str().unwrap().to_string();
+    let (code, _, err) = run_crease(&["surface", "saddle", "-o", &path("saddle.obj")]);
+    assert_eq!(code, 0, "{err}");
+    let (code, _, err) = run_crease(&["generate", "waterbomb", "-o", &path("waterbomb.fold")]);
+    assert_eq!(code, 0, "{err}");
+
+    let (code, _, err) = run_crease(&[
+        "fit",
+        &path("waterbomb.fold"),
+        "--to",
+        &path("saddle.obj"),
+        "--steps",
+        "20",
+        "-o",
+        &path("short.fold"),
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("fit: step limit after 20 steps"), "{err}");
+    assert!(err.contains("still improving at the step limit"), "{err}");
+    assert!(err.contains("raise --steps"), "{err}");
+    assert!(!err.contains("blocked by"), "{err}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path("short.fit.json")).unwrap()).unwrap();
+    assert_eq!(report["still_improving"], true, "{report}");
+    assert!(report["blocked_by"].is_null());
+
+    // The folded waterbomb pulled onto the saddle for 140 steps ends with faces through
+    // each other.
+    let folded = root.join("patterns/waterbomb-folded.fold");
+    let fit = |force: bool| {
+        let mut args = vec![
+            "fit".to_string(),
+            folded.to_str().unwrap().to_string(),
+            "--to".into(),
+            path("saddle.obj"),
+            "--steps".into(),
+            "140".into(),
+            "-o".into(),
+            path("through.fold"),
+        ];
+        if force {
+            args.push("--force".into());
+        }
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        run_crease(&args)
+    };
+    let (code, _, err) = fit(false);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("passes through itself") && err.contains("nothing was written"),
+        "{err}"
+    );
+    assert!(!dir.join("through.fold").exists());
+    assert!(!dir.join("through.fit.json").exists());
+    let (_, _, err) = fit(true);
+    assert!(err.contains("pass through each other"), "{err}");
+    let written = crease::io::read(&dir.join("through.fold")).unwrap();
+    assert!(!crease::fab::self_intersections(&written).is_empty());
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -246,10 +246,23 @@ fn a_target_out_of_reach_ends_with_exit_1_the_best_design_and_what_blocked_it() 
         saddle.to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{err}");
-    let (code, report, design, err) = fit(&yoshimura, &saddle, "unreachable", &["--steps", "150"]);
+    // At 150 steps it still comes nearer (more steps are what it needs, and it says so);
+    // by 400 it no longer does, and the conditions are blamed.
+    let (code, report, _, err) = fit(&yoshimura, &saddle, "unreachable", &["--steps", "150"]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        report.still_improving && report.blocked_by.is_none(),
+        "{err}"
+    );
+    assert!(
+        err.contains("raise --steps") && !err.contains("blocked by"),
+        "{err}"
+    );
+    let (code, report, design, err) = fit(&yoshimura, &saddle, "unreachable", &["--steps", "400"]);
     assert_eq!(code, 1, "{err}");
     assert!(!report.distance.met);
-    assert!(report.steps <= 150);
+    assert!(!report.still_improving, "{err}");
+    assert!(report.steps <= 400);
     assert!(["stalled", "step limit", "blocked"].contains(&report.stopped.as_str()));
     let blocked = report
         .blocked_by
