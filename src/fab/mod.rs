@@ -9,6 +9,7 @@ pub mod flat_fold;
 pub mod glue_tab;
 pub mod hinge;
 pub mod intersect;
+pub mod labels;
 pub mod layers;
 pub mod layout;
 pub mod lines;

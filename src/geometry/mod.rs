@@ -7,7 +7,7 @@ pub mod unfold;
 
 pub use gradients::{fold_angle_gradient, sector_angle_gradient};
 
-use crate::mesh::{Mesh, Topology, Vec3};
+use crate::mesh::{Mesh, Topology, Vec2, Vec3};
 use std::f64::consts::PI;
 
 /// The angle at corner `k` of triangle `face` (θ in eq. 1), radians in [0, π].
@@ -94,6 +94,32 @@ pub fn sector_angles(mesh: &Mesh, v: usize) -> Vec<f64> {
             sector_angle(mesh.positions(), face, k)
         })
         .collect()
+}
+
+/// The part of segment `a`–`b` inside the rectangle `(lo, hi)` (Liang–Barsky), if any.
+pub fn clip_segment(a: Vec2, b: Vec2, (lo, hi): (Vec2, Vec2)) -> Option<(Vec2, Vec2)> {
+    let d = b - a;
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (p, q) in [
+        (-d.x, a.x - lo.x),
+        (d.x, hi.x - a.x),
+        (-d.y, a.y - lo.y),
+        (d.y, hi.y - a.y),
+    ] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return None;
+            }
+        } else {
+            let t = q / p;
+            if p < 0.0 {
+                t0 = t0.max(t);
+            } else {
+                t1 = t1.min(t);
+            }
+        }
+    }
+    (t0 <= t1).then(|| (a + d * t0, a + d * t1))
 }
 
 #[cfg(test)]

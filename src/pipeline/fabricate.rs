@@ -271,7 +271,7 @@ fn sheet_of(
     };
     sheet.vertices.truncate(flat.len());
     if let Some(t) = tube {
-        sheet.labels = t.labels(&sheet.vertices, sheet.scale);
+        sheet.labels = t.labels(&sheet.vertices, sheet.scale, &sheet.lines);
     }
     Ok((sheet, tiled))
 }

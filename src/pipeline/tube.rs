@@ -4,12 +4,9 @@
 //! design.
 
 use super::report_json::{SeamPair, SeamReport};
+use crate::fab::labels::{place_beside_edges, EdgeLabel};
 use crate::fab::{glue_tab, with_tab, CreaseLine, GlueTab, SheetLabel};
 use crate::mesh::{Mesh, Strip, Vec2};
-
-/// Half a 7 pt figure's height, mm: the baseline sits this far below the point a
-/// number is centred on.
-const LABEL_RISE_MM: f64 = 0.9;
 
 /// A tube being fabricated: the strip it is cut open to (a sheet of its own, with its
 /// crease pattern) and the glue tab's width.
@@ -44,34 +41,29 @@ impl TubeStrip {
 
     /// The seam's numbers printed on the template: each pair's number on the tab beside
     /// its hinge and on the paper beside the edge glued onto it, so the maker matches
-    /// them (`placed`: the strip's vertices in sheet millimetres, `scale` the sheet's).
-    pub fn labels(&self, placed: &[Vec2], scale: f64) -> Vec<SheetLabel> {
+    /// them (`placed`: the strip's vertices in sheet millimetres, `scale` the sheet's),
+    /// each where it meets no other number and no line of `lines`
+    /// ([`crate::fab::labels::place_beside_edges`]).
+    pub fn labels(&self, placed: &[Vec2], scale: f64, lines: &[CreaseLine]) -> Vec<SheetLabel> {
         // Half the tab's width in, and as far in on the paper; both lie on the right of
         // their edge (the tab beyond the hinge, the paper beyond the glued side).
-        let inset = self.tab_mm * scale / 2.0;
-        let beside = |a: usize, b: usize| {
-            let (p, q) = (placed[a], placed[b]);
-            let d = (q - p).normalize();
-            (p + q) / 2.0 + Vec2::new(d.y, -d.x) * inset - Vec2::new(0.0, LABEL_RISE_MM)
-        };
-        self.strip
+        let depth = self.tab_mm * scale / 2.0;
+        let edges: Vec<EdgeLabel> = self
+            .strip
             .sides
             .iter()
             .enumerate()
             .flat_map(|(k, [[a, b], [c, d]])| {
                 let text = (k + 1).to_string();
-                [
-                    SheetLabel {
-                        at: beside(*a, *b),
-                        text: text.clone(),
-                    },
-                    SheetLabel {
-                        at: beside(*c, *d),
-                        text,
-                    },
-                ]
+                [(*a, *b), (*c, *d)].map(|(from, to)| EdgeLabel {
+                    a: placed[from],
+                    b: placed[to],
+                    text: text.clone(),
+                    depth,
+                })
             })
-            .collect()
+            .collect();
+        place_beside_edges(&edges, lines)
     }
 
     /// The seam's pairs at their places on the sheet (`placed`: the strip's vertices in

@@ -3,7 +3,9 @@
 //! sheet too large tiled over pages; and the page as cut.
 
 use super::{crease_line, cross, line, save, solid_black, stroke, style, text, wrap, SCALE_BAR_MM};
+use crate::fab::labels::{label_box, LABEL_PT};
 use crate::fab::{LineKind, Media, Sheet, Toolpath};
+use crate::geometry::clip_segment;
 use crate::mesh::Vec2;
 use printpdf::{Mm, Op, PdfPage, Pt};
 
@@ -89,7 +91,7 @@ pub fn paper_for(sheet: &Sheet) -> Paper {
 /// 0.6 em, above its digits' 0.556 em and its lower-case mean (about half an em), so a
 /// line of figures (a list of short folds' lengths) still ends inside the page.
 fn char_mm(size: f32) -> f64 {
-    f64::from(size) * 0.6 * 25.4 / 72.0
+    crate::fab::labels::char_width_mm(size)
 }
 
 /// The sheet's lines shifted by `shift` and clipped to `window` (page mm), each kind in
@@ -119,50 +121,21 @@ fn pattern_ops(sheet: &Sheet, shift: Vec2, window: (Vec2, Vec2), flat: bool) -> 
                 continue;
             }
             for w in points.windows(2) {
-                if let Some((a, b)) = clip(w[0], w[1], window) {
+                if let Some((a, b)) = clip_segment(w[0], w[1], window) {
                     ops.push(line((a.x, a.y), (b.x, b.y)));
                 }
             }
         }
     }
     for label in &sheet.labels {
-        let at = label.at + shift;
-        let half = char_mm(LABEL_PT) * label.text.chars().count() as f64 / 2.0;
-        let inside = at.x - half >= window.0.x && at.x + half <= window.1.x;
-        if inside && at.y >= window.0.y && at.y <= window.1.y {
-            text(&mut ops, at.x - half, at.y, LABEL_PT, &label.text);
+        let (lo, hi) = label_box(label);
+        let (lo, hi) = (lo + shift, hi + shift);
+        let inside = lo.x >= window.0.x && hi.x <= window.1.x;
+        if inside && lo.y >= window.0.y && lo.y <= window.1.y {
+            text(&mut ops, lo.x, lo.y, LABEL_PT, &label.text);
         }
     }
     ops
-}
-
-/// Size of the words printed on the sheet (a tube's seam numbers), points.
-const LABEL_PT: f32 = 7.0;
-
-/// The part of segment `a`–`b` inside the rectangle `window` (Liang–Barsky), if any.
-fn clip(a: Vec2, b: Vec2, (lo, hi): (Vec2, Vec2)) -> Option<(Vec2, Vec2)> {
-    let d = b - a;
-    let (mut t0, mut t1) = (0.0f64, 1.0f64);
-    for (p, q) in [
-        (-d.x, a.x - lo.x),
-        (d.x, hi.x - a.x),
-        (-d.y, a.y - lo.y),
-        (d.y, hi.y - a.y),
-    ] {
-        if p == 0.0 {
-            if q < 0.0 {
-                return None;
-            }
-        } else {
-            let t = q / p;
-            if p < 0.0 {
-                t0 = t0.max(t);
-            } else {
-                t1 = t1.min(t);
-            }
-        }
-    }
-    (t0 <= t1).then(|| (a + d * t0, a + d * t1))
 }
 
 /// The kinds of line a template of `sheet` draws, in legend order: those it has (flat
