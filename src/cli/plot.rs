@@ -40,13 +40,13 @@ pub struct PlotArgs {
 #[derive(clap::Args)]
 pub struct EmulateArgs {
     /// Path of a symlink to the plotter's port (what `plot --port` opens).
-    #[arg(long)]
+    #[arg(long, value_name = "PATH")]
     pub link: PathBuf,
     /// Input buffer size in bytes.
-    #[arg(long, default_value_t = 1024)]
+    #[arg(long, value_name = "BYTES", default_value_t = 1024)]
     pub buffer: usize,
     /// Drawing rate in bytes of the job per second.
-    #[arg(long, default_value_t = 600.0)]
+    #[arg(long, value_name = "BYTES/S", default_value_t = 600.0)]
     pub rate: f64,
     /// Line speed.
     #[arg(long, default_value_t = 9600)]
@@ -55,16 +55,16 @@ pub struct EmulateArgs {
     #[arg(long, default_value = "xonxoff")]
     pub flow: String,
     /// Pull the cable after this many bytes.
-    #[arg(long)]
+    #[arg(long, value_name = "BYTES")]
     pub fail_after: Option<usize>,
     /// Plug it back in after this many milliseconds.
-    #[arg(long)]
+    #[arg(long, value_name = "MS")]
     pub reconnect_after: Option<u64>,
     /// With --fail-after: switch the plotter off too (it forgets everything).
     #[arg(long)]
     pub power_cycle: bool,
     /// The language it speaks: hpgl or gpgl.
-    #[arg(long, default_value = "hpgl")]
+    #[arg(long, value_name = "LANG", default_value = "hpgl")]
     pub language: String,
     /// A GP-GL cutter with no media loaded (its status says 2).
     #[arg(long)]
@@ -506,11 +506,19 @@ pub fn emulate(args: EmulateArgs) -> Result<u8, String> {
     } else {
         0.0
     };
+    let (all, distinct) = state.drawn();
+    let drew = if all == distinct {
+        format!("{all} segments")
+    } else {
+        format!(
+            "{all} segments, {distinct} distinct ({} drawn again after a reset or power cut)",
+            all - distinct
+        )
+    };
     eprintln!(
-        "received {} bytes, lost {}, drew {} segments, idle {:.1}% of the job, {} error(s)",
+        "received {} bytes, lost {}, drew {drew}, idle {:.1}% of the job, {} error(s)",
         state.received,
         state.lost,
-        state.path.segments.len(),
         idle,
         state.errors.len()
     );

@@ -841,3 +841,34 @@ fn fit_tells_a_step_limit_from_a_block_and_writes_no_design_through_itself_unfor
     assert!(!crease::fab::self_intersections(&written).is_empty());
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// Issue 47, item 9: every command's --help is laid out alike, each option's help on its
+/// own line beside it (`emulate` had clap's next-line layout, its long value names
+/// pushing every help under its option).
+#[test]
+fn every_help_puts_each_option_beside_its_help() {
+    let (_, top, _) = run_crease(&["--help"]);
+    let commands: Vec<&str> = top
+        .lines()
+        .skip_while(|l| !l.starts_with("Commands:"))
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .filter_map(|l| l.split_whitespace().next())
+        .filter(|c| *c != "help")
+        .collect();
+    assert!(commands.len() >= 14, "{commands:?}");
+    for sub in commands {
+        let (code, help, err) = run_crease(&[sub, "--help"]);
+        assert_eq!(code, 0, "{sub}: {err}");
+        for line in help.lines().filter(|l| l.trim_start().starts_with('-')) {
+            let spec_and_help = line.trim_start();
+            let beside = spec_and_help
+                .split_once("  ")
+                .is_some_and(|(_, h)| !h.trim().is_empty());
+            assert!(
+                beside,
+                "crease {sub} --help: \"{line}\" has its help on the next line"
+            );
+        }
+    }
+}

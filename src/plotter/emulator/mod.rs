@@ -124,6 +124,18 @@ pub struct EmulatorState {
     pub status_queries: usize,
 }
 
+impl EmulatorState {
+    /// Every segment drawn, those before a reset or power cycle included, and how many
+    /// of them are distinct: a resumed GP-GL job cuts up to a chunk again (it cannot
+    /// report the knife's position), so the distinct count is what says whether the
+    /// whole job arrived.
+    pub fn drawn(&self) -> (usize, usize) {
+        let all = || self.earlier.iter().chain(&self.path.segments);
+        let distinct: std::collections::HashSet<_> = all().collect();
+        (all().count(), distinct.len())
+    }
+}
+
 /// A running emulator.
 pub struct Emulator {
     /// The link path the host opens.
