@@ -162,6 +162,9 @@ fn say_what_was_made(dir: &std::path::Path, result: &crease::pipeline::FabOutput
         sheet.strokes,
         result.job_line
     );
+    if let Some(note) = &result.template_note {
+        eprintln!("{note}");
+    }
     if !result.steps.is_empty() {
         eprintln!("two-sided job:");
         for step in &result.steps {

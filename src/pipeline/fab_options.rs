@@ -41,5 +41,4 @@ pub const GLUE_TAB_MM: f64 = 6.0;
 /// [`crate::limits::SHEET_WIDTH`]).
 pub const MIN_WIDTH_MM: f64 = crate::limits::SHEET_WIDTH.min;
 
-/// Overlap between tiled PDF pages (mm).
-pub const TILE_OVERLAP_MM: f64 = 10.0;
+pub use crate::output::pdf::TILE_OVERLAP_MM;

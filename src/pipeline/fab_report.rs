@@ -222,15 +222,24 @@ impl<'a> Run<'a> {
         summary
     }
 
-    /// The printable template: tiled over `page`s; else the page to fold by (and for a
-    /// two-sided job the page of steps), then the front job as it is cut.
+    /// The printable template: tiled over `page`s (or over A4 or Letter when the media is
+    /// no paper a home printer takes, [`crate::output::pdf::home_paper_for`]); else the
+    /// page to fold by (and for a two-sided job the page of steps), then the front job as
+    /// it is cut.
     pub fn pdf(&self, page: &Media, title: &str, summary: &[String]) -> Vec<u8> {
         let sheet = self.sheet;
-        if self.tiled {
+        let tiles = if self.tiled {
+            Some((page.clone(), sheet.margin))
+        } else if self.steps.is_empty() {
+            crate::output::pdf::home_tiles(sheet).map(|(paper, margin, _)| (paper, margin))
+        } else {
+            None
+        };
+        if let Some((page, margin)) = tiles {
             crate::output::pdf::to_bytes_tiled(
                 sheet,
-                page,
-                sheet.margin,
+                &page,
+                margin,
                 TILE_OVERLAP_MM,
                 title,
                 summary,

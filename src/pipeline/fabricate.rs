@@ -18,6 +18,9 @@ pub struct FabOutput {
     pub job_line: String,
     /// What the maker must do by hand (as on the PDF), e.g. folds too short to score.
     pub warnings: Vec<String>,
+    /// How the template is printed when its media is no paper a home printer takes (a
+    /// cutting mat): over A4 or Letter pages ([`crate::output::pdf::home_paper_for`]).
+    pub template_note: Option<String>,
     /// For a two-sided job, what the maker does in order: which job first, how to turn
     /// the sheet, how to check the registration (as on the PDF's second page).
     pub steps: Vec<String>,
@@ -197,6 +200,16 @@ pub fn fabricate_verified(
     } else {
         mesh.title.as_str()
     };
+    let template_note = (!tiled && print.is_none() && steps.is_empty())
+        .then(|| crate::output::pdf::home_tiles(&sheet))
+        .flatten()
+        .map(|(paper, _, pages)| {
+            format!(
+                "sheet.pdf: {} is no paper a home printer takes, so the template is printed at 100% over {pages} {} pages to tape together ({TILE_OVERLAP_MM} mm overlap, registration marks)",
+                sheet.media.name, paper.name
+            )
+        });
+    summary.extend(template_note.clone());
     let pdf = match &print {
         Some(p) => print_pdf(p, mesh, &sheet, &toolpath, title, options),
         None => run.pdf(&page, title, &summary),
@@ -208,6 +221,7 @@ pub fn fabricate_verified(
         report,
         job_line,
         warnings,
+        template_note,
         steps,
         next_steps,
         verification,

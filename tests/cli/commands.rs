@@ -547,7 +547,7 @@ fn a_missing_argument_is_named_with_the_usage_of_its_command() {
             "--port <PORT>",
             "crease plot --help",
         ),
-        (vec!["emulate"], "--link <LINK>", "crease emulate --help"),
+        (vec!["emulate"], "--link <PATH>", "crease emulate --help"),
         // fold needs one of two: both are named.
         (
             vec!["fold", p, "-o", "q.fold"],

@@ -8,8 +8,8 @@ mod template;
 
 pub use print::{to_bytes_print, PrintPage};
 pub use template::{
-    paper_for, to_bytes, to_bytes_tiled, to_bytes_two_sided, Paper, AS_CUT_TITLE,
-    PRINTABLE_MARGIN_MM, TILE_MARGIN_MM,
+    home_paper_for, home_tiles, paper_for, to_bytes, to_bytes_tiled, to_bytes_two_sided, Paper,
+    AS_CUT_TITLE, PRINTABLE_MARGIN_MM, TILE_MARGIN_MM, TILE_OVERLAP_MM,
 };
 
 use crate::fab::LineKind;

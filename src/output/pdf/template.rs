@@ -17,6 +17,9 @@ pub const PRINTABLE_MARGIN_MM: f64 = 10.0;
 /// above the window and the scale bar and legend below it.
 pub const TILE_MARGIN_MM: f64 = 20.0;
 
+/// Overlap between tiled PDF pages (mm).
+pub const TILE_OVERLAP_MM: f64 = 10.0;
+
 /// Paper a template may be printed on, portrait, mm, by area.
 const PAPERS: [(&str, f64, f64); 5] = [
     ("a5", 148.0, 210.0),
@@ -51,6 +54,47 @@ impl Paper {
     }
 }
 
+/// Whether `media` is one of the [`PAPERS`], either way round.
+fn is_paper(media: &Media) -> bool {
+    let same = |a: f64, b: f64| (a - b).abs() < 0.5;
+    PAPERS.iter().any(|&(_, w, h)| {
+        same(media.width, w) && same(media.height, h)
+            || same(media.width, h) && same(media.height, w)
+    })
+}
+
+/// Paper a home printer takes: A4, and Letter in the countries that measure in inches.
+const HOME_PAPERS: [&str; 3] = ["a5", "letter", "a4"];
+
+/// The paper to tile a template over when one page cannot carry it to a home printer:
+/// the media is no paper (a cutting mat, a roll) and the pattern fits no A4 or Letter
+/// page at 100% (a 12 × 12 in mat's pattern went onto A3, a sheet a home printer does
+/// not take). A4, or Letter for media given in inches. `None` when one page serves; a
+/// media that is paper, A3 included, is the maker's choice and printed as it is.
+pub fn home_paper_for(sheet: &Sheet) -> Option<Media> {
+    let media = &sheet.media;
+    if is_paper(media) || HOME_PAPERS.contains(&paper_for(sheet).name.as_str()) {
+        return None;
+    }
+    let name = if media.name.to_ascii_lowercase().ends_with("in") {
+        "letter"
+    } else {
+        "a4"
+    };
+    Media::parse(name).ok()
+}
+
+/// How a template is tiled when its media is no paper a home printer takes
+/// ([`home_paper_for`]): the paper, the tiles' margin ([`TILE_MARGIN_MM`] at least) and
+/// the number of pages.
+pub fn home_tiles(sheet: &Sheet) -> Option<(Media, f64, usize)> {
+    let paper = home_paper_for(sheet)?;
+    let margin = sheet.margin.max(TILE_MARGIN_MM);
+    let size = [sheet.media.width, sheet.media.height];
+    let (cols, rows) = crate::fab::layout::tile_grid(size, &paper, margin, TILE_OVERLAP_MM);
+    Some((paper, margin, cols * rows))
+}
+
 /// The media itself when it is paper and holds the pattern inside the printable margin;
 /// else the smallest paper that does (upright first), the pattern centred on it; else (a
 /// pattern larger than A3) the media.
@@ -58,17 +102,12 @@ pub fn paper_for(sheet: &Sheet) -> Paper {
     let m = PRINTABLE_MARGIN_MM;
     let (lo, hi) = sheet.bounds();
     let media = &sheet.media;
-    let same = |a: f64, b: f64| (a - b).abs() < 0.5;
-    let is_paper = PAPERS.iter().any(|&(_, w, h)| {
-        same(media.width, w) && same(media.height, h)
-            || same(media.width, h) && same(media.height, w)
-    });
     let as_media = Paper::of_media(media);
     let inside = lo.x >= m - 1e-9
         && lo.y >= m - 1e-9
         && hi.x <= media.width - m + 1e-9
         && hi.y <= media.height - m + 1e-9;
-    if is_paper && inside {
+    if is_paper(media) && inside {
         return as_media;
     }
     let size = hi - lo;
