@@ -25,6 +25,23 @@ struct Cli {
     command: Command,
 }
 
+/// The shapes people ask of `deform` first, on the Miura-ori of `crease generate miura
+/// --nx 6 --ny 10 --fold 0.5 -o m.fold` (each checked to verify).
+const DEFORM_RECIPES: &str = "\
+Recipes, on m.fold from `crease generate miura --nx 6 --ny 10 --fold 0.5 -o m.fold`
+(corners 0, 6, 70, 76, middle 38; `crease info m.fold --vertices` lists every vertex):
+  arch:   crease deform m.fold --drag 0=+0,+15,-45 --drag 6=+0,+15,-45 --drag 70=+0,-15,-45
+          --drag 76=+0,-15,-45 --keep-outline --alpha 0.1 -o arch.fold
+  twist:  crease deform m.fold --drag 0=+0,+0,+20 --drag 76=+0,+0,+20 --drag 6=+0,+0,-20
+          --drag 70=+0,+0,-20 --keep-outline --alpha 0.1 -o twist.fold
+  bump:   crease deform m.fold --drag 38=+0,+0,+25 --keep-outline --alpha 0.1 -o bump.fold
+  a dome, a saddle or any surface: `crease surface cap --radius 250 -o cap.obj`, then
+          `crease fit m.fold --to cap.obj -o dome.fold` (`surface saddle` for a saddle)
+Design mode frees lengths: without --keep-outline a drag redraws the sheet's outline (the
+arch's 130 x 173 mm sheet becomes 155 x 177 mm with a ragged edge); --alpha 0.1 lets the
+flat creases twist a little (paper section 2.4). A script (patterns/miura-bent.toml) makes
+a design repeatable.";
+
 #[derive(Subcommand)]
 enum Command {
     /// Generate one of the paper's starting patterns.
@@ -37,6 +54,7 @@ enum Command {
     /// fraction of its target angle; or, with --flat, write its flat-folded state.
     Fold(cli::fold::FoldArgs),
     /// Vary a pattern by dragging vertices while the chosen conditions keep holding.
+    #[command(after_help = DEFORM_RECIPES)]
     Deform(cli::deform::DeformArgs),
     /// Fit a pattern to a target surface (OBJ or STL, mm): placed on it, then pulled
     /// onto it while the chosen conditions keep holding; writes OUT and OUT.fit.json

@@ -54,6 +54,11 @@ pub struct DeformArgs {
     /// mean edge, in (0, 1). Default: off (the script's); 0.25 when given without a value.
     #[arg(long, num_args = 0..=1, default_missing_value = "0.25")]
     remesh: Option<f64>,
+    /// Hold the crease pattern's outline too: its angles and the lengths of its straight
+    /// runs (boundary-angle and boundary-length added to the conditions). Design mode
+    /// otherwise frees them and the drag redraws the outline.
+    #[arg(long)]
+    keep_outline: bool,
     /// When a step cannot be corrected, write the last state that held every condition
     /// (exit 1, naming the step and the condition that stopped it) instead of nothing.
     #[arg(long)]
@@ -65,6 +70,18 @@ pub struct DeformArgs {
 
 /// Euler steps of the --drag moves unless `--steps` says.
 const DEFAULT_STEPS: usize = 20;
+
+/// A change of the flat sheet's width or height past which `deform` says the sheet
+/// changed size, mm.
+const OUTLINE_CHANGE_MM: f64 = 0.5;
+
+/// The flat crease pattern's width and height, mm.
+fn flat_size(mesh: &crease::mesh::Mesh) -> Option<crease::mesh::Vec2> {
+    mesh.flat().map(|f| {
+        let (lo, hi) = crease::mesh::bounds(f);
+        hi - lo
+    })
+}
 
 pub fn deform(args: DeformArgs) -> Result<u8, String> {
     let DeformArgs {
@@ -79,6 +96,7 @@ pub fn deform(args: DeformArgs) -> Result<u8, String> {
         radius,
         fold,
         remesh,
+        keep_outline,
         keep_partial,
         output,
     } = args;
@@ -128,6 +146,8 @@ pub fn deform(args: DeformArgs) -> Result<u8, String> {
     let job_remesh = job.remesh.is_some();
     let asked_fold = job.fold.is_some();
     job.keep_partial = keep_partial;
+    job.keep_outline = keep_outline;
+    let flat_before = flat_size(&job.mesh);
     let source = script.as_deref().or(file.as_deref()).unwrap_or(&output);
     let remedies = [
         Remedy::new(
@@ -150,6 +170,22 @@ pub fn deform(args: DeformArgs) -> Result<u8, String> {
     };
     io::write(&outcome.mesh, &output).map_err(|e| e.to_string())?;
     print_summary(&outcome, &output, asked_fold, job_remesh);
+    if let (Some(a), Some(b)) = (flat_before, flat_size(&outcome.mesh)) {
+        if (a - b).abs().max() > OUTLINE_CHANGE_MM {
+            eprintln!(
+                "note: the sheet is {:.1} × {:.1} mm flat, where it was {:.1} × {:.1} mm: design mode frees lengths{}",
+                b.x,
+                b.y,
+                a.x,
+                a.y,
+                if keep_outline {
+                    ""
+                } else {
+                    " (--keep-outline holds the outline's angles and lengths)"
+                }
+            );
+        }
+    }
     if let Some((stage, drag)) = outcome.stalled() {
         eprintln!(
             "error: stage {} did not finish ({}); {} holds the last state that held every condition",

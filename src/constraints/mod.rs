@@ -204,8 +204,11 @@ pub struct Rows {
     /// Every edge's tracked fold angle at the evaluated positions, when a family read them.
     pub fold_angles: Option<FoldAngles>,
     /// Each row's [`HeldRow`] key (inequality rows; equalities carry their family and
-    /// `u32::MAX`).
+    /// `u32::MAX`), when `track_keys` asks for them: a solver's active rows, not a
+    /// verification's full set, whose memory they would grow by 8 bytes a row.
     pub keys: Vec<HeldRow>,
+    /// Record `keys`.
+    pub track_keys: bool,
     /// Satisfied inequality rows still wanted (see [`HeldRows`]), while within `held_band`
     /// of their bound.
     pub held: Option<std::sync::Arc<HeldRows>>,
@@ -259,7 +262,9 @@ impl Rows {
         self.inequality.push(true);
         self.residuals.push(if active { g } else { 0.0 });
         self.labels.push((family, element));
-        self.keys.push(key);
+        if self.track_keys {
+            self.keys.push(key);
+        }
         active.then_some(self.residuals.len() - 1)
     }
 
@@ -288,7 +293,9 @@ impl Rows {
         self.inequality.push(inequality);
         self.residuals.push(residual);
         self.labels.push((family, element));
-        self.keys.push((family, u32::MAX));
+        if self.track_keys {
+            self.keys.push((family, u32::MAX));
+        }
         self.residuals.len() - 1
     }
 
@@ -475,6 +482,7 @@ impl ConstraintSet {
         let rows = Rows {
             active_only: true,
             values_only,
+            track_keys: true,
             held,
             held_band,
             ..Rows::default()
@@ -527,6 +535,7 @@ impl ConstraintSet {
                     let mut part = Rows {
                         active_only: rows.active_only,
                         values_only: rows.values_only,
+                        track_keys: rows.track_keys,
                         held: rows.held.clone(),
                         held_band: rows.held_band,
                         ..Rows::default()
@@ -568,6 +577,7 @@ mod tests {
         };
         let mut plain = Rows {
             active_only: true,
+            track_keys: true,
             ..Rows::default()
         };
         assert_eq!(push_all(&mut plain), [None, Some(0), None]);
@@ -577,6 +587,7 @@ mod tests {
         let held: HeldRows = [(Family::Smoothness, 0), (Family::Smoothness, 2)].into();
         let mut holding = Rows {
             active_only: true,
+            track_keys: true,
             held: Some(std::sync::Arc::new(held)),
             held_band: 0.1,
             ..Rows::default()

@@ -102,6 +102,12 @@ pub struct DesignJob {
     /// condition (the stage stops there, [`DragReport::stalled`]; later stages and the
     /// fit are not run) instead of failing with nothing.
     pub keep_partial: bool,
+    /// In design mode, hold the outline of the crease pattern as well: its angles (eq. 2)
+    /// and the lengths of its straight runs (eq. 3), added to whatever conditions are
+    /// chosen. Design mode frees lengths, and a drag otherwise redraws the outline (a
+    /// 6 × 10 Miura-ori's four corners pulled into an arch: 130 × 173 mm flat became
+    /// 155 × 177 mm with a ragged edge).
+    pub keep_outline: bool,
 }
 
 /// What a design job produced.
@@ -136,6 +142,7 @@ impl DesignJob {
             fit: None,
             options: Options::default(),
             keep_partial: false,
+            keep_outline: false,
         }
     }
 
@@ -198,6 +205,7 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
         fit,
         options,
         keep_partial,
+        keep_outline,
     } = job;
     if let Some(a) = alpha {
         set_alpha(&mut mesh, a)?;
@@ -219,9 +227,19 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
     (mesh, fold_report) = first_fold(mesh, fold, moves, &fold_anchor, &options, progress)?;
     let set = match mode {
         Mode::Simulation => Mode::simulation_set(),
-        Mode::Design => conditions
-            .clone()
-            .unwrap_or_else(|| ConstraintSet::default_for(&Reference::new(&mesh))),
+        Mode::Design => {
+            let mut set = conditions
+                .clone()
+                .unwrap_or_else(|| ConstraintSet::default_for(&Reference::new(&mesh)));
+            if keep_outline {
+                for f in [Family::BoundaryAngle, Family::BoundaryLength] {
+                    if !set.families.contains(&f) {
+                        set.families.push(f);
+                    }
+                }
+            }
+            set
+        }
     };
     let mut stats = Stats::default();
     let mut drags = Vec::new();

@@ -860,7 +860,11 @@ fn every_help_puts_each_option_beside_its_help() {
     for sub in commands {
         let (code, help, err) = run_crease(&[sub, "--help"]);
         assert_eq!(code, 0, "{sub}: {err}");
-        for line in help.lines().filter(|l| l.trim_start().starts_with('-')) {
+        let options = help
+            .lines()
+            .skip_while(|l| !l.starts_with("Options:"))
+            .take_while(|l| !l.is_empty());
+        for line in options.filter(|l| l.trim_start().starts_with('-')) {
             let spec_and_help = line.trim_start();
             let beside = spec_and_help
                 .split_once("  ")
@@ -871,4 +875,103 @@ fn every_help_puts_each_option_beside_its_help() {
             );
         }
     }
+}
+
+/// Issue 47, item 3: the recipes `deform --help` gives are run as printed: each verifies,
+/// and with --keep-outline the arch keeps its sheet within 1% of its size, where the same
+/// corner drag without it grows the sheet and says so, naming --keep-outline.
+#[test]
+fn the_deform_help_recipes_run_as_printed_and_keep_their_outline() {
+    let dir = std::env::temp_dir().join(format!("crease-cli-recipes-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let at = |name: &str| dir.join(name).to_str().unwrap().to_string();
+    let (code, _, err) = run_crease(&[
+        "generate",
+        "miura",
+        "--nx",
+        "6",
+        "--ny",
+        "10",
+        "--fold",
+        "0.5",
+        "-o",
+        &at("m.fold"),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (_, help, _) = run_crease(&["deform", "--help"]);
+    // Each recipe's command: its first line and the continuation lines under it.
+    let mut recipes: Vec<(String, String)> = Vec::new();
+    for line in help.lines().skip_while(|l| !l.starts_with("Recipes")) {
+        let t = line.trim_start();
+        if let Some((name, command)) = t
+            .split_once(':')
+            .filter(|(_, c)| c.trim_start().starts_with("crease deform"))
+        {
+            recipes.push((name.to_string(), command.trim().to_string()));
+        } else if line.starts_with("          --") {
+            if let Some(last) = recipes.last_mut() {
+                last.1 += &format!(" {t}");
+            }
+        }
+    }
+    let names: Vec<&str> = recipes.iter().map(|r| r.0.as_str()).collect();
+    assert!(
+        names.contains(&"arch") && names.contains(&"twist"),
+        "{names:?}: {help}"
+    );
+    let flat = |path: &str| {
+        let m = crease::io::read(std::path::Path::new(path)).unwrap();
+        let (lo, hi) = crease::mesh::bounds(m.flat().unwrap());
+        hi - lo
+    };
+    let start = flat(&at("m.fold"));
+    for (name, command) in &recipes {
+        let args: Vec<String> = command
+            .split_whitespace()
+            .skip(1)
+            .map(|w| {
+                if w.ends_with(".fold") {
+                    at(w)
+                } else {
+                    w.to_string()
+                }
+            })
+            .collect();
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let (code, _, err) = run_crease(&args);
+        assert_eq!(code, 0, "{name}: {command}: {err}");
+        let out = at(&format!("{name}.fold"));
+        let (code, _, err) = run_crease(&["verify", &out]);
+        assert_eq!(code, 0, "{name}: {err}");
+        let size = flat(&out);
+        assert!(
+            (size.x / start.x - 1.0).abs() < 0.025 && (size.y / start.y - 1.0).abs() < 0.025,
+            "{name}: {size:?} from {start:?}"
+        );
+        assert!(!err.contains("--keep-outline holds"), "{name}: {err}");
+    }
+    // The arch's drag without --keep-outline grows the sheet, and deform says so.
+    let arch = &recipes.iter().find(|r| r.0 == "arch").unwrap().1;
+    let args: Vec<String> = arch
+        .split_whitespace()
+        .skip(1)
+        .filter(|w| *w != "--keep-outline")
+        .map(|w| {
+            if w.ends_with(".fold") {
+                at(w)
+            } else {
+                w.to_string()
+            }
+        })
+        .collect();
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let (code, _, err) = run_crease(&args);
+    assert_eq!(code, 0, "{err}");
+    let grown = flat(&at("arch.fold"));
+    assert!(grown.x > 1.1 * start.x, "{grown:?} from {start:?}");
+    assert!(
+        err.contains("where it was") && err.contains("--keep-outline holds"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(dir);
 }
