@@ -107,10 +107,47 @@ pub struct DesignCamera {
     pub centre: Vec3,
 }
 
+/// How far above the horizon `design-side.png` looks from, radians: enough to show the
+/// top of a corrugation, little enough to keep the profile.
+const SIDE_ELEVATION: f64 = 12.0 * std::f64::consts::PI / 180.0;
+
+/// The direction `design-side.png` looks from: level with the form (raised by
+/// [`SIDE_ELEVATION`]) along the horizontal direction in which it shows least of its
+/// paper, so a sheet bent about one axis is seen along that axis, its profile drawn: an
+/// arch, invisible from above, shows as an arch. Of 24 directions 7.5° apart, the one
+/// with the smallest Σ area·|n·d| over the faces.
+pub fn design_side_view(mesh: &Mesh) -> Vec3 {
+    let x = mesh.positions();
+    let shown = |d: Vec3| -> f64 {
+        mesh.faces()
+            .iter()
+            .map(|&[a, b, c]| (x[b] - x[a]).cross(&(x[c] - x[a])).dot(&d).abs())
+            .sum()
+    };
+    let horizontal = (0..24)
+        .map(|k| {
+            let t = f64::from(k) * std::f64::consts::PI / 24.0;
+            Vec3::new(t.cos(), t.sin(), 0.0)
+        })
+        .min_by(|a, b| shown(*a).total_cmp(&shown(*b)))
+        .expect("directions");
+    // From the side where the picture's right is the form's +x or +y, whichever it faces.
+    let d = if horizontal.x + horizontal.y < 0.0 {
+        -horizontal
+    } else {
+        horizontal
+    };
+    (d * SIDE_ELEVATION.cos() + Vec3::z() * SIDE_ELEVATION.sin()).normalize()
+}
+
 impl DesignCamera {
-    /// Frames `points`.
+    /// Frames `points` seen from [`design_view`].
     pub fn framing(points: &[Vec3]) -> DesignCamera {
-        let view = design_view();
+        DesignCamera::framing_from(points, design_view())
+    }
+
+    /// Frames `points` seen from `view` (a unit vector, not vertical).
+    pub fn framing_from(points: &[Vec3], view: Vec3) -> DesignCamera {
         let right = Vec3::z().cross(&view).normalize();
         let up = view.cross(&right);
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
@@ -151,12 +188,21 @@ pub const DESIGN_BACKGROUND: [u8; 3] = [251, 250, 247];
 /// sides alike) with its mountain and valley creases drawn over it in their colours, so
 /// nearer paper hides the creases behind it.
 pub fn design(mesh: &Mesh) -> Result<Vec<u8>, String> {
+    design_from(mesh, design_view()).map_err(|e| format!("design.png: {e}"))
+}
+
+/// `design-side.png`: the same picture from [`design_side_view`].
+pub fn design_side(mesh: &Mesh) -> Result<Vec<u8>, String> {
+    design_from(mesh, design_side_view(mesh)).map_err(|e| format!("design-side.png: {e}"))
+}
+
+/// The 3D form seen from `view` (see [`design`]).
+fn design_from(mesh: &Mesh, view: Vec3) -> Result<Vec<u8>, String> {
     let x = mesh.positions();
-    let camera = DesignCamera::framing(x);
-    let view = design_view();
+    let camera = DesignCamera::framing_from(x, view);
     let light = (view + Vec3::new(-0.3, 0.2, 0.4)).normalize();
     let [pw, ph] = DESIGN_SIZE_PX;
-    let mut pixmap = Pixmap::new(pw, ph).ok_or("design.png: no pixmap")?;
+    let mut pixmap = Pixmap::new(pw, ph).ok_or("no pixmap")?;
     let [r, g, b] = DESIGN_BACKGROUND;
     pixmap.fill(Color::from_rgba8(r, g, b, 255));
     let topo = mesh.topology();
@@ -223,5 +269,5 @@ pub fn design(mesh: &Mesh) -> Result<Vec<u8>, String> {
             }
         }
     }
-    pixmap.encode_png().map_err(|e| format!("design.png: {e}"))
+    pixmap.encode_png().map_err(|e| e.to_string())
 }

@@ -628,7 +628,8 @@ fn sheet_files(
     files
 }
 
-/// `sheet.png` (the front job as it is cut) and `design.png` (the 3D form), and what the
+/// `sheet.png` (the front job as it is cut), `design.png` (the 3D form) and
+/// `design-side.png` (the form from its side, level with it), and what the
 /// report says of them: scale and stroke width, and the view of the form.
 fn preview_files(
     mesh: &Mesh,
@@ -637,7 +638,10 @@ fn preview_files(
     use crate::output::png;
     let sheet = png::sheet(front).map_err(FabError::Input)?;
     let design = png::design(mesh).map_err(FabError::Input)?;
+    let side = png::design_side(mesh).map_err(FabError::Input)?;
     let camera = png::DesignCamera::framing(mesh.positions());
+    let side_view = png::design_side_view(mesh);
+    let side_camera = png::DesignCamera::framing_from(mesh.positions(), side_view);
     let scale = png::sheet_px_per_mm(front);
     let view = png::design_view();
     let report = super::PreviewsReport {
@@ -650,11 +654,17 @@ fn preview_files(
             view: [view.x, view.y, view.z],
             px_per_mm: camera.px_per_mm,
         },
+        design_side: super::DesignPreview {
+            size_px: png::DESIGN_SIZE_PX,
+            view: [side_view.x, side_view.y, side_view.z],
+            px_per_mm: side_camera.px_per_mm,
+        },
     };
     Ok((
         vec![
             ("sheet.png".to_string(), sheet),
             ("design.png".to_string(), design),
+            ("design-side.png".to_string(), side),
         ],
         report,
     ))
@@ -786,12 +796,13 @@ fn cutter_jobs(
 }
 
 /// Every file a fabrication run can write, and the journals `plot` keeps beside the jobs.
-pub const OUTPUT_FILES: [&str; 20] = [
+pub const OUTPUT_FILES: [&str; 21] = [
     "sheet.svg",
     "panels.svg",
     "panels.dxf",
     "sheet.png",
     "design.png",
+    "design-side.png",
     "sheet.hpgl",
     "sheet.gpgl",
     "sheet.dxf",

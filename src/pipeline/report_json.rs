@@ -26,7 +26,8 @@ pub struct FabReport {
     pub seam: Option<SeamReport>,
 }
 
-/// `report.json`'s `previews`: how `sheet.png` and `design.png` were drawn.
+/// `report.json`'s `previews`: how `sheet.png`, `design.png` and `design-side.png` were
+/// drawn.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PreviewsReport {
     /// The toolpath's picture.
@@ -35,6 +36,20 @@ pub struct PreviewsReport {
     /// The 3D design's picture.
     #[serde(rename = "design.png")]
     pub design: DesignPreview,
+    /// The 3D design seen from its side ([`crate::output::png::design_side_view`]).
+    #[serde(rename = "design-side.png", default = "DesignPreview::absent")]
+    pub design_side: DesignPreview,
+}
+
+impl DesignPreview {
+    /// What a report written before `design-side.png` existed reads as: no picture.
+    fn absent() -> DesignPreview {
+        DesignPreview {
+            size_px: [0, 0],
+            view: [0.0; 3],
+            px_per_mm: 0.0,
+        }
+    }
 }
 
 /// How `sheet.png` was drawn ([`crate::output::png::sheet`]).

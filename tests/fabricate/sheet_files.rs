@@ -1148,3 +1148,65 @@ fn the_pdf_page_as_cut_draws_exactly_the_dashes_of_sheet_svg() {
         from_svg.swap_remove(i);
     }
 }
+
+#[test]
+fn design_side_png_looks_along_the_axis_a_sheet_is_bent_about() {
+    // A plane rolled onto a cylinder (radius 60 mm) about the y axis, then about the x
+    // axis: every face normal is perpendicular to the axis, so the paper shows least
+    // seen along it; the side view is that axis, raised 12°, and its picture shows the
+    // arch's rise: the painted rows span the form's height × px per mm, seen at 12°.
+    use crease::generate::{generate, Params, PatternKind};
+    use crease::output::png;
+    let mut params = Params::square(PatternKind::Plane, 6, 20.0);
+    params.fold = Some(0.0);
+    let plane = generate(&params).unwrap();
+    let r = 60.0;
+    for axis in [Vec3::y(), Vec3::x()] {
+        let mut mesh = plane.clone();
+        let rolled: Vec<Vec3> = mesh
+            .positions()
+            .iter()
+            .map(|p| {
+                let (across, along) = if axis == Vec3::y() {
+                    (p.x - 60.0, p.y)
+                } else {
+                    (p.y - 60.0, p.x)
+                };
+                let (a, z) = (r * (across / r).sin(), r * (1.0 - (across / r).cos()));
+                if axis == Vec3::y() {
+                    Vec3::new(a, along, -z)
+                } else {
+                    Vec3::new(along, a, -z)
+                }
+            })
+            .collect();
+        mesh.set_positions(rolled);
+        let view = png::design_side_view(&mesh);
+        let horizontal = Vec3::new(view.x, view.y, 0.0).normalize();
+        assert!(
+            horizontal.dot(&axis).abs() > 0.999,
+            "{axis:?}: seen from {view:?}"
+        );
+        assert!((view.z.asin().to_degrees() - 12.0).abs() < 1e-9, "{view:?}");
+        let (w, h, pixels) = read_png(&png::design_side(&mesh).unwrap());
+        assert_eq!([w, h], png::DESIGN_SIZE_PX);
+        let painted_rows: Vec<usize> = (0..h as usize)
+            .filter(|&row| {
+                pixels[row * w as usize..(row + 1) * w as usize]
+                    .iter()
+                    .any(|&p| p != png::DESIGN_BACKGROUND)
+            })
+            .collect();
+        let rows = (painted_rows.last().unwrap() - painted_rows[0] + 1) as f64;
+        let camera = png::DesignCamera::framing_from(mesh.positions(), view);
+        let (lo, hi) = mesh.bounding_box();
+        // The rise (z) seen at 12° plus the depth along the axis foreshortened by sin 12°.
+        let rise = (hi.z - lo.z) * 12f64.to_radians().cos()
+            + (hi - lo).dot(&axis).abs() * 12f64.to_radians().sin();
+        let expected = rise * camera.px_per_mm;
+        assert!(
+            (rows / expected - 1.0).abs() < 0.03,
+            "{axis:?}: {rows} rows painted, {expected:.0} expected"
+        );
+    }
+}
