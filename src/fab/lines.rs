@@ -3,7 +3,7 @@
 //! remembers the points along it where three or more creases meet, where dashes must stop.
 
 use super::curve::{SmoothCurve, FLATTEN_MM};
-use crate::mesh::{curve_runs, run_edges, Assignment, Edge, Mesh, Vec2};
+use crate::mesh::{boundary_runs, curve_runs, run_edges, Assignment, Edge, Mesh, Vec2};
 use std::collections::HashMap;
 
 /// What a line does to the paper.
@@ -294,16 +294,29 @@ fn curves_of(mesh: &Mesh, flat: &[Vec2]) -> Vec<SmoothCrease> {
         .collect()
 }
 
-/// The lines of [`smooth_creases`] of a mesh known to have curved creases; their edges
-/// are marked `used`.
+/// The lines of [`smooth_creases`] of a mesh known to have curved creases, and of its
+/// outline's curved stretches ([`boundary_runs`]); their edges are marked `used`.
 fn curved_lines(
     mesh: &Mesh,
     flat: &[Vec2],
     degree: &[usize],
     used: &mut [bool],
 ) -> Vec<CreaseLine> {
+    // The outline's curved stretches too: a rim cut as its chords leaves corners beside
+    // smooth creases, and the margin between them would swell and shrink.
+    let rims = boundary_runs(mesh, flat).into_iter().map(|run| {
+        let edges = run_edges(mesh, &run);
+        let points = run.vertices.iter().map(|&i| flat[i]).collect();
+        SmoothCrease {
+            kind: LineKind::Cut,
+            curve: SmoothCurve::through(points, run.closed),
+            vertices: run.vertices,
+            edges,
+        }
+    });
     curves_of(mesh, flat)
         .into_iter()
+        .chain(rims)
         .map(|crease| {
             for &e in &crease.edges {
                 used[e] = true;

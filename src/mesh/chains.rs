@@ -136,15 +136,30 @@ pub fn curve_runs(mesh: &Mesh, flat: &[Vec2]) -> Vec<CreaseChain> {
                 closed = false;
             }
         }
-        let mut pieces: Vec<Vec<usize>> = vec![vec![v[0]]];
-        for i in 1..v.len() {
-            pieces.last_mut().expect("a piece").push(v[i]);
-            if !closed && i + 1 < v.len() && breaks(i, &v) {
-                pieces.push(vec![v[i]]);
-            }
+        runs.extend(curved_pieces(v, closed, flat, breaks));
+    }
+    runs
+}
+
+/// `v` (a chain, `closed` when it has no break) cut at the vertices `breaks` names, the
+/// pieces with three or more turns that turn at all.
+fn curved_pieces(
+    v: Vec<usize>,
+    closed: bool,
+    flat: &[Vec2],
+    breaks: impl Fn(usize, &[usize]) -> bool,
+) -> Vec<CreaseChain> {
+    let mut pieces: Vec<Vec<usize>> = vec![vec![v[0]]];
+    for i in 1..v.len() {
+        pieces.last_mut().expect("a piece").push(v[i]);
+        if !closed && i + 1 < v.len() && breaks(i, &v) {
+            pieces.push(vec![v[i]]);
         }
-        for vertices in pieces {
-            let run = CreaseChain { vertices, closed };
+    }
+    pieces
+        .into_iter()
+        .map(|vertices| CreaseChain { vertices, closed })
+        .filter(|run| {
             // As for the smoothness conditions: a run of fewer than three turns has no
             // second difference, so nothing says it samples a curve (Resch's pattern has
             // two-edge runs that turn once at a tuck).
@@ -152,10 +167,36 @@ pub fn curve_runs(mesh: &Mesh, flat: &[Vec2]) -> Vec<CreaseChain> {
             let curved = turns
                 .iter()
                 .any(|&[a, p, b]| turn(flat[a], flat[p], flat[b]) > 1e-6);
-            if turns.len() >= 3 && curved {
-                runs.push(run);
-            }
+            turns.len() >= 3 && curved
+        })
+        .collect()
+}
+
+/// The curved stretches of the paper's outline laid out at `flat`: each boundary loop
+/// broken where it turns by more than [`CORNER`], the pieces with three or more turns
+/// that turn at all (a loop with no corner stays closed). The concentric pattern's rims
+/// are such stretches: cut as their chords they left corners beside smooth creases.
+pub fn boundary_runs(mesh: &Mesh, flat: &[Vec2]) -> Vec<CreaseChain> {
+    let topo = mesh.topology();
+    let mut runs = Vec::new();
+    for boundary in &topo.boundary_loops {
+        let n = boundary.len();
+        if n < 3 {
+            continue;
         }
+        let mut v = boundary.clone();
+        let breaks = |i: usize, v: &[usize]| {
+            let m = v.len();
+            let (a, p, b) = (v[(i + m - 1) % m], v[i], v[(i + 1) % m]);
+            turn(flat[a], flat[p], flat[b]) > CORNER
+        };
+        let mut closed = true;
+        if let Some(i) = (0..n).find(|&i| breaks(i, &v)) {
+            v.rotate_left(i);
+            v.push(v[0]);
+            closed = false;
+        }
+        runs.extend(curved_pieces(v, closed, flat, breaks));
     }
     runs
 }

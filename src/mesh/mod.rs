@@ -14,7 +14,7 @@ mod topology;
 mod triangulate;
 mod union_find;
 
-pub use chains::{crease_chains, curve_runs, run_edges, turn, CreaseChain, CORNER};
+pub use chains::{boundary_runs, crease_chains, curve_runs, run_edges, turn, CreaseChain, CORNER};
 pub use cuts::split_along_cuts;
 pub use error::MeshError;
 pub use info::MeshInfo;

@@ -269,8 +269,17 @@ fn sheet_of(
 ) -> Result<(crate::fab::Sheet, bool), FabError> {
     let rejected = |e: String| FabError::Rejected(Rejected(e));
     let mut lines = crate::fab::crease_lines(mesh, flat);
-    // The layout places the points it is given: the tab's corners reach past the strip.
+    // The layout places the points it is given: the tab's corners reach past the strip,
+    // and a curved outline bulges past the vertices it runs through (its cubics' control
+    // points hold it).
     let mut extent = flat.to_vec();
+    extent.extend(
+        lines
+            .iter()
+            .filter(|l| l.kind == crate::fab::LineKind::Cut)
+            .filter_map(|l| l.curve.as_ref())
+            .flat_map(|c| c.pieces().iter().flat_map(|p| [p.c1, p.c2])),
+    );
     if let Some(t) = tube {
         let (tab, with) = t.tab(flat, lines).map_err(rejected)?;
         lines = with;

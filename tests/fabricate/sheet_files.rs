@@ -299,11 +299,14 @@ fn svg_segments(svg: &str) -> Vec<SvgSegment> {
         for path in layer.split("<path d=\"").skip(1) {
             let d = path.split('"').next().unwrap();
             let mut tokens = d.split_whitespace();
-            let (mut at, mut start) = ([0.0; 2], [0.0; 2]);
+            let (mut at, mut start) = ([0.0f64; 2], [0.0f64; 2]);
             while let Some(t) = tokens.next() {
                 let (op, x) = t.split_at(1);
                 if op == "Z" {
-                    out.push((name.to_string(), at, start, None));
+                    // A close after a curve that already came back draws nothing.
+                    if (at[0] - start[0]).hypot(at[1] - start[1]) > 1e-9 {
+                        out.push((name.to_string(), at, start, None));
+                    }
                     at = start;
                     continue;
                 }

@@ -315,7 +315,23 @@ fn printed_pages(pdf: &[u8]) -> Vec<PrintedPage> {
                         let p = |i: usize| {
                             Vec2::new(mm(line.points[i].p.x.0), mm(line.points[i].p.y.0))
                         };
-                        out.lines.push((colour, p(0), p(1)));
+                        if line.points.len() == 4 && line.points[1].bezier {
+                            // A cubic: its points at sixteenths, as pieces (its control
+                            // points may lie beyond what it draws).
+                            let at = |t: f64| {
+                                let u = 1.0 - t;
+                                p(0) * (u * u * u)
+                                    + p(1) * (3.0 * u * u * t)
+                                    + p(2) * (3.0 * u * t * t)
+                                    + p(3) * (t * t * t)
+                            };
+                            for k in 0..16 {
+                                let (a, b) = (at(k as f64 / 16.0), at((k + 1) as f64 / 16.0));
+                                out.lines.push((colour, a, b));
+                            }
+                        } else {
+                            out.lines.push((colour, p(0), p(1)));
+                        }
                     }
                     printpdf::Op::SetTextCursor { pos } => {
                         cursor = Vec2::new(mm(pos.x.0), mm(pos.y.0))
