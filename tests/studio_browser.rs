@@ -129,6 +129,7 @@ async fn dragging_a_vertex_with_the_mouse_moves_it_and_every_condition_still_hol
     fit_to_a_dome_by_pressing_fit(&client, &before).await;
     let png = client.screenshot().await.expect("a screenshot");
     std::fs::write(out_dir().join("studio-fit.png"), png).unwrap();
+    a_new_design_starts_clean(&client).await;
     let _ = client.close().await;
     let _ = std::fs::remove_dir_all(&profile);
 }
@@ -333,5 +334,83 @@ async fn fabricate_and_see_the_preview(client: &Client) {
     assert!(
         ink > 0.02 * sheet,
         "strokes cover {ink} of {sheet} pixels: {counts}"
+    );
+}
+
+/// Issue 47, item 5: after a fit, simulation mode chosen with a click and New pressed on
+/// waterbomb-tube (real clicks), the studio starts clean: no target, no fit, design mode,
+/// and the pattern list, read from the new title, shows waterbomb-tube (a prefix match
+/// picked waterbomb).
+async fn a_new_design_starts_clean(client: &Client) {
+    client
+        .find(fantoccini::Locator::Css(
+            "input[name=mode][value=simulation]",
+        ))
+        .await
+        .expect("the simulation radio")
+        .click()
+        .await
+        .expect("a click on simulation");
+    wait_until(
+        client,
+        "simulation mode",
+        "return window.crease.state().then(s => s.mode === 'simulation');",
+    )
+    .await;
+    // And the page has drawn that frame (it sets the pattern list as it does).
+    wait_until(
+        client,
+        "the page to show simulation mode",
+        "return document.querySelector('input[name=mode][value=simulation]').checked;",
+    )
+    .await;
+    let s = page_state(client).await;
+    assert!(
+        !s["target"].is_null(),
+        "the dome is still the target before New"
+    );
+    // The list set without a change event, as the page leaves it when the maker has not
+    // picked: the page then names the pattern from the new design's title itself.
+    eval(
+        client,
+        "document.getElementById('pattern').value = 'waterbomb-tube'; return true;",
+        vec![],
+    )
+    .await;
+    client
+        .find(fantoccini::Locator::Id("generate"))
+        .await
+        .expect("the New button")
+        .click()
+        .await
+        .expect("a click on New");
+    wait_until(
+        client,
+        "the new design",
+        "return window.crease.state().then(s => s.title.startsWith('waterbomb-tube '));",
+    )
+    .await;
+    let s = page_state(client).await;
+    assert!(s["target"].is_null(), "{}", s["target"]);
+    assert!(s["fit"].is_null(), "{}", s["fit"]);
+    assert_eq!(s["mode"], "design");
+    wait_until(
+        client,
+        "the page to show the new state",
+        "return document.querySelector('input[name=mode][value=design]').checked \
+         && document.getElementById('fit-go').disabled;",
+    )
+    .await;
+    let shown = eval(
+        client,
+        "return [document.getElementById('pattern').value, \
+                 document.getElementById('target-name').textContent];",
+        vec![],
+    )
+    .await;
+    assert_eq!(shown[0], "waterbomb-tube", "{shown}");
+    assert!(
+        shown[1].as_str().unwrap().starts_with("no target"),
+        "{shown}"
     );
 }

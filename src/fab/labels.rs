@@ -68,7 +68,7 @@ const SITES: [(f64, f64); 15] = [
     (0.8, 1.0),
 ];
 
-/// Places each label beside its edge where its box, with [`LABEL_CLEARANCE_MM`] around
+/// Places each label beside its edge where its box, with `LABEL_CLEARANCE_MM` around
 /// it, meets no line of `lines` and no label placed before it; where every site is taken,
 /// the one with the fewest collisions (labels counting before lines). Greedy, in order.
 pub fn place_beside_edges(labels: &[EdgeLabel], lines: &[CreaseLine]) -> Vec<SheetLabel> {
@@ -115,7 +115,7 @@ pub fn place_beside_edges(labels: &[EdgeLabel], lines: &[CreaseLine]) -> Vec<She
     placed
 }
 
-/// A box grown by [`LABEL_CLEARANCE_MM`] on every side.
+/// A box grown by `LABEL_CLEARANCE_MM` on every side.
 fn grown((lo, hi): (Vec2, Vec2)) -> (Vec2, Vec2) {
     let c = Vec2::new(LABEL_CLEARANCE_MM, LABEL_CLEARANCE_MM);
     (lo - c, hi + c)

@@ -45,7 +45,7 @@ const KEEP_SIZE: f64 = 0.05;
 /// The softness at which a settled fit stops loosening (three quarterings).
 const MIN_SOFTNESS: f64 = 1.0 / 64.0;
 
-/// Steps over which a fit must improve its distance by [`STALL_IMPROVEMENT`] to go on.
+/// Steps over which a fit must improve its distance by `STALL_IMPROVEMENT` to go on.
 pub const STALL_WINDOW: usize = 15;
 
 /// The relative improvement of the RMS and largest distance over [`STALL_WINDOW`]
@@ -150,7 +150,7 @@ pub fn measure(x: &[Vec3], groups: &[Vec<usize>], target: &TriSurface) -> Measur
 }
 
 /// Whether a fit's distances, (RMS, largest) after each step, still improve: either
-/// fell by [`STALL_IMPROVEMENT`] over the last [`STALL_WINDOW`] steps.
+/// fell by `STALL_IMPROVEMENT` over the last [`STALL_WINDOW`] steps.
 fn still_improving(history: &[(f64, f64)]) -> bool {
     let Some(&(rms0, max0)) = history
         .len()
@@ -165,7 +165,7 @@ fn still_improving(history: &[(f64, f64)]) -> bool {
 }
 
 /// Whether the largest distance, the one the goal is set on, still fell by
-/// [`STALL_IMPROVEMENT`] over the last [`STALL_WINDOW`] steps of `history` ((RMS,
+/// `STALL_IMPROVEMENT` over the last [`STALL_WINDOW`] steps of `history` ((RMS,
 /// largest) after each step): a fit stopped at its step limit so wants more steps,
 /// where one that no longer comes nearer is held by the conditions.
 pub fn largest_still_falling(history: &[(f64, f64)]) -> bool {

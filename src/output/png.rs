@@ -112,7 +112,7 @@ pub struct DesignCamera {
 const SIDE_ELEVATION: f64 = 12.0 * std::f64::consts::PI / 180.0;
 
 /// The direction `design-side.png` looks from: level with the form (raised by
-/// [`SIDE_ELEVATION`]) along the horizontal direction in which it shows least of its
+/// `SIDE_ELEVATION`) along the horizontal direction in which it shows least of its
 /// paper, so a sheet bent about one axis is seen along that axis, its profile drawn: an
 /// arch, invisible from above, shows as an arch. Of 24 directions 7.5° apart, the one
 /// with the smallest Σ area·|n·d| over the faces.

@@ -123,7 +123,11 @@ export class Panel {
     $('title').textContent = live.title;
     // Until the user picks one, the pattern list shows what the design was made from,
     // or, for an opened file, names the file.
-    const made = this.meta.patterns.find((p) => live.title.startsWith(p.name));
+    // A generated design is titled "KIND NXxNY"; the kind is matched whole
+    // (waterbomb-tube is not waterbomb), and an opened file (miura-bent) matches none.
+    const [kind, cells] = live.title.split(' ');
+    const made = /^\d+x\d+$/.test(cells || '')
+      ? this.meta.patterns.find((p) => p.name === kind) : undefined;
     const list = $('pattern');
     let opened = list.querySelector('option[data-opened]');
     if (!this.patternChosen && made) {

@@ -114,14 +114,22 @@ impl Session {
         Ok(report)
     }
 
+    /// New and Open: the design replaced, and the studio as it starts — no target or fit
+    /// of the last design, design mode with the new design's own conditions (a fit on a
+    /// fresh pattern ran in the last design's simulation mode and missed: issue 47).
     fn replace_design(&mut self, mesh: Mesh, title: String) {
         self.release();
         self.remember();
+        self.stop_fit("a new design");
+        self.target = None;
         self.solver = None;
         self.design.mesh = mesh;
         self.title = title;
         self.design.pinned.clear();
         self.design.relaid = false;
+        self.design.mode = Mode::Design;
+        self.design.conditions = None;
+        self.design.remesh = None;
         self.blocked = None;
         self.design.alpha = self.mesh_alpha();
         self.design_changed(true);
