@@ -992,3 +992,63 @@ fn a_tube_is_designed_in_the_studio_and_its_pane_draws_the_strip() {
     assert_eq!(s["pass"], true, "{}", s["residuals"]);
     hub.stop();
 }
+
+/// Issue 47, item 5: a target file drawn far from the design (1 m off in x) is moved
+/// onto it as it loads, the boxes' centres together, and the message says so; one that
+/// already meets the design keeps the file's placement.
+#[test]
+fn a_target_loaded_far_from_the_design_is_moved_onto_it_and_said() {
+    let hub = fresh_hub();
+    let mesh = miura();
+    let cap = crease::surface::shapes::Shape::Cap { radius: 250.0 }
+        .surface(300.0, 20)
+        .unwrap();
+    let far = cap.moved(
+        0.0,
+        &nalgebra::Matrix3::identity(),
+        crease::mesh::Vec3::new(1000.0, 0.0, 0.0),
+    );
+    let r = call(
+        &hub,
+        "POST",
+        "/api/target?name=far.obj",
+        far.to_obj("far").as_bytes(),
+    );
+    assert_eq!(r.status, 200, "{}", String::from_utf8_lossy(&r.body));
+    let s = state(&hub);
+    let (dlo, dhi) = mesh.bounding_box();
+    let (tlo, thi) = far.bounding_box();
+    let want = (dlo + dhi) / 2.0 - (tlo + thi) / 2.0;
+    let shift: Vec<f64> = s["target"]["shift"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    for k in 0..3 {
+        assert!(
+            (shift[k] - want[k]).abs() < 1e-6,
+            "{shift:?} against {want:?}"
+        );
+    }
+    let message = s["message"].as_str().unwrap();
+    assert!(message.contains("moved onto it"), "{message}");
+    // A target over the design keeps where its file put it.
+    let (lo, hi) = mesh.bounding_box();
+    let over = cap.moved(0.0, &nalgebra::Matrix3::identity(), (lo + hi) / 2.0);
+    let r = call(
+        &hub,
+        "POST",
+        "/api/target?name=over.obj",
+        over.to_obj("over").as_bytes(),
+    );
+    assert_eq!(r.status, 200);
+    let s = state(&hub);
+    assert_eq!(
+        s["target"]["shift"],
+        json!([0.0, 0.0, 0.0]),
+        "{}",
+        s["target"]
+    );
+    assert!(!s["message"].as_str().unwrap().contains("moved onto it"));
+}

@@ -52,16 +52,40 @@ impl Session {
             placement: TargetPlacement::default(),
             version,
         });
-        self.message = format!(
-            "target {name} loaded ({} triangles): place it, then press Fit",
-            self.target
-                .as_ref()
-                .expect("just set")
-                .placed
-                .triangles()
-                .len()
-        );
+        let triangles = self
+            .target
+            .as_ref()
+            .map_or(0, |t| t.placed.triangles().len());
+        self.message = match self.bring_target_to_design() {
+            Some((shift, apart)) => format!(
+                "target {name} loaded ({triangles} triangles) {apart:.0} mm from the design and moved onto it by ({:.1}, {:.1}, {:.1}) mm: adjust it, then press Fit",
+                shift.x, shift.y, shift.z
+            ),
+            None => format!("target {name} loaded ({triangles} triangles): place it, then press Fit"),
+        };
         Ok(self.target_summary())
+    }
+
+    /// A target whose box does not meet the design's is shifted so the boxes' centres
+    /// meet (a dome file drawn about the origin and a pattern laid out from it started
+    /// far apart, and nothing said so): the shift and how far apart they were, or `None`
+    /// when they already meet (the file's own placement is kept) or the shift is out of
+    /// range.
+    fn bring_target_to_design(&mut self) -> Option<(Vec3, f64)> {
+        let (dlo, dhi) = self.current().bounding_box();
+        let (tlo, thi) = self.target.as_ref()?.loaded.bounding_box();
+        let meet = (0..3).all(|k| tlo[k] <= dhi[k] && dlo[k] <= thi[k]);
+        if meet {
+            return None;
+        }
+        let shift = (dlo + dhi) / 2.0 - (tlo + thi) / 2.0;
+        let gap = Vec3::from_fn(|k, _| (tlo[k] - dhi[k]).max(dlo[k] - thi[k]).max(0.0)).norm();
+        let placement = TargetPlacement {
+            shift: Some([shift.x, shift.y, shift.z]),
+            ..TargetPlacement::default()
+        };
+        self.place_target(placement).ok()?;
+        Some((shift, gap))
     }
 
     pub(super) fn place_target(&mut self, p: TargetPlacement) -> Result<Reply, Refusal> {
