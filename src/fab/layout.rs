@@ -16,17 +16,24 @@ pub struct Media {
     pub height: f64,
 }
 
+/// The paper sizes media can be named by, portrait, mm, smallest first: what a printer
+/// takes (the PDF template chooses among them) and what `--media` names.
+pub const PAPER_SIZES: [(&str, f64, f64); 5] = [
+    ("a5", 148.0, 210.0),
+    ("letter", 215.9, 279.4),
+    ("a4", 210.0, 297.0),
+    ("legal", 215.9, 355.6),
+    ("a3", 297.0, 420.0),
+];
+
 impl Media {
     /// Parses `a4`, `a3`, `letter`, `12x12in`, `WxHmm` (or `WxH`, in mm).
     pub fn parse(text: &str) -> Result<Media, String> {
         let t = text.trim().to_ascii_lowercase();
-        let (w, h) = match t.as_str() {
-            "a4" => (210.0, 297.0),
-            "a3" => (297.0, 420.0),
-            "a5" => (148.0, 210.0),
-            "letter" => (215.9, 279.4),
-            "legal" => (215.9, 355.6),
-            _ => {
+        let paper = PAPER_SIZES.iter().find(|(name, _, _)| *name == t);
+        let (w, h) = match paper {
+            Some(&(_, w, h)) => (w, h),
+            None => {
                 let (dims, unit) = if let Some(d) = t.strip_suffix("mm") {
                     (d, 1.0)
                 } else if let Some(d) = t.strip_suffix("in") {

@@ -21,13 +21,7 @@ pub const TILE_MARGIN_MM: f64 = 20.0;
 pub const TILE_OVERLAP_MM: f64 = 10.0;
 
 /// Paper a template may be printed on, portrait, mm, by area.
-const PAPERS: [(&str, f64, f64); 5] = [
-    ("a5", 148.0, 210.0),
-    ("letter", 215.9, 279.4),
-    ("a4", 210.0, 297.0),
-    ("legal", 215.9, 355.6),
-    ("a3", 297.0, 420.0),
-];
+const PAPERS: [(&str, f64, f64); 5] = crate::fab::layout::PAPER_SIZES;
 
 /// The paper a template is printed on, and the shift from the media's coordinates to it.
 #[derive(Clone, Debug, PartialEq)]
