@@ -360,7 +360,7 @@ fn dry_run_summary(plan: &Plan, line: &LineSettings) -> String {
             plan.job.display(),
             plan.bytes,
             plan.segments,
-            plan.bytes as f64 * 10.0 / plan.baud as f64,
+            plan.bytes as f64 / crease::machine::line_bytes_per_second(false, plan.baud),
             plan.baud,
             plan.port.display(),
             plan.flow,
