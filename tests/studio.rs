@@ -2,6 +2,8 @@
 //! One test crate per concept, each module a former crate of its own: compiled and
 //! linked once (see tests/run).
 
+#[path = "common/hostile_inputs.rs"]
+mod hostile_inputs;
 #[path = "common/studio.rs"]
 mod studio_process;
 

@@ -546,25 +546,7 @@ fn huge_and_coincident_targets_are_refused_or_fitted_within_bounds() {
 fn huge_faces_are_refused_before_they_are_clipped_and_sawtooth_faces_fabricate() {
     // Ear clipping is quadratic in a face's corners: this face took 18 s; a face within
     // the budget (a few hundred corners, as a curved strip has) still verifies.
-    // n corners on a circle of 100 mm; every other one at `inner` of the radius.
-    let face = |n: usize, inner: f64| {
-        let coords: Vec<[f64; 2]> = (0..n)
-            .map(|i| {
-                let t = std::f64::consts::TAU * i as f64 / n as f64;
-                let r = if i % 2 == 0 { 100.0 } else { 100.0 * inner };
-                [r * t.cos(), r * t.sin()]
-            })
-            .collect();
-        serde_json::json!({
-            "file_spec": 1.1,
-            "frame_classes": ["creasePattern"],
-            "vertices_coords": coords,
-            "edges_vertices": (0..n).map(|i| [i, (i + 1) % n]).collect::<Vec<_>>(),
-            "edges_assignment": vec!["B"; n],
-            "faces_vertices": [(0..n).collect::<Vec<_>>()],
-        })
-        .to_string()
-    };
+    let face = common::hostile_inputs::one_face_fold;
     let huge = scratch("face-30k.fold");
     std::fs::write(&huge, face(30_000, 1.0)).unwrap();
     let r = run(&["verify", huge.to_str().unwrap()]);
@@ -610,31 +592,14 @@ fn huge_faces_are_refused_before_they_are_clipped_and_sawtooth_faces_fabricate()
 #[test]
 fn piles_of_overlapping_or_crossing_lines_are_refused_before_they_are_arranged() {
     // 80,000 overlapping pieces of one horizontal line: every pair was compared (27 s).
-    let mut rng = Rng(50);
-    let mut cp = String::from("1 0 0 100 100\n2 0 100 100 0\n");
-    for _ in 0..80_000 {
-        let (a, b) = (
-            rng.below(10_000) as f64 / 100.0,
-            rng.below(10_000) as f64 / 100.0,
-        );
-        cp.push_str(&format!("2 {a} 50 {b} 50\n"));
-    }
     let collinear = scratch("collinear.cp");
-    std::fs::write(&collinear, cp).unwrap();
+    std::fs::write(
+        &collinear,
+        common::hostile_inputs::collinear_pile_cp(80_000),
+    )
+    .unwrap();
     // 3,000 random lines crossing about a million times (21 s, 600 MB).
-    let mut svg =
-        String::from("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"200\" height=\"200\">\n");
-    for _ in 0..3000 {
-        let c: Vec<usize> = (0..4).map(|_| rng.below(20_000)).collect();
-        svg.push_str(&format!(
-            "<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"#f00\"/>\n",
-            c[0] as f64 / 100.0,
-            c[1] as f64 / 100.0,
-            c[2] as f64 / 100.0,
-            c[3] as f64 / 100.0
-        ));
-    }
-    svg.push_str("</svg>\n");
+    let svg = common::hostile_inputs::crossing_lines_svg(3000);
     let zigzag = scratch("zigzag.svg");
     std::fs::write(&zigzag, svg).unwrap();
     for (file, what) in [

@@ -3,6 +3,8 @@
 
 #[allow(dead_code)] // only the fabrication tests use it
 pub mod fabbing;
+#[allow(dead_code)] // only the command line's hostile-input tests use it
+pub mod hostile_inputs;
 #[allow(dead_code)] // only the layer tests use it
 pub mod order_check;
 #[allow(dead_code)] // only the plotting tests use it

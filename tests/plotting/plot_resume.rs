@@ -9,9 +9,10 @@ use common::plotting::{cutter_job, scratch};
 use crease::output::{gpgl, hpgl};
 use crease::plotter::{
     stream, Emulator, EmulatorConfig, EmulatorState, Flow, FlowMode, Language, StreamError,
-    StreamOptions,
+    StreamOptions, StreamReport,
 };
 use std::collections::HashMap;
+use std::path::Path;
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
@@ -42,6 +43,36 @@ fn job_for(language: Language) -> (String, Vec<Segment>, &'static str) {
             (text, expected, "job.gpgl")
         }
     }
+}
+
+/// How these tests stream to the emulator at `port`: 115200 baud, a 1 KiB buffer, a
+/// fresh start (`resume` set by the test when it resumes).
+fn stream_options(port: &Path, language: Language, flow: FlowMode, device: bool) -> StreamOptions {
+    StreamOptions {
+        device,
+        port: port.to_path_buf(),
+        baud: 115200,
+        language,
+        flow,
+        buffer: 1024,
+        resume: false,
+        answer_timeout: Duration::from_secs(5),
+    }
+}
+
+/// Streams the job `text`, journalled beside `job_path`, uninterrupted by the user.
+fn plot_job(
+    text: &str,
+    job_path: &Path,
+    opts: &StreamOptions,
+) -> Result<StreamReport, StreamError> {
+    stream(
+        text.as_bytes(),
+        job_path,
+        opts,
+        &mut |_| {},
+        &AtomicBool::new(false),
+    )
 }
 
 /// An emulated plotter whose cable is pulled after byte `fail_after` and plugged back in
@@ -84,25 +115,8 @@ fn pull_and_resume(case: &Case) -> (EmulatorState, Vec<Segment>) {
     let emulator = Emulator::start(&link, config).unwrap();
     let job_path = dir.join(file);
     std::fs::write(&job_path, &text).unwrap();
-    let mut opts = StreamOptions {
-        device,
-        port: link.clone(),
-        baud: 115200,
-        language,
-        flow,
-        buffer: 1024,
-        resume: false,
-        answer_timeout: Duration::from_secs(5),
-    };
-    let plot = |opts: &StreamOptions| {
-        stream(
-            text.as_bytes(),
-            &job_path,
-            opts,
-            &mut |_| {},
-            &AtomicBool::new(false),
-        )
-    };
+    let mut opts = stream_options(&link, language, flow, device);
+    let plot = |opts: &StreamOptions| plot_job(&text, &job_path, opts);
     let first = plot(&opts);
     assert!(
         matches!(first, Err(StreamError::Vanished { .. })),
@@ -292,25 +306,8 @@ fn resuming_a_finished_job_sends_nothing_and_says_it_was_complete() {
     let emulator = Emulator::start(&link, config).unwrap();
     let job_path = dir.join(file);
     std::fs::write(&job_path, &text).unwrap();
-    let mut opts = StreamOptions {
-        device: false,
-        port: link.clone(),
-        baud: 115200,
-        language: Language::Hpgl,
-        flow: FlowMode::Query,
-        buffer: 1024,
-        resume: false,
-        answer_timeout: Duration::from_secs(5),
-    };
-    let plot = |opts: &StreamOptions| {
-        stream(
-            text.as_bytes(),
-            &job_path,
-            opts,
-            &mut |_| {},
-            &AtomicBool::new(false),
-        )
-    };
+    let mut opts = stream_options(&link, Language::Hpgl, FlowMode::Query, false);
+    let plot = |opts: &StreamOptions| plot_job(&text, &job_path, opts);
     plot(&opts).expect("the whole job plots");
     emulator.wait_idle(Duration::from_millis(300), Duration::from_secs(60));
     let received = emulator.state().received;

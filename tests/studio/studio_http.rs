@@ -203,44 +203,10 @@ fn hostile_uploads_and_a_fit_to_a_degenerate_target_leave_it_answering_within_a_
     let mut studio = StudioProcess::start_limited(&["patterns/miura.fold"], ADDRESS_SPACE_KB);
     // One face of 30,000 corners (ear clipping took 18 s) and 80,000 overlapping pieces of
     // one line (the arrangement took 27 s): refused at once, the design unchanged.
-    let n = 30_000;
-    let coords: Vec<[f64; 2]> = (0..n)
-        .map(|i| {
-            let t = std::f64::consts::TAU * i as f64 / n as f64;
-            [100.0 * t.cos(), 100.0 * t.sin()]
-        })
-        .collect();
-    let face = serde_json::json!({
-        "file_spec": 1.1,
-        "frame_classes": ["creasePattern"],
-        "vertices_coords": coords,
-        "edges_vertices": (0..n).map(|i| [i, (i + 1) % n]).collect::<Vec<_>>(),
-        "edges_assignment": vec!["B"; n],
-        "faces_vertices": [(0..n).collect::<Vec<_>>()],
-    })
-    .to_string();
-    let mut cp = String::from("1 0 0 100 100\n2 0 100 100 0\n");
-    for k in 0..80_000u64 {
-        let (a, b) = ((k * 7919) % 10_000, (k * 104_729) % 10_000);
-        cp.push_str(&format!(
-            "2 {} 50 {} 50\n",
-            a as f64 / 100.0,
-            b as f64 / 100.0
-        ));
-    }
+    let face = crate::hostile_inputs::one_face_fold(30_000, 1.0);
+    let cp = crate::hostile_inputs::collinear_pile_cp(80_000);
     // 3,000 long lines crossing about a million times (21 s and 600 MB).
-    let mut svg = String::from("<svg xmlns=\"http://www.w3.org/2000/svg\">\n");
-    for k in 0..3000u64 {
-        let c = |m: u64| ((k * 7919 + m * 104_729) * (m + 3)) % 20_000;
-        svg.push_str(&format!(
-            "<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"red\"/>\n",
-            c(0) as f64 / 100.0,
-            c(1) as f64 / 100.0,
-            c(2) as f64 / 100.0,
-            c(3) as f64 / 100.0
-        ));
-    }
-    svg.push_str("</svg>\n");
+    let svg = crate::hostile_inputs::crossing_lines_svg(3000);
     let before = still_answering(&mut studio);
     for (name, bytes) in [("face.fold", face), ("pile.cp", cp), ("zigzag.svg", svg)] {
         let path = format!("/api/open?name={name}");
