@@ -100,21 +100,7 @@ pub fn deform(args: DeformArgs) -> Result<u8, String> {
         keep_partial,
         output,
     } = args;
-    let mesh = file
-        .as_deref()
-        .map(io::read)
-        .transpose()
-        .map_err(|e| e.to_string())?;
-    let mut job = match &script {
-        Some(path) => {
-            let text = crease::io::read_file_text(path).map_err(|e| e.to_string())?;
-            let parsed = Script::parse(&text).map_err(|e| format!("{}: {e}", path.display()))?;
-            let dir = path.parent().unwrap_or(std::path::Path::new("."));
-            DesignJob::from_script(&parsed, dir, mesh)
-                .map_err(|e| format!("{}: {e}", path.display()))?
-        }
-        None => DesignJob::new(mesh.ok_or("give a pattern file or a --script")?),
-    };
+    let mut job = base_job(file.as_deref(), script.as_deref())?;
     if !drag.is_empty() {
         let moves = drag
             .iter()
@@ -149,7 +135,47 @@ pub fn deform(args: DeformArgs) -> Result<u8, String> {
     job.keep_outline = keep_outline;
     let flat_before = flat_size(&job.mesh);
     let source = script.as_deref().or(file.as_deref()).unwrap_or(&output);
-    let remedies = [
+    let remedies = remedies(&job, steps);
+    let outcome = match run_design(job, &mut progress_bar()) {
+        Ok(o) => o,
+        Err(e) => return design_failure(e, source, &remedies),
+    };
+    io::write(&outcome.mesh, &output).map_err(|e| e.to_string())?;
+    print_summary(&outcome, &output, asked_fold, job_remesh);
+    say_if_the_sheet_changed(flat_before, &outcome.mesh, keep_outline);
+    if let Some((stage, drag)) = outcome.stalled() {
+        eprintln!(
+            "error: stage {} did not finish ({}); {} holds the last state that held every condition",
+            stage + 1,
+            drag.refused.as_deref().unwrap_or("a step could not be corrected"),
+            output.display()
+        );
+        return Ok(1);
+    }
+    Ok(0)
+}
+
+/// The job of the pattern `file`, or of the `script` (on `file` when both are given).
+fn base_job(file: Option<&Path>, script: Option<&Path>) -> Result<DesignJob, String> {
+    let mesh = file.map(io::read).transpose().map_err(|e| e.to_string())?;
+    match script {
+        Some(path) => {
+            let text = crease::io::read_file_text(path).map_err(|e| e.to_string())?;
+            let parsed = Script::parse(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+            let dir = path.parent().unwrap_or(Path::new("."));
+            DesignJob::from_script(&parsed, dir, mesh)
+                .map_err(|e| format!("{}: {e}", path.display()))
+        }
+        None => Ok(DesignJob::new(
+            mesh.ok_or("give a pattern file or a --script")?,
+        )),
+    }
+}
+
+/// What to try when a drag's step cannot be corrected; what the run already set (by an
+/// option or its script) is not suggested again.
+fn remedies(job: &DesignJob, steps: Option<usize>) -> [Remedy; 4] {
+    [
         Remedy::new(
             match steps {
                 Some(n) => format!("a smaller move or more steps than --steps {n}"),
@@ -163,39 +189,33 @@ pub fn deform(args: DeformArgs) -> Result<u8, String> {
             "--keep-partial, which writes the last state that held every condition",
             false,
         ),
-    ];
-    let outcome = match run_design(job, &mut progress_bar()) {
-        Ok(o) => o,
-        Err(e) => return design_failure(e, source, &remedies),
+    ]
+}
+
+/// A note when design mode changed the flat sheet's size (`before`, mm) by more than
+/// [`OUTLINE_CHANGE_MM`], naming --keep-outline unless it was given.
+fn say_if_the_sheet_changed(
+    before: Option<crease::mesh::Vec2>,
+    after: &crease::mesh::Mesh,
+    keep_outline: bool,
+) {
+    let (Some(a), Some(b)) = (before, flat_size(after)) else {
+        return;
     };
-    io::write(&outcome.mesh, &output).map_err(|e| e.to_string())?;
-    print_summary(&outcome, &output, asked_fold, job_remesh);
-    if let (Some(a), Some(b)) = (flat_before, flat_size(&outcome.mesh)) {
-        if (a - b).abs().max() > OUTLINE_CHANGE_MM {
-            eprintln!(
-                "note: the sheet is {:.1} × {:.1} mm flat, where it was {:.1} × {:.1} mm: design mode frees lengths{}",
-                b.x,
-                b.y,
-                a.x,
-                a.y,
-                if keep_outline {
-                    ""
-                } else {
-                    " (--keep-outline holds the outline's angles and lengths)"
-                }
-            );
-        }
-    }
-    if let Some((stage, drag)) = outcome.stalled() {
+    if (a - b).abs().max() > OUTLINE_CHANGE_MM {
         eprintln!(
-            "error: stage {} did not finish ({}); {} holds the last state that held every condition",
-            stage + 1,
-            drag.refused.as_deref().unwrap_or("a step could not be corrected"),
-            output.display()
+            "note: the sheet is {:.1} × {:.1} mm flat, where it was {:.1} × {:.1} mm: design mode frees lengths{}",
+            b.x,
+            b.y,
+            a.x,
+            a.y,
+            if keep_outline {
+                ""
+            } else {
+                " (--keep-outline holds the outline's angles and lengths)"
+            }
         );
-        return Ok(1);
     }
-    Ok(0)
 }
 
 /// What the run did, on stderr: solver counters, a flat start, remeshing, and how close
