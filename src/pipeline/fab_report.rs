@@ -222,6 +222,15 @@ impl<'a> Run<'a> {
         summary
     }
 
+    /// How the template of a sheet that fits its media is tiled for a home printer
+    /// ([`crate::output::pdf::home_tiles`]): not for a two-sided job, whose template is
+    /// its page of steps. The paper, the tiles' margin and the pages.
+    pub fn home_tiles(&self) -> Option<(Media, f64, usize)> {
+        (!self.tiled && self.steps.is_empty())
+            .then(|| crate::output::pdf::home_tiles(self.sheet))
+            .flatten()
+    }
+
     /// The printable template: tiled over `page`s (or over A4 or Letter when the media is
     /// no paper a home printer takes, [`crate::output::pdf::home_paper_for`]); else the
     /// page to fold by (and for a two-sided job the page of steps), then the front job as
@@ -230,10 +239,8 @@ impl<'a> Run<'a> {
         let sheet = self.sheet;
         let tiles = if self.tiled {
             Some((page.clone(), sheet.margin))
-        } else if self.steps.is_empty() {
-            crate::output::pdf::home_tiles(sheet).map(|(paper, margin, _)| (paper, margin))
         } else {
-            None
+            self.home_tiles().map(|(paper, margin, _)| (paper, margin))
         };
         if let Some((page, margin)) = tiles {
             crate::output::pdf::to_bytes_tiled(

@@ -200,8 +200,10 @@ pub fn fabricate_verified(
     } else {
         mesh.title.as_str()
     };
-    let template_note = (!tiled && print.is_none() && steps.is_empty())
-        .then(|| crate::output::pdf::home_tiles(&sheet))
+    // A print-and-cut page is the printer's own page, never tiled.
+    let template_note = print
+        .is_none()
+        .then(|| run.home_tiles())
         .flatten()
         .map(|(paper, _, pages)| {
             format!(
