@@ -165,6 +165,15 @@ pub const STEPS: Range = Range {
     max: 100_000.0,
 };
 
+/// Steps of a folding motion (`crease animate --frames`): its frames are these and the
+/// flat sheet.
+pub const FRAMES: Range = Range {
+    what: "the number of frames",
+    unit: "",
+    min: 1.0,
+    max: 1_000.0,
+};
+
 /// A serial line's rate.
 pub const BAUD: Range = Range {
     what: "the baud rate",

@@ -53,6 +53,9 @@ enum Command {
     /// Fold a pattern in simulation mode (rigid panels), driving every crease toward a
     /// fraction of its target angle; or, with --flat, write its flat-folded state.
     Fold(cli::fold::FoldArgs),
+    /// Write the folding motion from the flat sheet to the design (the path `verify
+    /// --path` checks) as glTF (.glb, .gltf), a multi-frame FOLD or an animated PNG.
+    Animate(cli::animate::AnimateArgs),
     /// Vary a pattern by dragging vertices while the chosen conditions keep holding.
     #[command(after_help = DEFORM_RECIPES)]
     Deform(cli::deform::DeformArgs),
@@ -92,6 +95,11 @@ enum Command {
         /// when the search stops).
         #[arg(long)]
         assign: bool,
+        /// Write a FOLD design with its crease pattern as frame 0 and its 3D form in the
+        /// frame after it, the order Origami Simulator, Rabbit Ear and ORIPA open
+        /// (crease writes the 3D form first by default and reads both).
+        #[arg(long)]
+        crease_pattern_first: bool,
     },
 }
 
@@ -167,6 +175,7 @@ fn run(cli: Cli) -> Result<u8, String> {
         Command::Info(args) => cli::verify::info(args),
         Command::Verify(args) => cli::verify::verify(args),
         Command::Fold(args) => cli::fold::fold(args),
+        Command::Animate(args) => cli::animate::animate(args),
         Command::Deform(args) => cli::deform::deform(args),
         Command::Fit(args) => cli::fit::fit(args),
         Command::Surface(args) => cli::fit::surface(args),
@@ -180,6 +189,7 @@ fn run(cli: Cli) -> Result<u8, String> {
             input,
             output,
             assign,
-        } => cli::convert(&input, &output, assign),
+            crease_pattern_first,
+        } => cli::convert(&input, &output, assign, crease_pattern_first),
     }
 }

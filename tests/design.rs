@@ -7,6 +7,8 @@ mod common;
 
 #[path = "design/anchors.rs"]
 mod anchors;
+#[path = "design/animate.rs"]
+mod animate;
 #[path = "design/constraints.rs"]
 mod constraints;
 #[path = "design/design_scripts.rs"]

@@ -1,6 +1,7 @@
 //! Helpers of the `crease` binary: argument types, output, progress bars. (Part of the
 //! binary, not of the library.)
 
+pub mod animate;
 pub mod deform;
 pub mod fab;
 pub mod fit;
@@ -254,12 +255,30 @@ fn join_or(items: &[&str]) -> String {
 
 /// `crease convert`: any format to any other ([`crease::pipeline::convert`]); exit 1
 /// when `--assign` finds no assignment, 3 when its search stops.
-pub fn convert(input: &Path, output: &Path, assign: bool) -> Result<u8, String> {
+pub fn convert(
+    input: &Path,
+    output: &Path,
+    assign: bool,
+    crease_pattern_first: bool,
+) -> Result<u8, String> {
     let imported = io::read_with_notes(input).map_err(|e| e.to_string())?;
     for note in &imported.notes {
         eprintln!("note: {note}");
     }
     let format = io::Format::from_path(output).map_err(|e| e.to_string())?;
+    if crease_pattern_first {
+        if format != io::Format::Fold || assign {
+            return Err(format!(
+                "{}: --crease-pattern-first writes a FOLD design (a .fold output, without --assign)",
+                output.display()
+            ));
+        }
+        let text = crease::pipeline::crease_pattern_first(imported.mesh)
+            .map_err(|e| format!("{}: {e}", input.display()))?;
+        io::write_atomic(output, text.as_bytes()).map_err(|e| e.to_string())?;
+        eprintln!("wrote {} (frame 0 the crease pattern)", output.display());
+        return Ok(0);
+    }
     let budget = crease::fab::Budget::search(crease::limits::DEFAULT_SEARCH_TIME);
     let converted = match crease::pipeline::convert(imported.mesh, format, assign, &budget) {
         Ok(c) => c,

@@ -104,7 +104,8 @@ pub fn verify(args: VerifyArgs) -> Result<u8, String> {
         .map_err(|e| e.to_string())?;
     let states = cap.map(|cap| fab::count_flat_states(&mesh, &budget, cap));
     let collides = matches!(&path, Some(Ok(p)) if p.collision.is_some());
-    let path_undecided = matches!(&path, Some(Err(_)));
+    let path_undecided =
+        matches!(&path, Some(Err(_))) || matches!(&path, Some(Ok(p)) if p.short.is_some());
     if args.json {
         let mut value = report.to_json();
         value["import_notes"] = serde_json::json!(imported.notes);

@@ -4,6 +4,7 @@
 
 pub mod colour;
 pub mod dxf;
+pub mod gltf;
 pub mod gpgl;
 pub mod hpgl;
 pub mod pdf;

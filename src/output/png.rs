@@ -105,6 +105,8 @@ pub struct DesignCamera {
     pub px_per_mm: f64,
     /// The point of space drawn at the picture's centre.
     pub centre: Vec3,
+    /// The picture's width and height, px.
+    pub size_px: [u32; 2],
 }
 
 /// How far above the horizon `design-side.png` looks from, radians: enough to show the
@@ -148,6 +150,11 @@ impl DesignCamera {
 
     /// Frames `points` seen from `view` (a unit vector, not vertical).
     pub fn framing_from(points: &[Vec3], view: Vec3) -> DesignCamera {
+        DesignCamera::framing_sized(points, view, DESIGN_SIZE_PX)
+    }
+
+    /// Frames `points` seen from `view` in a picture of `size_px`.
+    pub fn framing_sized(points: &[Vec3], view: Vec3, size_px: [u32; 2]) -> DesignCamera {
         let right = Vec3::z().cross(&view).normalize();
         let up = view.cross(&right);
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
@@ -157,7 +164,7 @@ impl DesignCamera {
                 hi[k] = hi[k].max(p.dot(axis));
             }
         }
-        let [pw, ph] = DESIGN_SIZE_PX.map(f64::from);
+        let [pw, ph] = size_px.map(f64::from);
         let span = [(hi[0] - lo[0]).max(1e-9), (hi[1] - lo[1]).max(1e-9)];
         let px_per_mm = (0.88 * pw / span[0]).min(0.88 * ph / span[1]);
         let centre = right * (lo[0] + hi[0]) / 2.0 + up * (lo[1] + hi[1]) / 2.0;
@@ -166,12 +173,13 @@ impl DesignCamera {
             up,
             px_per_mm,
             centre,
+            size_px,
         }
     }
 
     /// Where `p` is drawn, px from the top-left corner.
     pub fn screen(&self, p: Vec3) -> (f32, f32) {
-        let [pw, ph] = DESIGN_SIZE_PX.map(f64::from);
+        let [pw, ph] = self.size_px.map(f64::from);
         let d = p - self.centre;
         (
             (pw / 2.0 + d.dot(&self.right) * self.px_per_mm) as f32,
@@ -200,8 +208,69 @@ pub fn design_side(mesh: &Mesh) -> Result<Vec<u8>, String> {
 fn design_from(mesh: &Mesh, view: Vec3) -> Result<Vec<u8>, String> {
     let x = mesh.positions();
     let camera = DesignCamera::framing_from(x, view);
+    paint_design(mesh, x, &camera, view)?
+        .encode_png()
+        .map_err(|e| e.to_string())
+}
+
+/// Size of one frame of `motion.png`, px.
+pub const MOTION_SIZE_PX: [u32; 2] = [600, 450];
+
+/// Milliseconds each frame of `motion.png` shows, and the last one (the design) longer.
+pub const MOTION_FRAME_MS: u16 = 67;
+/// How long `motion.png` holds the design before it plays again.
+pub const MOTION_HOLD_MS: u16 = 1500;
+
+/// `motion.png`: an animated PNG (APNG, which every browser plays) of `frames`, each
+/// every vertex of `sheet` placed (mm), painted as [`design`] paints the design, seen
+/// from [`design_view`] by one camera framing every frame, so the sheet does not jump.
+/// It plays on a loop and holds the last frame; a viewer without APNG shows frame 0.
+pub fn motion(sheet: &Mesh, frames: &[Vec<Vec3>]) -> Result<Vec<u8>, String> {
+    let all: Vec<Vec3> = frames.iter().flatten().copied().collect();
+    let view = design_view();
+    let camera = DesignCamera::framing_sized(&all, view, MOTION_SIZE_PX);
+    let [w, h] = MOTION_SIZE_PX;
+    let mut bytes = Vec::new();
+    {
+        let mut encoder = ::png::Encoder::new(&mut bytes, w, h);
+        encoder.set_color(::png::ColorType::Rgba);
+        encoder.set_depth(::png::BitDepth::Eight);
+        let count = u32::try_from(frames.len()).map_err(|_| "too many frames")?;
+        encoder
+            .set_animated(count.max(1), 0)
+            .map_err(|e| format!("motion.png: {e}"))?;
+        let mut writer = encoder
+            .write_header()
+            .map_err(|e| format!("motion.png: {e}"))?;
+        for (k, x) in frames.iter().enumerate() {
+            let delay = if k + 1 == frames.len() {
+                MOTION_HOLD_MS
+            } else {
+                MOTION_FRAME_MS
+            };
+            writer
+                .set_frame_delay(delay, 1000)
+                .map_err(|e| format!("motion.png: {e}"))?;
+            // Opaque throughout, so tiny-skia's premultiplied pixels are plain RGBA.
+            let pixmap = paint_design(sheet, x, &camera, view)?;
+            writer
+                .write_image_data(pixmap.data())
+                .map_err(|e| format!("motion.png: {e}"))?;
+        }
+        writer.finish().map_err(|e| format!("motion.png: {e}"))?;
+    }
+    Ok(bytes)
+}
+
+/// `mesh` with its vertices at `x`, painted far to near from `view` (see [`design`]).
+fn paint_design(
+    mesh: &Mesh,
+    x: &[Vec3],
+    camera: &DesignCamera,
+    view: Vec3,
+) -> Result<Pixmap, String> {
     let light = (view + Vec3::new(-0.3, 0.2, 0.4)).normalize();
-    let [pw, ph] = DESIGN_SIZE_PX;
+    let [pw, ph] = camera.size_px;
     let mut pixmap = Pixmap::new(pw, ph).ok_or("no pixmap")?;
     let [r, g, b] = DESIGN_BACKGROUND;
     pixmap.fill(Color::from_rgba8(r, g, b, 255));
@@ -269,5 +338,5 @@ fn design_from(mesh: &Mesh, view: Vec3) -> Result<Vec<u8>, String> {
             }
         }
     }
-    pixmap.encode_png().map_err(|e| e.to_string())
+    Ok(pixmap)
 }

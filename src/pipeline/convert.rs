@@ -63,6 +63,20 @@ impl ConvertError {
     }
 }
 
+/// A design as FOLD text with frame 0 its crease pattern and its 3D form in the frame
+/// after it, as Origami Simulator, Rabbit Ear and ORIPA open it (`convert
+/// --crease-pattern-first`); a 3D-only design is unfolded for it first.
+pub fn crease_pattern_first(mut mesh: Mesh) -> Result<String, ConvertError> {
+    if mesh.flat().is_none() && !mesh.is_tube() {
+        let flat = crate::fab::unfold(&mesh).map_err(|cause| ConvertError::Unfold {
+            what: "a 3D-only design with no crease pattern",
+            cause,
+        })?;
+        mesh.set_flat(flat);
+    }
+    Ok(crate::io::fold::to_string_crease_pattern_first(&mesh))
+}
+
 /// `mesh` made ready to be written as `format`; with `assign`, its unassigned creases
 /// given sides first (within `budget`).
 pub fn convert(

@@ -7,19 +7,26 @@ mod fab_options;
 mod fab_report;
 mod fabricate;
 mod fit;
+mod motion;
 mod path;
 mod report_json;
 mod script;
 mod tube;
 
-pub use convert::{convert, with_sides_found, ConvertError, Converted};
+pub use convert::{convert, crease_pattern_first, with_sides_found, ConvertError, Converted};
 pub use fab_options::{FabOptions, GLUE_TAB_MM, MIN_WIDTH_MM, TILE_OVERLAP_MM};
 pub use fabricate::{
     fabricate, fabricate_verified, remove_stale_outputs, FabError, FabOutput, NextSteps, Rejected,
     OUTPUT_FILES,
 };
 pub use fit::{BlockedBy, ConditionResidual, Distances, FitReport, FitStage, PlacementRecord};
-pub use path::{folding_path, PathCollision, PathReport, PATH_STEPS};
+pub use motion::{
+    fold_motion, motion_files, out_of_plane, panels, Motion, MotionFormat, PanelBending,
+    MAX_FRAME_VERTICES, RIGID_PANEL_MM,
+};
+pub use path::{
+    foldable_sheet, folding_path, PathCollision, PathReport, PathShort, PATH_STEPS, REACHED_RADIANS,
+};
 pub use report_json::{
     DesignPreview, FabReport, HingeFold, HingeReport, MediaReport, PlotterReport, PreviewsReport,
     SheetPreview, SheetReport, TwoSidedReport, UnscoredCrease,

@@ -1,5 +1,6 @@
-//! FOLD 1.1 (JSON). Frame 0 holds the 3D folded form; a `creasePattern` frame holds the
-//! flat positions of the same vertices. Angles on disk are FOLD's: degrees, valley
+//! FOLD 1.1 (JSON). Frame 0 holds the 3D folded form (or, as other tools write it, the
+//! crease pattern, the folded form in a later frame: the last one is read); a
+//! `creasePattern` frame holds the flat positions of the same vertices. Angles on disk are FOLD's: degrees, valley
 //! positive. This module is the one place where they are converted to the paper's radians.
 
 use super::planar::{mesh_from_segments, Segment};
@@ -15,7 +16,9 @@ mod seam;
 mod source;
 mod write;
 pub use source::SourceRecord;
-pub use write::{to_string, to_string_with_orders};
+pub use write::{
+    motion_to_string, to_string, to_string_crease_pattern_first, to_string_with_orders,
+};
 
 /// FOLD degrees (valley positive) to paper radians (mountain positive).
 pub fn angle_from_fold(degrees: f64) -> f64 {
@@ -412,9 +415,12 @@ fn layouts(frames: &[Frame], face_lists: &[Vec<usize>]) -> Result<Layouts, Strin
         .filter(with_coords)
         .find(|&k| frames[k].has_class("creasePattern"))
         .map(|k| resolved(frames, k));
+    // The last folded frame: a design (crease's own order, or the crease pattern first
+    // as other tools want) has one, and a motion (`crease animate`, ORIPA's folded
+    // states) ends at its folded form.
     let folded_frame = (0..frames.len())
         .filter(with_coords)
-        .find(|&k| !frames[k].has_class("creasePattern"))
+        .rfind(|&k| !frames[k].has_class("creasePattern"))
         .map(|k| resolved(frames, k));
     let mut flat: Option<Vec<Vec2>> = None;
     let mut folded: Option<Vec<Vec3>> = None;

@@ -47,15 +47,47 @@ pub fn to_string(mesh: &Mesh) -> String {
 /// A tube is written as its strip with `crease:seam` (see `io::fold::seam`).
 pub fn to_string_with_orders(mesh: &Mesh, orders: Option<&[[i64; 3]]>) -> String {
     match super::seam::strip_for_writing(mesh) {
-        Some((strip, seam)) => write(&strip, orders, Some(seam)),
-        None => write(mesh, orders, None),
+        Some((strip, seam)) => write(&strip, orders, Some(seam), None),
+        None => write(mesh, orders, None, None),
     }
 }
 
-fn write(mesh: &Mesh, orders: Option<&[[i64; 3]]>, seam: Option<Vec<String>>) -> String {
+/// A design as the tools that read only frame 0 open it (Origami Simulator, Rabbit Ear,
+/// ORIPA, which refuses a frame 0 not classed `creasePattern`): frame 0 the crease
+/// pattern, the 3D form in the frame after it. crease reads both orders. A design without
+/// a crease pattern is written as [`to_string`] writes it.
+pub fn to_string_crease_pattern_first(mesh: &Mesh) -> String {
+    if mesh.flat().is_none() || !mesh.has_3d() {
+        return to_string(mesh);
+    }
+    match super::seam::strip_for_writing(mesh) {
+        Some((strip, seam)) => {
+            let states = [strip.positions().to_vec()];
+            write(&strip, None, Some(seam), Some(&states))
+        }
+        None => write(mesh, None, None, Some(&[mesh.positions().to_vec()])),
+    }
+}
+
+/// A folding motion as a multi-frame FOLD: frame 0 the sheet's crease pattern, then each
+/// of `states` (every vertex's 3D position, mm) as a `foldedForm` frame inheriting the
+/// edges and faces from frame 0 (FOLD's `frame_inherit`), as ORIPA writes its folded
+/// states.
+pub fn motion_to_string(sheet: &Mesh, states: &[Vec<crate::mesh::Vec3>]) -> String {
+    write(sheet, None, None, Some(states))
+}
+
+/// Writes `mesh`; with `states`, frame 0 is its crease pattern and the states follow it
+/// (else frame 0 is its 3D form when it has one and the crease pattern follows).
+fn write(
+    mesh: &Mesh,
+    orders: Option<&[[i64; 3]]>,
+    seam: Option<Vec<String>>,
+    states: Option<&[Vec<crate::mesh::Vec3>]>,
+) -> String {
     let source = SourceRecord::of(mesh);
     let mut w = Fields(String::from("{\n"));
-    let scale = write_frame(&mut w, mesh, source);
+    let scale = write_frame(&mut w, mesh, source, states.is_some());
     let faces = Faces::of(mesh);
     write_edges(&mut w, mesh, &faces);
     if mesh.lock_topology {
@@ -98,8 +130,12 @@ fn write(mesh: &Mesh, orders: Option<&[[i64; 3]]>, seam: Option<Vec<String>>) ->
             w.field(name, serde_json::to_string(value).expect("JSON value"));
         }
     }
-    let frames = match (mesh.has_3d(), mesh.flat()) {
-        (true, Some(flat)) => format!(
+    let frames = match (states, mesh.has_3d(), mesh.flat()) {
+        (Some(states), _, _) => {
+            let frames: Vec<String> = states.iter().map(|x| state_frame(x, scale)).collect();
+            format!("[\n    {}\n  ]", frames.join(",\n    "))
+        }
+        (None, true, Some(flat)) => format!(
             "[\n    {{\n      \"frame_classes\": [\"creasePattern\"],\n      \"frame_attributes\": [\"2D\"],\n      \"frame_inherit\": true,\n      \"frame_parent\": 0,\n      \"vertices_coords\": [\n        {}\n      ]\n    }}\n  ]",
             flat.iter()
                 .map(|p| format!("[{}, {}]", num(p.x / scale), num(p.y / scale)))
@@ -111,6 +147,25 @@ fn write(mesh: &Mesh, orders: Option<&[[i64; 3]]>, seam: Option<Vec<String>>) ->
     let mut out = w.0;
     let _ = write!(out, "  \"file_frames\": {frames}\n}}\n");
     out
+}
+
+/// A 3D state as a frame inheriting everything else from frame 0.
+fn state_frame(x: &[crate::mesh::Vec3], scale: f64) -> String {
+    let coords: Vec<String> = x
+        .iter()
+        .map(|p| {
+            format!(
+                "[{}, {}, {}]",
+                num(p.x / scale),
+                num(p.y / scale),
+                num(p.z / scale)
+            )
+        })
+        .collect();
+    format!(
+        "{{\n      \"frame_classes\": [\"foldedForm\"],\n      \"frame_attributes\": [\"3D\"],\n      \"frame_inherit\": true,\n      \"frame_parent\": 0,\n      \"vertices_coords\": [\n        {}\n      ]\n    }}",
+        coords.join(",\n        ")
+    )
 }
 
 /// The top-level fields of a FOLD object being written, one per line.
@@ -146,8 +201,15 @@ fn id_list(ids: &[usize]) -> String {
 
 /// The file's description, frame 0's classes and unit, and the vertices in that unit;
 /// returns the unit in millimetres. An unchanged mesh keeps the file's own frame
-/// description and coordinates.
-fn write_frame(w: &mut Fields, mesh: &Mesh, source: Option<&SourceRecord>) -> f64 {
+/// description and coordinates. With `crease_pattern`, frame 0 is the crease pattern
+/// whatever else the mesh has.
+fn write_frame(
+    w: &mut Fields,
+    mesh: &Mesh,
+    source: Option<&SourceRecord>,
+    crease_pattern: bool,
+) -> f64 {
+    let as_3d = mesh.has_3d() && !crease_pattern;
     w.field("file_spec", "1.1".into());
     w.field("file_creator", "\"crease\"".into());
     w.field("file_classes", "[\"singleModel\"]".into());
@@ -157,12 +219,12 @@ fn write_frame(w: &mut Fields, mesh: &Mesh, source: Option<&SourceRecord>) -> f6
     if !mesh.title.is_empty() {
         w.field("frame_title", serde_json::to_string(&mesh.title).unwrap());
     }
-    let (class, attr) = if mesh.has_3d() {
+    let (class, attr) = if as_3d {
         ("foldedForm", "3D")
     } else {
         ("creasePattern", "2D")
     };
-    let verbatim = source.filter(|s| s.describes(mesh) && !s.frame.is_empty());
+    let verbatim = source.filter(|s| s.describes(mesh) && !s.frame.is_empty() && !crease_pattern);
     let given = |name: &str| {
         verbatim
             .and_then(|s| s.frame.iter().find(|(n, _)| n == name))
@@ -185,7 +247,7 @@ fn write_frame(w: &mut Fields, mesh: &Mesh, source: Option<&SourceRecord>) -> f6
         w.field("frame_unit", serde_json::to_string(u).unwrap());
     }
     let scale = unit_scale(unit.as_deref()).unwrap_or(1.0);
-    let coords: Vec<String> = if mesh.has_3d() {
+    let coords: Vec<String> = if as_3d {
         mesh.positions()
             .iter()
             .map(|p| {

@@ -1,0 +1,386 @@
+//! The folding motion (issue 49): every frame of `fold_motion` checked against the flat
+//! sheet, the design and the sheet's edge lengths; its glTF checked by the Khronos glTF
+//! validator and read back by the `gltf` crate; its multi-frame FOLD opened by Rabbit Ear
+//! (both installed by tests/run into tests/js); its animated PNG decoded by the png crate.
+
+use crate::common;
+use crease::mesh::{Mesh, Vec3};
+use crease::pipeline::{fold_motion, motion_files, Motion};
+use std::path::{Path, PathBuf};
+
+fn repo(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
+}
+
+fn motion_of(rel: &str, steps: usize) -> (Mesh, Motion) {
+    let design = crease::io::read(&repo(rel)).unwrap_or_else(|e| panic!("{rel}: {e}"));
+    let motion =
+        fold_motion(&design, steps, &mut |_, _, _| {}).unwrap_or_else(|e| panic!("{rel}: {e}"));
+    (design, motion)
+}
+
+/// The largest difference of the distances between every two vertices of `a` and of `b`:
+/// zero exactly when the two are the same up to a rigid motion (or a reflection).
+fn congruence_gap(a: &[Vec3], b: &[Vec3]) -> f64 {
+    let mut worst: f64 = 0.0;
+    for i in 0..a.len() {
+        for j in i + 1..a.len() {
+            worst = worst.max(((a[i] - a[j]).norm() - (b[i] - b[j]).norm()).abs());
+        }
+    }
+    worst
+}
+
+/// Runs a script of tests/js under node and parses what it prints.
+fn node(script: &str, file: &Path) -> serde_json::Value {
+    let out = std::process::Command::new("node")
+        .arg(repo("tests/js").join(script))
+        .arg(file)
+        .output()
+        .expect("node runs (tests/run installs it and tests/js's packages)");
+    assert!(
+        out.status.success(),
+        "{script}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+/// Writes `motion` as `name` in a scratch folder; the main file's path.
+fn written(motion: &Motion, name: &str) -> PathBuf {
+    let path = common::scratch_file("animate", name, "");
+    for (file, bytes) in motion_files(motion, &path).unwrap() {
+        std::fs::write(file, bytes).unwrap();
+    }
+    path
+}
+
+#[test]
+fn the_motion_starts_flat_ends_at_the_design_and_keeps_every_length() {
+    // A Miura-ori bent in design mode, the folded waterbomb, a curved crease and a tube
+    // (folded as its strip, whose seam closes at the end).
+    for rel in [
+        "patterns/miura-bent.fold",
+        "patterns/waterbomb-folded.fold",
+        "patterns/arc.fold",
+        "patterns/waterbomb-tube-bent.fold",
+    ] {
+        let (design, motion) = motion_of(rel, 10);
+        let report = motion
+            .report
+            .as_ref()
+            .unwrap_or_else(|e| panic!("{rel}: {e}"));
+        assert!(report.is_clear(), "{rel}: {report}");
+        assert_eq!(motion.frames.len(), 11, "{rel}");
+        let sheet = &motion.sheet;
+        let flat: Vec<Vec3> = sheet
+            .flat()
+            .unwrap()
+            .iter()
+            .map(|p| Vec3::new(p.x, p.y, 0.0))
+            .collect();
+        let first = &motion.frames[0];
+        assert!(
+            congruence_gap(first, &flat) < 1e-6,
+            "{rel}: frame 0 is not the flat sheet"
+        );
+        let last = motion.frames.last().unwrap();
+        let end = last
+            .iter()
+            .zip(sheet.positions())
+            .map(|(p, q)| (p - q).norm())
+            .fold(0.0, f64::max);
+        assert!(
+            end < 1e-6,
+            "{rel}: the last frame is {end} mm from the design"
+        );
+        if design.is_tube() {
+            // The strip's two copies of each seam vertex meet again.
+            assert!(sheet.vertex_count() > design.vertex_count(), "{rel}");
+        } else {
+            assert_eq!(sheet.positions(), design.positions(), "{rel}");
+        }
+        for (k, x) in motion.frames.iter().enumerate() {
+            for edge in sheet.edges() {
+                let [a, b] = edge.vertices;
+                let now = (x[a] - x[b]).norm();
+                let drawn = (flat[a] - flat[b]).norm();
+                assert!(
+                    (now - drawn).abs() <= 1e-6 * drawn,
+                    "{rel}: frame {k} stretches edge {a}-{b}: {now} mm, drawn {drawn} mm"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn the_gltf_validates_and_reads_back_as_the_frames() {
+    let (_, motion) = motion_of("patterns/miura-bent.fold", 8);
+    for name in ["miura-bent.glb", "miura-bent.gltf"] {
+        let path = written(&motion, name);
+        let report = node("validate-gltf.mjs", &path);
+        assert_eq!(report["errors"], 0, "{name}: {report}");
+        assert_eq!(report["warnings"], 0, "{name}: {report}");
+        assert_eq!(report["animations"], 1, "{name}: {report}");
+        assert_eq!(report["morphed"], true, "{name}: {report}");
+    }
+    let bytes = std::fs::read(written(&motion, "read-back.glb")).unwrap();
+    let gltf = gltf::Gltf::from_slice(&bytes).unwrap();
+    let blob = gltf.blob.clone().unwrap();
+    let node = gltf.nodes().find(|n| n.mesh().is_some()).unwrap();
+    let t = node.transform().decomposed().0;
+    let centre = Vec3::new(t[0] as f64, t[1] as f64, t[2] as f64);
+    let mesh = node.mesh().unwrap();
+    // Single precision about the centre: each coordinate within a few units in the last
+    // place of the sheet's extent (the frame is its base plus its target, both rounded).
+    let extent = motion
+        .frames
+        .iter()
+        .flatten()
+        .map(|p| (p - centre).norm())
+        .fold(0.0, f64::max);
+    let allowed = 4.0 * f64::from(f32::EPSILON) * extent;
+    let mut sides = Vec::new();
+    for primitive in mesh.primitives() {
+        let reader = primitive.reader(|_| Some(&blob));
+        let base: Vec<[f32; 3]> = reader.read_positions().unwrap().collect();
+        let targets: Vec<Vec<[f32; 3]>> = reader
+            .read_morph_targets()
+            .map(|(p, _, _)| p.unwrap().collect())
+            .collect();
+        assert_eq!(targets.len(), motion.frames.len() - 1);
+        for (k, frame) in motion.frames.iter().enumerate() {
+            for (v, want) in frame.iter().enumerate() {
+                let mut got = Vec3::new(base[v][0].into(), base[v][1].into(), base[v][2].into());
+                if k > 0 {
+                    let d = targets[k - 1][v];
+                    got += Vec3::new(d[0].into(), d[1].into(), d[2].into());
+                }
+                let err = (got + centre - want).norm();
+                assert!(
+                    err <= allowed,
+                    "frame {k} vertex {v}: {err} mm off (allowed {allowed})"
+                );
+            }
+        }
+        if primitive.mode() == gltf::mesh::Mode::Triangles {
+            let indices: Vec<u32> = reader.read_indices().unwrap().into_u32().collect();
+            sides.push((primitive.material().name().unwrap().to_string(), indices));
+        }
+    }
+    // Both sides of the paper, each face once, wound opposite ways.
+    assert_eq!(sides.len(), 2);
+    let faces = motion.sheet.faces().len();
+    assert_eq!((sides[0].1.len(), sides[1].1.len()), (3 * faces, 3 * faces));
+    assert_eq!(
+        sides[0].1[0..3],
+        [sides[1].1[0], sides[1].1[2], sides[1].1[1]]
+    );
+    assert_ne!(sides[0].0, sides[1].0);
+    // The animation holds frame k at key k: one target weighs 1 there.
+    let animation = gltf.animations().next().unwrap();
+    let channel = animation.channels().next().unwrap();
+    let reader = channel.reader(|_| Some(&blob));
+    let times: Vec<f32> = reader.read_inputs().unwrap().collect();
+    assert_eq!(times.len(), motion.frames.len());
+    let Some(gltf::animation::util::ReadOutputs::MorphTargetWeights(weights)) =
+        reader.read_outputs()
+    else {
+        panic!("the animation drives the morph weights");
+    };
+    let weights: Vec<f32> = weights.into_f32().collect();
+    let n = motion.frames.len() - 1;
+    for k in 0..=n {
+        let row = &weights[k * n..(k + 1) * n];
+        let ones: Vec<usize> = (0..n).filter(|&j| row[j] == 1.0).collect();
+        let want: Vec<usize> = if k == 0 { vec![] } else { vec![k - 1] };
+        assert_eq!(ones, want, "key {k}");
+        assert_eq!(
+            row.iter().filter(|&&w| w != 0.0).count(),
+            want.len(),
+            "key {k}"
+        );
+    }
+}
+
+#[test]
+fn the_multi_frame_fold_opens_in_rabbit_ear_crease_pattern_first() {
+    let (design, motion) = motion_of("patterns/waterbomb-folded.fold", 6);
+    let path = written(&motion, "waterbomb.fold");
+    let frames = node("read-fold-frames.cjs", &path);
+    let frames = frames.as_array().unwrap();
+    assert_eq!(frames.len(), motion.frames.len() + 1);
+    let flat = motion.sheet.flat().unwrap();
+    let cp = &frames[0];
+    assert_eq!(cp["classes"], serde_json::json!(["creasePattern"]), "{cp}");
+    assert_eq!(cp["folded"], false);
+    assert_eq!(cp["valid"]["summary"], "valid", "{}", cp["valid"]);
+    assert!(cp["faces"].as_u64().unwrap() > 0);
+    for (v, p) in cp["vertices"].as_array().unwrap().iter().enumerate() {
+        let p: Vec<f64> = serde_json::from_value(p.clone()).unwrap();
+        assert_eq!(p.len(), 2, "frame 0 is flat, two coordinates a vertex");
+        assert!((p[0] - flat[v].x).abs() < 1e-9 && (p[1] - flat[v].y).abs() < 1e-9);
+    }
+    for (k, frame) in frames[1..].iter().enumerate() {
+        assert_eq!(frame["folded"], true, "frame {}", k + 1);
+        assert_eq!(frame["valid"]["summary"], "valid");
+        assert_eq!(
+            frame["edges"],
+            cp["edges"],
+            "frame {} inherits the edges",
+            k + 1
+        );
+        for (v, p) in frame["vertices"].as_array().unwrap().iter().enumerate() {
+            let p: Vec<f64> = serde_json::from_value(p.clone()).unwrap();
+            let want = motion.frames[k][v];
+            assert!(
+                (Vec3::new(p[0], p[1], p[2]) - want).norm() < 1e-9,
+                "frame {}",
+                k + 1
+            );
+        }
+    }
+    // crease reads the motion back as the design it ends at, with its crease pattern.
+    let back = crease::io::read(&path).unwrap();
+    let gap = back
+        .positions()
+        .iter()
+        .zip(design.positions())
+        .map(|(p, q)| (p - q).norm())
+        .fold(0.0, f64::max);
+    assert!(gap < 1e-9, "{gap}");
+    assert_eq!(back.flat().unwrap(), flat);
+}
+
+#[test]
+fn a_design_written_crease_pattern_first_reads_back_the_same() {
+    let design = crease::io::read(&repo("patterns/miura-bent.fold")).unwrap();
+    let text = crease::io::fold::to_string_crease_pattern_first(&design);
+    let value: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(value["frame_classes"], serde_json::json!(["creasePattern"]));
+    assert_eq!(
+        value["file_frames"][0]["frame_classes"],
+        serde_json::json!(["foldedForm"])
+    );
+    let back = crease::io::fold::parse(&text).unwrap();
+    assert_eq!(back.positions(), design.positions());
+    assert_eq!(back.flat(), design.flat());
+    assert_eq!(back.edges().len(), design.edges().len());
+}
+
+#[test]
+fn a_blocked_path_ends_the_motion_where_the_flaps_collide() {
+    // Two flaps, both mountain to 170°, swing behind the middle panel and must pass
+    // through each other past 90° (see layers.rs's path test).
+    let strip = r#"{"file_spec": 1.1, "frame_classes": ["creasePattern"],
+ "vertices_coords": [[0,0],[30,0],[40,0],[70,0],[0,10],[30,10],[40,10],[70,10]],
+ "faces_vertices": [[0,1,5,4],[1,2,6,5],[2,3,7,6]],
+ "edges_vertices": [[0,1],[1,2],[2,3],[3,7],[7,6],[6,5],[5,4],[4,0],[1,5],[2,6]],
+ "edges_assignment": ["B","B","B","B","B","B","B","B","M","M"],
+ "edges_foldAngle": [0,0,0,0,0,0,0,0,-170,-170]}"#;
+    let file = common::scratch_file("animate", "flaps.fold", strip);
+    let design = crease::io::read(&file).unwrap();
+    let motion = fold_motion(&design, 20, &mut |_, _, _| {}).unwrap();
+    let report = motion.report.as_ref().unwrap();
+    let hit = report.collision.as_ref().expect("the flaps collide");
+    assert_eq!(
+        motion.frames.len(),
+        hit.step + 1,
+        "the motion ends at the blocking frame"
+    );
+    assert!(hit.step < 20);
+    assert_eq!(motion.exit_code(), 1);
+    let out = common::scratch_file("animate", "flaps.glb", "");
+    let (code, stdout, stderr) = common::run_crease(&[
+        "animate",
+        file.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--frames",
+        "20",
+    ]);
+    assert_eq!(code, 1, "{stdout}{stderr}");
+    let named = format!("faces {} and {}", hit.faces.0, hit.faces.1);
+    assert!(
+        stdout.contains(&named) && stdout.contains("pass through each other"),
+        "{stdout}"
+    );
+    assert!(
+        std::fs::metadata(&out).unwrap().len() > 0,
+        "the motion up to the block is written"
+    );
+}
+
+#[test]
+fn the_square_twist_bends_its_panels_and_the_miura_ori_folds_rigidly() {
+    let (_, twist) = motion_of("tests/data/origamisimulator/singlesquaretwist.svg", 10);
+    assert!(twist.report.as_ref().unwrap().panels_bend);
+    assert!(!twist.bending.is_rigid(), "{}", twist.bending);
+    assert!(twist.bending.deviation_mm > 1.0, "{}", twist.bending);
+    assert!(
+        twist.summary().contains("not rigid-foldable"),
+        "{}",
+        twist.summary()
+    );
+    // The bending measured is the panel's own: its vertices' distance from their plane
+    // in the frame named, recomputed here from the frame.
+    let panel = crease::pipeline::panels(&twist.sheet)
+        .into_iter()
+        .find(|(face, _)| *face == twist.bending.face)
+        .unwrap();
+    let x = &twist.frames[twist.bending.frame];
+    let d = crease::pipeline::out_of_plane(panel.1.iter().map(|&v| x[v]));
+    assert!((d - twist.bending.deviation_mm).abs() < 1e-9);
+
+    let (_, miura) = motion_of("patterns/miura.fold", 10);
+    assert!(!miura.report.as_ref().unwrap().panels_bend);
+    assert!(miura.bending.is_rigid(), "{}", miura.bending);
+    assert!(
+        miura.summary().contains("rigid-foldable"),
+        "{}",
+        miura.summary()
+    );
+}
+
+#[test]
+fn out_of_plane_is_the_distance_from_the_least_squares_plane() {
+    // A square whose corners are alternately h above and below its middle plane (a
+    // twisted quad, as a panel bent along its diagonal): by symmetry that plane is the
+    // least-squares one and every corner is h from it. Turned and moved anywhere, the
+    // same; flat, nothing.
+    let turn = nalgebra::Rotation3::from_euler_angles(0.3, -1.1, 2.0);
+    let shift = Vec3::new(5.0, -40.0, 12.0);
+    for h in [0.0, 0.1, 2.0] {
+        let corners = [
+            Vec3::new(0.0, 0.0, h),
+            Vec3::new(10.0, 0.0, -h),
+            Vec3::new(10.0, 10.0, h),
+            Vec3::new(0.0, 10.0, -h),
+        ];
+        let d = crease::pipeline::out_of_plane(corners.iter().map(|&p| turn * p + shift));
+        assert!((d - h).abs() < 1e-12, "h {h}: {d}");
+    }
+}
+
+#[test]
+fn the_animated_png_has_a_frame_for_every_state() {
+    let (_, motion) = motion_of("patterns/miura.fold", 5);
+    let path = written(&motion, "miura.png");
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&path).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let control = reader.info().animation_control.expect("an animated PNG");
+    assert_eq!(control.num_frames as usize, motion.frames.len());
+    let mut pixels = vec![0; reader.output_buffer_size()];
+    let mut drawn = Vec::new();
+    for _ in 0..control.num_frames {
+        reader.next_frame(&mut pixels).unwrap();
+        // Paper and creases cover part of the picture, the rest is background.
+        let background = crease::output::png::DESIGN_BACKGROUND;
+        let painted = pixels.chunks(4).filter(|p| p[..3] != background).count();
+        drawn.push(painted);
+    }
+    assert!(drawn.iter().all(|&n| n > 1000), "{drawn:?}");
+    // The sheet folds: the flat frame and the folded one cover different areas.
+    assert_ne!(drawn[0], *drawn.last().unwrap());
+}
