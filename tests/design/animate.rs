@@ -270,6 +270,33 @@ fn a_design_written_crease_pattern_first_reads_back_the_same() {
 }
 
 #[test]
+fn the_folded_form_read_is_the_last_frame_with_coordinates_of_its_own() {
+    // crease's order, then a folded frame that only inherits the crease pattern's
+    // coordinates (it says nothing new: the 3D form stays), then one with its own.
+    let design = crease::io::read(&repo("patterns/miura-bent.fold")).unwrap();
+    let mut value: serde_json::Value =
+        serde_json::from_str(&crease::io::fold::to_string(&design)).unwrap();
+    value["file_frames"]
+        .as_array_mut()
+        .unwrap()
+        .push(serde_json::json!(
+            {"frame_inherit": true, "frame_parent": 1, "frame_classes": ["foldedForm"]}
+        ));
+    let back = crease::io::fold::parse(&value.to_string()).unwrap();
+    assert_eq!(back.positions(), design.positions());
+    let lifted: Vec<[f64; 3]> = design
+        .positions()
+        .iter()
+        .map(|p| [p.x, p.y, p.z + 1.0])
+        .collect();
+    value["file_frames"].as_array_mut().unwrap().push(serde_json::json!(
+        {"frame_inherit": true, "frame_parent": 0, "frame_classes": ["foldedForm"], "vertices_coords": lifted}
+    ));
+    let back = crease::io::fold::parse(&value.to_string()).unwrap();
+    assert!((back.positions()[0].z - design.positions()[0].z - 1.0).abs() < 1e-9);
+}
+
+#[test]
 fn a_blocked_path_ends_the_motion_where_the_flaps_collide() {
     // Two flaps, both mountain to 170°, swing behind the middle panel and must pass
     // through each other past 90° (see layers.rs's path test).

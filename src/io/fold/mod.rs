@@ -415,12 +415,16 @@ fn layouts(frames: &[Frame], face_lists: &[Vec<usize>]) -> Result<Layouts, Strin
         .filter(with_coords)
         .find(|&k| frames[k].has_class("creasePattern"))
         .map(|k| resolved(frames, k));
-    // The last folded frame: a design (crease's own order, or the crease pattern first
-    // as other tools want) has one, and a motion (`crease animate`, ORIPA's folded
-    // states) ends at its folded form.
+    // The last folded frame with coordinates of its own: a design (crease's own order,
+    // or the crease pattern first as other tools want) has one, and a motion (`crease
+    // animate`, ORIPA's folded states) ends at its folded form. A folded frame that only
+    // inherits its coordinates says nothing new; the first such is read when no frame
+    // has its own.
+    let folded = |k: &usize| !frames[*k].has_class("creasePattern");
     let folded_frame = (0..frames.len())
-        .filter(with_coords)
-        .rfind(|&k| !frames[k].has_class("creasePattern"))
+        .filter(|&k| frames[k].vertices_coords.is_some())
+        .rfind(folded)
+        .or_else(|| (0..frames.len()).filter(with_coords).find(folded))
         .map(|k| resolved(frames, k));
     let mut flat: Option<Vec<Vec2>> = None;
     let mut folded: Option<Vec<Vec3>> = None;
