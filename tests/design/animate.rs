@@ -411,3 +411,30 @@ fn the_animated_png_has_a_frame_for_every_state() {
     // The sheet folds: the flat frame and the folded one cover different areas.
     assert_ne!(drawn[0], *drawn.last().unwrap());
 }
+
+#[test]
+fn bad_animate_requests_are_one_line_errors_and_write_nothing() {
+    let design = repo("patterns/miura.fold");
+    let design = design.to_str().unwrap();
+    let dir = common::scratch_file("animate", "placeholder", "");
+    let dir = dir.parent().unwrap();
+    for (out, frames, says) in [
+        ("motion.obj", "10", "give one of these extensions"),
+        ("zero.glb", "0", "--frames"),
+        ("huge.glb", "1000000000", "--frames"),
+    ] {
+        let path = dir.join(out);
+        let (code, stdout, stderr) = common::run_crease(&[
+            "animate",
+            design,
+            "-o",
+            path.to_str().unwrap(),
+            "--frames",
+            frames,
+        ]);
+        assert_eq!(code, 2, "{out}: {stdout}{stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(stderr.contains(says), "{out}: {stderr}");
+        assert!(!path.exists(), "{out} was written");
+    }
+}
