@@ -90,14 +90,19 @@ pub enum Format {
     Obj,
 }
 
+/// A path's extension in lower case ("" when it has none): the one reading of a file
+/// name's format for every reader and writer.
+pub fn extension_of(path: &Path) -> String {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .unwrap_or_default()
+}
+
 impl Format {
     /// The format for a path's extension.
     pub fn from_path(path: &Path) -> Result<Format, FileError> {
-        let ext = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase)
-            .unwrap_or_default();
+        let ext = extension_of(path);
         match ext.as_str() {
             "fold" | "json" => Ok(Format::Fold),
             "cp" => Ok(Format::Cp),

@@ -19,11 +19,7 @@ pub fn read_target(path: &Path) -> Result<TriSurface, FileError> {
 /// extension of `name`.
 pub fn read_target_bytes(name: &Path, bytes: &[u8]) -> Result<TriSurface, FileError> {
     let bad = |cause: String| FileError::new(name, cause);
-    let ext = name
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .unwrap_or_default();
+    let ext = super::extension_of(name);
     let (vertices, triangles) = match ext.as_str() {
         "obj" => parse_obj(bytes).map_err(bad)?,
         "stl" => parse_stl(bytes).map_err(bad)?,
@@ -156,11 +152,7 @@ fn brief(message: &str) -> String {
 
 /// Writes a target surface as OBJ or binary STL, by the extension, atomically.
 pub fn write_target(surface: &TriSurface, path: &Path, comment: &str) -> Result<(), FileError> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .unwrap_or_default();
+    let ext = super::extension_of(path);
     let bytes = match ext.as_str() {
         "obj" => surface.to_obj(comment).into_bytes(),
         "stl" => {

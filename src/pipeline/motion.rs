@@ -175,15 +175,11 @@ pub enum MotionFormat {
 impl MotionFormat {
     /// The format `path`'s extension names.
     pub fn of(path: &Path) -> Result<MotionFormat, PipelineError> {
-        let ext = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase);
-        match ext.as_deref() {
-            Some("glb") => Ok(MotionFormat::Glb),
-            Some("gltf") => Ok(MotionFormat::Gltf),
-            Some("fold") => Ok(MotionFormat::Fold),
-            Some("png") => Ok(MotionFormat::Png),
+        match crate::io::extension_of(path).as_str() {
+            "glb" => Ok(MotionFormat::Glb),
+            "gltf" => Ok(MotionFormat::Gltf),
+            "fold" => Ok(MotionFormat::Fold),
+            "png" => Ok(MotionFormat::Png),
             _ => Err(PipelineError::Input(format!(
                 "{}: a motion is written as .glb, .gltf, .fold or .png (animated); give one of these extensions",
                 path.display()

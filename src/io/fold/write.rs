@@ -151,8 +151,16 @@ fn write(
 
 /// A 3D state as a frame inheriting everything else from frame 0.
 fn state_frame(x: &[crate::mesh::Vec3], scale: f64) -> String {
-    let coords: Vec<String> = x
-        .iter()
+    let coords = coords_3d(x, scale);
+    format!(
+        "{{\n      \"frame_classes\": [\"foldedForm\"],\n      \"frame_attributes\": [\"3D\"],\n      \"frame_inherit\": true,\n      \"frame_parent\": 0,\n      \"vertices_coords\": [\n        {}\n      ]\n    }}",
+        coords.join(",\n        ")
+    )
+}
+
+/// Each point as a JSON `[x, y, z]` in the file's unit (`scale` mm).
+fn coords_3d(x: &[crate::mesh::Vec3], scale: f64) -> Vec<String> {
+    x.iter()
         .map(|p| {
             format!(
                 "[{}, {}, {}]",
@@ -161,11 +169,7 @@ fn state_frame(x: &[crate::mesh::Vec3], scale: f64) -> String {
                 num(p.z / scale)
             )
         })
-        .collect();
-    format!(
-        "{{\n      \"frame_classes\": [\"foldedForm\"],\n      \"frame_attributes\": [\"3D\"],\n      \"frame_inherit\": true,\n      \"frame_parent\": 0,\n      \"vertices_coords\": [\n        {}\n      ]\n    }}",
-        coords.join(",\n        ")
-    )
+        .collect()
 }
 
 /// The top-level fields of a FOLD object being written, one per line.
@@ -248,17 +252,7 @@ fn write_frame(
     }
     let scale = unit_scale(unit.as_deref()).unwrap_or(1.0);
     let coords: Vec<String> = if as_3d {
-        mesh.positions()
-            .iter()
-            .map(|p| {
-                format!(
-                    "[{}, {}, {}]",
-                    num(p.x / scale),
-                    num(p.y / scale),
-                    num(p.z / scale)
-                )
-            })
-            .collect()
+        coords_3d(mesh.positions(), scale)
     } else {
         mesh.flat()
             .expect("a mesh without 3D data has a crease pattern")
