@@ -116,16 +116,30 @@ fn the_motion_starts_flat_ends_at_the_design_and_keeps_every_length() {
 
 #[test]
 fn the_gltf_validates_and_reads_back_as_the_frames() {
-    let (_, motion) = motion_of("patterns/miura-bent.fold", 8);
-    for name in ["miura-bent.glb", "miura-bent.gltf"] {
-        let path = written(&motion, name);
+    // The designs of the motion test: a bent Miura-ori, the folded waterbomb, a curved
+    // crease and a tube's strip.
+    for rel in [
+        "patterns/miura-bent.fold",
+        "patterns/waterbomb-folded.fold",
+        "patterns/arc.fold",
+        "patterns/waterbomb-tube-bent.fold",
+    ] {
+        gltf_validates_and_reads_back(rel);
+    }
+}
+
+fn gltf_validates_and_reads_back(rel: &str) {
+    let (_, motion) = motion_of(rel, 8);
+    let stem = Path::new(rel).file_stem().unwrap().to_str().unwrap();
+    for name in [format!("{stem}.glb"), format!("{stem}.gltf")] {
+        let path = written(&motion, &name);
         let report = node("validate-gltf.mjs", &path);
         assert_eq!(report["errors"], 0, "{name}: {report}");
         assert_eq!(report["warnings"], 0, "{name}: {report}");
         assert_eq!(report["animations"], 1, "{name}: {report}");
         assert_eq!(report["morphed"], true, "{name}: {report}");
     }
-    let bytes = std::fs::read(written(&motion, "read-back.glb")).unwrap();
+    let bytes = std::fs::read(written(&motion, &format!("{stem}.glb"))).unwrap();
     let gltf = gltf::Gltf::from_slice(&bytes).unwrap();
     let blob = gltf.blob.clone().unwrap();
     let node = gltf.nodes().find(|n| n.mesh().is_some()).unwrap();
