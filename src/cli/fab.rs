@@ -48,6 +48,10 @@ pub struct FabArgs {
     /// grey and dotted; they are never cut or scored).
     #[arg(long)]
     hide_flat: bool,
+    /// Also write motion.png, the folding motion from the flat sheet to the design (30
+    /// steps of the path `verify --path` checks; `crease animate` for glTF and FOLD).
+    #[arg(long)]
+    motion: bool,
     /// Print-then-cut: lay the sheet out on a printed page (--media, default a4 for
     /// Silhouette, letter for Cricut) with the machine's registration marks, and cut in
     /// their frame (default: off; the machine's profile names its marks).
@@ -133,6 +137,7 @@ fn options_of(args: &FabArgs) -> Result<crease::pipeline::FabOptions, String> {
         mountains_from_back: args.mountains_from_back,
         tile: args.tile,
         hide_flat: args.hide_flat,
+        motion: args.motion,
         print_and_cut: args.print_and_cut,
         print_fill,
         tab: args.tab,

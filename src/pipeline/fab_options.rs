@@ -31,7 +31,13 @@ pub struct FabOptions {
     pub tab: Option<f64>,
     /// How hard the cutting order is searched (a draft route for checking a layout).
     pub route: crate::fab::RouteSearch,
+    /// Also write `motion.png`, the folding motion from flat ([`MOTION_PREVIEW_FRAMES`]
+    /// steps of the path `verify --path` checks), beside the other previews.
+    pub motion: bool,
 }
+
+/// Steps of `fab --motion`'s `motion.png`: two seconds of folding at 15 frames a second.
+pub const MOTION_PREVIEW_FRAMES: usize = 30;
 
 /// A tube's glue tab width when none is given (mm): room for a line of glue.
 pub const GLUE_TAB_MM: f64 = 6.0;

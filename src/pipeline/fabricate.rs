@@ -153,8 +153,13 @@ pub fn fabricate_verified(
         short_folds: settings.short_folds,
         isometry_error,
     };
-    let (pictures, previews) = preview_files(mesh, &toolpath)?;
+    let (pictures, mut previews) = preview_files(mesh, &toolpath)?;
     files.extend(pictures);
+    if options.motion {
+        let (picture, summary) = motion_preview(mesh)?;
+        files.push(("motion.png".to_string(), picture));
+        previews.motion = Some(summary);
+    }
     let figures = run.figures();
     let next_steps = next_steps_of(print.as_ref(), machine, &jobs_written);
     let hinge = hinge_of(mesh, &sheet, machine, tiled)?;
@@ -670,6 +675,7 @@ fn preview_files(
             view: [side_view.x, side_view.y, side_view.z],
             px_per_mm: side_camera.px_per_mm,
         },
+        motion: None,
     };
     Ok((
         vec![
@@ -679,6 +685,17 @@ fn preview_files(
         ],
         report,
     ))
+}
+
+/// `motion.png` (`fab --motion`) and what the motion found. A path that is not clear is
+/// drawn as far as it goes and said in the summary; it does not stop the run, whose
+/// verdict is verification's.
+fn motion_preview(mesh: &Mesh) -> Result<(Vec<u8>, String), FabError> {
+    let motion = super::fold_motion(mesh, super::MOTION_PREVIEW_FRAMES, &mut |_, _, _| {})
+        .map_err(|e| FabError::Input(format!("motion.png: {e}")))?;
+    let picture =
+        crate::output::png::motion(&motion.sheet, &motion.frames).map_err(FabError::Input)?;
+    Ok((picture, motion.summary()))
 }
 
 /// The crease pattern as laid out on the sheet, as SVG and as FOLD (with the layer order

@@ -14,7 +14,9 @@ mod script;
 mod tube;
 
 pub use convert::{convert, crease_pattern_first, with_sides_found, ConvertError, Converted};
-pub use fab_options::{FabOptions, GLUE_TAB_MM, MIN_WIDTH_MM, TILE_OVERLAP_MM};
+pub use fab_options::{
+    FabOptions, GLUE_TAB_MM, MIN_WIDTH_MM, MOTION_PREVIEW_FRAMES, TILE_OVERLAP_MM,
+};
 pub use fabricate::{
     fabricate, fabricate_verified, remove_stale_outputs, FabError, FabOutput, NextSteps, Rejected,
     OUTPUT_FILES,

@@ -39,6 +39,14 @@ pub struct PreviewsReport {
     /// The 3D design seen from its side ([`crate::output::png::design_side_view`]).
     #[serde(rename = "design-side.png", default = "DesignPreview::absent")]
     pub design_side: DesignPreview,
+    /// The folding motion from flat (`fab --motion`), as `crease animate` reports it,
+    /// one line each: the path and the panels.
+    #[serde(
+        rename = "motion.png",
+        default,
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub motion: Option<String>,
 }
 
 impl DesignPreview {

@@ -452,3 +452,41 @@ fn bad_animate_requests_are_one_line_errors_and_write_nothing() {
         assert!(!path.exists(), "{out} was written");
     }
 }
+
+#[test]
+fn fab_writes_the_motion_beside_the_previews_when_asked() {
+    let design = repo("patterns/miura.fold");
+    let dir = common::scratch_file("animate", "placeholder", "");
+    let dir = dir.parent().unwrap();
+    for motion in [true, false] {
+        let out = dir.join(format!("fab-motion-{motion}"));
+        let mut args = vec![
+            "fab",
+            design.to_str().unwrap(),
+            "--machine",
+            "generic-hpgl",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        if motion {
+            args.push("--motion");
+        }
+        let (code, stdout, stderr) = common::run_crease(&args);
+        assert_eq!(code, 0, "{stdout}{stderr}");
+        let report: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(out.join("report.json")).unwrap()).unwrap();
+        let said = &report["previews"]["motion.png"];
+        assert_eq!(out.join("motion.png").exists(), motion);
+        if !motion {
+            assert!(said.is_null(), "{said}");
+            continue;
+        }
+        assert!(said.as_str().unwrap().contains("rigid-foldable"), "{said}");
+        let file = std::fs::File::open(out.join("motion.png")).unwrap();
+        let reader = png::Decoder::new(std::io::BufReader::new(file))
+            .read_info()
+            .unwrap();
+        let frames = reader.info().animation_control.unwrap().num_frames as usize;
+        assert_eq!(frames, crease::pipeline::MOTION_PREVIEW_FRAMES + 1);
+    }
+}
