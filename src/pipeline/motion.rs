@@ -31,14 +31,9 @@ pub struct Motion {
     /// path the last is the design's own positions. All frames share one rigid placement,
     /// the one that lays the path's last state on the design.
     pub frames: Vec<Vec<Vec3>>,
-    /// How far along the path each frame is (0 flat, 1 the design's fold angles).
-    pub fractions: Vec<f64>,
     /// What the path found (clear, where faces first cross, or short of the design), or
     /// why the solver stopped (the frames end where it did).
     pub report: Result<PathReport, String>,
-    /// How far the path's last state lay from the design after the rigid placement
-    /// (mm, largest over the vertices), for a design with a 3D form and a clear path.
-    pub end_gap_mm: Option<f64>,
     /// The most any panel bends out of its plane over the motion.
     pub bending: PanelBending,
 }
@@ -99,18 +94,14 @@ pub fn fold_motion(
     }
     let design = foldable_sheet(design)?.into_owned();
     let mut frames = Vec::with_capacity(steps + 1);
-    let mut fractions = Vec::with_capacity(steps + 1);
     let walked = walk(&design, steps, progress, &mut |fraction, x| {
         if fraction == 0.0 {
             // The path starts again from flat (with bending panels).
             frames.clear();
-            fractions.clear();
         }
-        fractions.push(fraction);
         frames.push(x.to_vec());
     });
     let report = walked.map_err(|e| format!("the solver stopped: {e}"));
-    let mut end_gap_mm = None;
     let last = frames.last().expect("the flat sheet is frame 0");
     if report.as_ref().is_ok_and(PathReport::is_clear) && design.has_3d() {
         let placement = kabsch(last, design.positions());
@@ -119,16 +110,12 @@ pub fn fold_motion(
                 *p = placement.apply(*p);
             }
         }
-        let end = frames.last().expect("frame 0");
-        end_gap_mm = Some(largest_gap(end, design.positions()));
     }
     let bending = panel_bending(&design, &frames);
     Ok(Motion {
         sheet: design,
         frames,
-        fractions,
         report,
-        end_gap_mm,
         bending,
     })
 }
@@ -220,14 +207,6 @@ pub fn motion_files(
             png::motion(&motion.sheet, &motion.frames).map_err(failed)?,
         )],
     })
-}
-
-/// The largest distance between corresponding points (mm).
-fn largest_gap(a: &[Vec3], b: &[Vec3]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(p, q)| (p - q).norm())
-        .fold(0.0, f64::max)
 }
 
 /// The panels of `mesh`: its faces grouped across flat lines (the triangulation of a
