@@ -66,15 +66,30 @@ impl ConvertError {
 /// A design as FOLD text with frame 0 its crease pattern and its 3D form in the frame
 /// after it, as Origami Simulator, Rabbit Ear and ORIPA open it (`convert
 /// --crease-pattern-first`); a 3D-only design is unfolded for it first.
-pub fn crease_pattern_first(mut mesh: Mesh) -> Result<String, ConvertError> {
-    if mesh.flat().is_none() && !mesh.is_tube() {
-        let flat = crate::fab::unfold(&mesh).map_err(|cause| ConvertError::Unfold {
-            what: "a 3D-only design with no crease pattern",
-            cause,
-        })?;
+pub fn crease_pattern_first(mesh: Mesh) -> Result<String, ConvertError> {
+    let mesh = if mesh.is_tube() {
+        mesh
+    } else {
+        with_crease_pattern(mesh).map_err(unfold_3d_only)?
+    };
+    Ok(crate::io::fold::to_string_crease_pattern_first(&mesh))
+}
+
+/// `mesh` with a crease pattern: its own, or, for a 3D-only design, its 3D form unfolded.
+pub fn with_crease_pattern(mut mesh: Mesh) -> Result<Mesh, UnfoldError> {
+    if mesh.flat().is_none() {
+        let flat = crate::fab::unfold(&mesh)?;
         mesh.set_flat(flat);
     }
-    Ok(crate::io::fold::to_string_crease_pattern_first(&mesh))
+    Ok(mesh)
+}
+
+/// Why a 3D-only design could not be written with a crease pattern.
+fn unfold_3d_only(cause: UnfoldError) -> ConvertError {
+    ConvertError::Unfold {
+        what: "a 3D-only design with no crease pattern",
+        cause,
+    }
 }
 
 /// `mesh` made ready to be written as `format`; with `assign`, its unassigned creases
@@ -105,11 +120,7 @@ pub fn convert(
         );
     }
     if flat_format && mesh.flat().is_none() {
-        let flat = crate::fab::unfold(&mesh).map_err(|cause| ConvertError::Unfold {
-            what: "a 3D-only design with no crease pattern",
-            cause,
-        })?;
-        mesh.set_flat(flat);
+        mesh = with_crease_pattern(mesh).map_err(unfold_3d_only)?;
         notes.push("it has only a 3D form; its crease pattern is the form unfolded".into());
     }
     let claims_flat = crate::fab::layers::partial_crease(&mesh).is_none();

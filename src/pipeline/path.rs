@@ -140,13 +140,11 @@ pub fn foldable_sheet(design: &Mesh) -> Result<std::borrow::Cow<'_, Mesh>, Pipel
     if design.flat().is_some() {
         return Ok(Cow::Borrowed(design));
     }
-    let flat = crate::fab::unfold(design).map_err(|e| {
+    let sheet = super::convert::with_crease_pattern(design.clone()).map_err(|e| {
         PipelineError::Input(format!(
             "the design has only a 3D form and it cannot be unfolded into a crease pattern: {e}"
         ))
     })?;
-    let mut sheet = design.clone();
-    sheet.set_flat(flat);
     Ok(Cow::Owned(sheet))
 }
 
