@@ -187,105 +187,20 @@ fn srgb_to_linear(c: f64) -> f64 {
 fn build(motion: &MotionFrames, uri: Option<&str>) -> Result<(Value, Vec<u8>), String> {
     let sheet = motion.sheet;
     let frames = motion.frames;
-    let Some(first) = frames.first() else {
+    if frames.is_empty() {
         return Err("a motion needs at least one frame".into());
-    };
+    }
     let n = sheet.vertex_count();
     if frames.iter().any(|f| f.len() != n) {
         return Err("every frame must place every vertex of the sheet".into());
     }
     let centre = centre_of(frames);
-    let relative = |p: &Vec3| -> [f32; 3] {
-        let d = p - centre;
-        [d.x as f32, d.y as f32, d.z as f32]
-    };
-    let base: Vec<[f32; 3]> = first.iter().map(relative).collect();
     let mut buffer = Buffer::default();
-    let position = buffer.vec3(&base);
-    let targets: Vec<Value> = frames[1..]
-        .iter()
-        .map(|frame| {
-            let delta: Vec<[f32; 3]> = frame
-                .iter()
-                .zip(&base)
-                .map(|(p, b)| {
-                    let r = relative(p);
-                    [r[0] - b[0], r[1] - b[1], r[2] - b[2]]
-                })
-                .collect();
-            json!({ "POSITION": buffer.vec3(&delta) })
-        })
+    let (position, targets) = positions_and_targets(&mut buffer, frames, centre);
+    let (primitives, materials) = sheet_primitives(&mut buffer, sheet, position, &targets);
+    let animations: Vec<Value> = weight_animation(&mut buffer, frames.len(), targets.len())
+        .into_iter()
         .collect();
-
-    let faces = sheet.faces();
-    let front: Vec<u32> = faces
-        .iter()
-        .flat_map(|&[a, b, c]| [a, b, c])
-        .map(|v| v as u32)
-        .collect();
-    let back: Vec<u32> = faces
-        .iter()
-        .flat_map(|&[a, b, c]| [a, c, b])
-        .map(|v| v as u32)
-        .collect();
-    let kinds = LineKind::of_mesh(sheet);
-    let lines = |kind: LineKind| -> Vec<u32> {
-        sheet
-            .edges()
-            .iter()
-            .zip(&kinds)
-            .filter(|(_, &k)| k == kind)
-            .flat_map(|(e, _)| e.vertices)
-            .map(|v| v as u32)
-            .collect()
-    };
-    let mut materials = vec![
-        material("paper front", FRONT_RGB, false),
-        material("paper back", BACK_RGB, false),
-    ];
-    let mut primitives = vec![
-        primitive(position, buffer.indices(&front), 0, 4, &targets),
-        primitive(position, buffer.indices(&back), 1, 4, &targets),
-    ];
-    for (name, kind) in [
-        ("mountain", LineKind::Mountain),
-        ("valley", LineKind::Valley),
-        ("outline", LineKind::Cut),
-    ] {
-        let indices = lines(kind);
-        if indices.is_empty() {
-            continue;
-        }
-        materials.push(material(name, super::colour::rgb(kind), true));
-        let accessor = buffer.indices(&indices);
-        primitives.push(primitive(
-            position,
-            accessor,
-            materials.len() - 1,
-            1,
-            &targets,
-        ));
-    }
-
-    // One key per frame; at key k only target k − 1 weighs (none at key 0).
-    let keys = frames.len();
-    let times: Vec<f32> = (0..keys)
-        .map(|k| (k as f64 * SECONDS_PER_FRAME) as f32)
-        .collect();
-    let mut weights = vec![0f32; keys * targets.len()];
-    for k in 1..keys {
-        weights[k * targets.len() + (k - 1)] = 1.0;
-    }
-    let mut animations = Vec::new();
-    if !targets.is_empty() {
-        let input = buffer.floats(&times, true);
-        let output = buffer.floats(&weights, false);
-        animations.push(json!({
-            "name": "fold from flat",
-            "samplers": [{ "input": input, "output": output, "interpolation": "LINEAR" }],
-            "channels": [{ "sampler": 0, "target": { "node": 1, "path": "weights" } }],
-        }));
-    }
 
     let mut mesh = json!({ "name": "sheet", "primitives": primitives });
     if !targets.is_empty() {
@@ -329,6 +244,118 @@ fn build(motion: &MotionFrames, uri: Option<&str>) -> Result<(Value, Vec<u8>), S
         "buffers": [buffer_entry],
     });
     Ok((document, buffer.bytes))
+}
+
+/// Frame 0's positions about `centre` (single precision) and, for each later frame, its
+/// displacement from frame 0 as a morph target; the positions' accessor and the targets.
+fn positions_and_targets(
+    buffer: &mut Buffer,
+    frames: &[Vec<Vec3>],
+    centre: Vec3,
+) -> (usize, Vec<Value>) {
+    let relative = |p: &Vec3| -> [f32; 3] {
+        let d = p - centre;
+        [d.x as f32, d.y as f32, d.z as f32]
+    };
+    let base: Vec<[f32; 3]> = frames[0].iter().map(relative).collect();
+    let position = buffer.vec3(&base);
+    let targets = frames[1..]
+        .iter()
+        .map(|frame| {
+            let delta: Vec<[f32; 3]> = frame
+                .iter()
+                .zip(&base)
+                .map(|(p, b)| {
+                    let r = relative(p);
+                    [r[0] - b[0], r[1] - b[1], r[2] - b[2]]
+                })
+                .collect();
+            json!({ "POSITION": buffer.vec3(&delta) })
+        })
+        .collect();
+    (position, targets)
+}
+
+/// The paper's two sides (triangles wound both ways) and its mountain, valley and outline
+/// lines, each a primitive with its material; the primitives and the materials.
+fn sheet_primitives(
+    buffer: &mut Buffer,
+    sheet: &Mesh,
+    position: usize,
+    targets: &[Value],
+) -> (Vec<Value>, Vec<Value>) {
+    let faces = sheet.faces();
+    let front: Vec<u32> = faces
+        .iter()
+        .flat_map(|&[a, b, c]| [a, b, c])
+        .map(|v| v as u32)
+        .collect();
+    let back: Vec<u32> = faces
+        .iter()
+        .flat_map(|&[a, b, c]| [a, c, b])
+        .map(|v| v as u32)
+        .collect();
+    let kinds = LineKind::of_mesh(sheet);
+    let lines = |kind: LineKind| -> Vec<u32> {
+        sheet
+            .edges()
+            .iter()
+            .zip(&kinds)
+            .filter(|(_, &k)| k == kind)
+            .flat_map(|(e, _)| e.vertices)
+            .map(|v| v as u32)
+            .collect()
+    };
+    let mut materials = vec![
+        material("paper front", FRONT_RGB, false),
+        material("paper back", BACK_RGB, false),
+    ];
+    let mut primitives = vec![
+        primitive(position, buffer.indices(&front), 0, 4, targets),
+        primitive(position, buffer.indices(&back), 1, 4, targets),
+    ];
+    for (name, kind) in [
+        ("mountain", LineKind::Mountain),
+        ("valley", LineKind::Valley),
+        ("outline", LineKind::Cut),
+    ] {
+        let indices = lines(kind);
+        if indices.is_empty() {
+            continue;
+        }
+        materials.push(material(name, super::colour::rgb(kind), true));
+        let accessor = buffer.indices(&indices);
+        primitives.push(primitive(
+            position,
+            accessor,
+            materials.len() - 1,
+            1,
+            targets,
+        ));
+    }
+    (primitives, materials)
+}
+
+/// The animation of the sheet's morph weights over `keys` frames: one key per frame, at
+/// key k only target k − 1 weighs (none at key 0). None without targets.
+fn weight_animation(buffer: &mut Buffer, keys: usize, targets: usize) -> Option<Value> {
+    if targets == 0 {
+        return None;
+    }
+    let times: Vec<f32> = (0..keys)
+        .map(|k| (k as f64 * SECONDS_PER_FRAME) as f32)
+        .collect();
+    let mut weights = vec![0f32; keys * targets];
+    for k in 1..keys {
+        weights[k * targets + (k - 1)] = 1.0;
+    }
+    let input = buffer.floats(&times, true);
+    let output = buffer.floats(&weights, false);
+    Some(json!({
+        "name": "fold from flat",
+        "samplers": [{ "input": input, "output": output, "interpolation": "LINEAR" }],
+        "channels": [{ "sampler": 0, "target": { "node": 1, "path": "weights" } }],
+    }))
 }
 
 /// A primitive over the shared positions and targets.
