@@ -52,6 +52,13 @@ pub struct FabArgs {
     /// steps of the path `verify --path` checks; `crease animate` for glTF and FOLD).
     #[arg(long)]
     motion: bool,
+    /// End sheet.pdf with the folding guide whatever the design's size (default: for
+    /// designs of up to 1000 vertices with a 3D form, where the path from flat is clear).
+    #[arg(long, conflicts_with = "no_guide")]
+    guide: bool,
+    /// Leave the folding guide off sheet.pdf.
+    #[arg(long)]
+    no_guide: bool,
     /// Print-then-cut: lay the sheet out on a printed page (--media, default a4 for
     /// Silhouette, letter for Cricut) with the machine's registration marks, and cut in
     /// their frame (default: off; the machine's profile names its marks).
@@ -138,6 +145,11 @@ fn options_of(args: &FabArgs) -> Result<crease::pipeline::FabOptions, String> {
         tile: args.tile,
         hide_flat: args.hide_flat,
         motion: args.motion,
+        guide: match (args.guide, args.no_guide) {
+            (true, _) => crease::pipeline::Guide::Always,
+            (_, true) => crease::pipeline::Guide::Never,
+            _ => crease::pipeline::Guide::Auto,
+        },
         print_and_cut: args.print_and_cut,
         print_fill,
         tab: args.tab,
@@ -167,7 +179,7 @@ fn say_what_was_made(dir: &std::path::Path, result: &crease::pipeline::FabOutput
         sheet.strokes,
         result.job_line
     );
-    if let Some(note) = &result.template_note {
+    for note in result.template_note.iter().chain(&result.guide_note) {
         eprintln!("{note}");
     }
     if !result.steps.is_empty() {

@@ -223,11 +223,11 @@ pub const MOTION_HOLD_MS: u16 = 1500;
 
 /// `motion.png`: an animated PNG (APNG, which every browser plays) of `frames`, each
 /// every vertex of `sheet` placed (mm), painted as [`design`] paints the design, seen
-/// from [`design_view`] by one camera framing every frame, so the sheet does not jump.
+/// from [`motion_view`] by one camera framing every frame, so the sheet does not jump.
 /// It plays on a loop and holds the last frame; a viewer without APNG shows frame 0.
 pub fn motion(sheet: &Mesh, frames: &[Vec<Vec3>]) -> Result<Vec<u8>, String> {
     let all: Vec<Vec3> = frames.iter().flatten().copied().collect();
-    let view = design_view();
+    let view = motion_view(sheet, frames.iter().map(Vec::as_slice));
     let camera = DesignCamera::framing_sized(&all, view, MOTION_SIZE_PX);
     let [w, h] = MOTION_SIZE_PX;
     let mut bytes = Vec::new();
@@ -260,6 +260,85 @@ pub fn motion(sheet: &Mesh, frames: &[Vec<Vec3>]) -> Result<Vec<u8>, String> {
         writer.finish().map_err(|e| format!("motion.png: {e}"))?;
     }
     Ok(bytes)
+}
+
+/// The one direction a motion is seen from: [`design_view`], unless the sheet shows
+/// less than a third of its paper there in some frame (a sheet whose design lies on its
+/// side is seen edge-on when flat) and another of 36 directions (every 30° round, 20°,
+/// 45° and 70° up) shows more of it in its worst frame. What a frame shows of its
+/// paper is Σ|n·d|·area over Σ area, the faces' projected share.
+pub fn motion_view<'a>(sheet: &Mesh, frames: impl Iterator<Item = &'a [Vec3]> + Clone) -> Vec3 {
+    let shown = |d: Vec3| -> f64 {
+        frames
+            .clone()
+            .map(|x| {
+                let (mut seen, mut area) = (0.0, 0.0);
+                for &[a, b, c] in sheet.faces() {
+                    let n = (x[b] - x[a]).cross(&(x[c] - x[a]));
+                    seen += n.dot(&d).abs();
+                    area += n.norm();
+                }
+                if area > 0.0 {
+                    seen / area
+                } else {
+                    1.0
+                }
+            })
+            .fold(1.0, f64::min)
+    };
+    let preferred = design_view();
+    if shown(preferred) >= 1.0 / 3.0 {
+        return preferred;
+    }
+    let around = (0..12).flat_map(|k| {
+        let azimuth = f64::from(k) * std::f64::consts::PI / 6.0;
+        [20.0_f64, 45.0, 70.0].map(|e| {
+            let e = e.to_radians();
+            Vec3::new(azimuth.cos() * e.cos(), azimuth.sin() * e.cos(), e.sin())
+        })
+    });
+    std::iter::once(preferred)
+        .chain(around)
+        .map(|d| (shown(d), d))
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .map_or(preferred, |(_, d)| d)
+}
+
+/// A picture as plain pixels: opaque RGB, 8 bits a channel, rows top to bottom.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Picture {
+    /// Width, px.
+    pub width: u32,
+    /// Height, px.
+    pub height: u32,
+    /// `width × height` pixels of three bytes each.
+    pub rgb: Vec<u8>,
+}
+
+/// Still pictures of `frames` of a motion (each every vertex of `sheet` placed, mm),
+/// painted as [`motion`] paints them: seen from [`motion_view`] by one camera framing
+/// all of them, so their sizes and positions compare, each `size_px`.
+pub fn stills(sheet: &Mesh, frames: &[&[Vec3]], size_px: [u32; 2]) -> Result<Vec<Picture>, String> {
+    let all: Vec<Vec3> = frames.iter().flat_map(|x| x.iter().copied()).collect();
+    let view = motion_view(sheet, frames.iter().copied());
+    let camera = DesignCamera::framing_sized(&all, view, size_px);
+    frames
+        .iter()
+        .map(|x| {
+            let pixmap = paint_design(sheet, x, &camera, view)?;
+            // Opaque throughout, so the premultiplied pixels are the plain colours.
+            let rgb = pixmap
+                .data()
+                .chunks_exact(4)
+                .flat_map(|p| [p[0], p[1], p[2]])
+                .collect();
+            Ok(Picture {
+                width: pixmap.width(),
+                height: pixmap.height(),
+                rgb,
+            })
+        })
+        .collect()
 }
 
 /// `mesh` with its vertices at `x`, painted far to near from `view` (see [`design`]).

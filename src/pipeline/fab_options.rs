@@ -34,7 +34,33 @@ pub struct FabOptions {
     /// Also write `motion.png`, the folding motion from flat ([`MOTION_PREVIEW_FRAMES`]
     /// steps of the path `verify --path` checks), beside the other previews.
     pub motion: bool,
+    /// Whether `sheet.pdf` ends with the folding guide ([`Guide`]).
+    pub guide: Guide,
 }
+
+/// Whether `sheet.pdf` ends with the folding guide: pictures of the folding motion from
+/// the flat sheet to the design ([`GUIDE_PICTURES`] of them), drawn only where that path
+/// is clear.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Guide {
+    /// For a design with a 3D form of at most [`GUIDE_MAX_VERTICES`] vertices, whose
+    /// path is found in about a second; a larger design's takes minutes, so it is asked
+    /// for.
+    #[default]
+    Auto,
+    /// For any design with a 3D form (`fab --guide`).
+    Always,
+    /// Never (`fab --no-guide`).
+    Never,
+}
+
+/// Largest design the folding guide is drawn for unless asked: its path (the solver's
+/// continuation from flat) took 6 s on a 961-vertex Miura-ori on the test machine, and
+/// grows faster than the vertex count.
+pub const GUIDE_MAX_VERTICES: usize = 1_000;
+
+/// Pictures on the folding guide: the flat sheet, four shapes between, the design.
+pub const GUIDE_PICTURES: usize = 6;
 
 /// Steps of `fab --motion`'s `motion.png`: two seconds of folding at 15 frames a second.
 pub const MOTION_PREVIEW_FRAMES: usize = 30;

@@ -235,42 +235,38 @@ impl<'a> Run<'a> {
     /// no paper a home printer takes, [`crate::output::pdf::home_paper_for`]); else the
     /// page to fold by (and for a two-sided job the page of steps), then the front job as
     /// it is cut.
-    pub fn pdf(&self, page: &Media, title: &str, summary: &[String]) -> Vec<u8> {
+    pub fn pdf(
+        &self,
+        page: &Media,
+        title: &str,
+        summary: &[String],
+        guide: Option<&crate::output::pdf::FoldingGuide>,
+    ) -> Vec<u8> {
         let sheet = self.sheet;
+        let template = crate::output::pdf::Template {
+            title,
+            summary,
+            flat: !self.options.hide_flat,
+            guide,
+        };
         let tiles = if self.tiled {
             Some((page.clone(), sheet.margin))
         } else {
             self.home_tiles().map(|(paper, margin, _)| (paper, margin))
         };
         if let Some((page, margin)) = tiles {
-            crate::output::pdf::to_bytes_tiled(
-                sheet,
-                &page,
-                margin,
-                TILE_OVERLAP_MM,
-                title,
-                summary,
-                !self.options.hide_flat,
-            )
+            crate::output::pdf::to_bytes_tiled(sheet, &page, margin, TILE_OVERLAP_MM, &template)
         } else if !self.steps.is_empty() {
             let marks = crate::fab::registration::front_centres(&sheet.media, self.margin);
             crate::output::pdf::to_bytes_two_sided(
                 sheet,
-                title,
-                summary,
+                &template,
                 &marks,
                 self.steps,
                 self.jobs.first().copied(),
-                !self.options.hide_flat,
             )
         } else {
-            crate::output::pdf::to_bytes(
-                sheet,
-                title,
-                summary,
-                self.jobs.first().copied(),
-                !self.options.hide_flat,
-            )
+            crate::output::pdf::to_bytes(sheet, &template, self.jobs.first().copied())
         }
     }
 }

@@ -21,6 +21,9 @@ pub struct FabOutput {
     /// How the template is printed when its media is no paper a home printer takes (a
     /// cutting mat): over A4 or Letter pages ([`crate::output::pdf::home_paper_for`]).
     pub template_note: Option<String>,
+    /// Whether sheet.pdf ends with the folding guide, or why not; none when the design
+    /// has no 3D form or the guide was turned off.
+    pub guide_note: Option<String>,
     /// For a two-sided job, what the maker does in order: which job first, how to turn
     /// the sheet, how to check the registration (as on the PDF's second page).
     pub steps: Vec<String>,
@@ -155,11 +158,18 @@ pub fn fabricate_verified(
     };
     let (pictures, mut previews) = preview_files(mesh, &toolpath)?;
     files.extend(pictures);
-    if options.motion {
-        let (picture, summary) = motion_preview(mesh)?;
+    let motion = super::guide::run_motion(mesh, options)?;
+    if let (true, Some(m)) = (options.motion, &motion.motion) {
+        let picture = crate::output::png::motion(&m.sheet, &m.frames).map_err(FabError::Input)?;
         files.push(("motion.png".to_string(), picture));
-        previews.motion = Some(summary);
+        previews.motion = Some(m.summary());
     }
+    let guide = motion
+        .motion
+        .as_ref()
+        .filter(|_| motion.guide)
+        .map(super::guide::folding_guide);
+    previews.guide.clone_from(&motion.guide_line);
     let figures = run.figures();
     let next_steps = next_steps_of(print.as_ref(), machine, &jobs_written);
     let hinge = hinge_of(mesh, &sheet, machine, tiled)?;
@@ -217,9 +227,10 @@ pub fn fabricate_verified(
             )
         });
     summary.extend(template_note.clone());
+    summary.extend(motion.guide_line.clone());
     let pdf = match &print {
-        Some(p) => print_pdf(p, mesh, &sheet, &toolpath, title, options),
-        None => run.pdf(&page, title, &summary),
+        Some(p) => print_pdf(p, mesh, &sheet, &toolpath, title, options, guide.as_ref()),
+        None => run.pdf(&page, title, &summary, guide.as_ref()),
     };
     files.push(("sheet.pdf".to_string(), pdf));
     files.push(("report.json".to_string(), report.to_text().into_bytes()));
@@ -229,6 +240,7 @@ pub fn fabricate_verified(
         job_line,
         warnings,
         template_note,
+        guide_note: motion.guide_line,
         steps,
         next_steps,
         verification,
@@ -357,12 +369,14 @@ fn print_pdf(
     toolpath: &crate::fab::Toolpath,
     title: &str,
     options: &FabOptions,
+    guide: Option<&crate::output::pdf::FoldingGuide>,
 ) -> Vec<u8> {
     let page = crate::output::pdf::PrintPage {
         frame: print.frame.as_ref(),
         faces: mesh.faces(),
         fill: options.print_fill,
         caption: print.family.caption(),
+        guide,
     };
     crate::output::pdf::to_bytes_print(sheet, title, &page, toolpath)
 }
@@ -676,6 +690,7 @@ fn preview_files(
             px_per_mm: side_camera.px_per_mm,
         },
         motion: None,
+        guide: None,
     };
     Ok((
         vec![
@@ -685,17 +700,6 @@ fn preview_files(
         ],
         report,
     ))
-}
-
-/// `motion.png` (`fab --motion`) and what the motion found. A path that is not clear is
-/// drawn as far as it goes and said in the summary; it does not stop the run, whose
-/// verdict is verification's.
-fn motion_preview(mesh: &Mesh) -> Result<(Vec<u8>, String), FabError> {
-    let motion = super::fold_motion(mesh, super::MOTION_PREVIEW_FRAMES, &mut |_, _, _| {})
-        .map_err(|e| FabError::Input(format!("motion.png: {e}")))?;
-    let picture =
-        crate::output::png::motion(&motion.sheet, &motion.frames).map_err(FabError::Input)?;
-    Ok((picture, motion.summary()))
 }
 
 /// The crease pattern as laid out on the sheet, as SVG and as FOLD (with the layer order

@@ -7,6 +7,7 @@ mod fab_options;
 mod fab_report;
 mod fabricate;
 mod fit;
+mod guide;
 mod motion;
 mod path;
 mod report_json;
@@ -15,7 +16,8 @@ mod tube;
 
 pub use convert::{convert, crease_pattern_first, with_sides_found, ConvertError, Converted};
 pub use fab_options::{
-    FabOptions, GLUE_TAB_MM, MIN_WIDTH_MM, MOTION_PREVIEW_FRAMES, TILE_OVERLAP_MM,
+    FabOptions, Guide, GLUE_TAB_MM, GUIDE_MAX_VERTICES, GUIDE_PICTURES, MIN_WIDTH_MM,
+    MOTION_PREVIEW_FRAMES, TILE_OVERLAP_MM,
 };
 pub use fabricate::{
     fabricate, fabricate_verified, remove_stale_outputs, FabError, FabOutput, NextSteps, Rejected,

@@ -60,10 +60,15 @@ impl PanelBending {
 impl std::fmt::Display for PanelBending {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         if self.is_rigid() {
+            let d = self.deviation_mm.max(0.0);
+            let mm = if d == 0.0 {
+                "0".to_string()
+            } else {
+                format!("{d:.0e}")
+            };
             write!(
                 f,
-                "rigid-foldable: every panel stays flat along the path (out of its plane by {:.1e} mm at most)",
-                self.deviation_mm.max(0.0)
+                "rigid-foldable: every panel stays flat along the path (out of its plane by {mm} mm at most)"
             )
         } else {
             write!(

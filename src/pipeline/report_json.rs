@@ -47,6 +47,13 @@ pub struct PreviewsReport {
         skip_serializing_if = "Option::is_none"
     )]
     pub motion: Option<String>,
+    /// The folding guide at the end of sheet.pdf: drawn, or why not ([`super::Guide`]).
+    #[serde(
+        rename = "folding-guide",
+        default,
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub guide: Option<String>,
 }
 
 impl DesignPreview {

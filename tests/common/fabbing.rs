@@ -18,9 +18,12 @@ pub fn patterns() -> Vec<PathBuf> {
     v
 }
 
+/// A3, without the folding guide: the guide's path from flat is a second or so of each
+/// run, and its page is its own test's (tests/design/animate.rs).
 pub fn a3() -> FabOptions {
     FabOptions {
         media: Some(crease::fab::Media::parse("a3").unwrap()),
+        guide: crease::pipeline::Guide::Never,
         ..Default::default()
     }
 }

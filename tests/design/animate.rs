@@ -490,3 +490,244 @@ fn fab_writes_the_motion_beside_the_previews_when_asked() {
         assert_eq!(frames, crease::pipeline::MOTION_PREVIEW_FRAMES + 1);
     }
 }
+
+/// A picture a PDF page draws, as lopdf reads it: its pixels (8-bit RGB) and the box it
+/// fills on the page (pt, lower-left and upper-right).
+struct PlacedImage {
+    width: usize,
+    height: usize,
+    rgb: Vec<u8>,
+    area: [f32; 4],
+}
+
+/// Every page of `pdf` with the images it draws, in drawing order: each `Do` of an image
+/// XObject placed by the transformation matrix in force (`q`, `Q`, `cm`).
+fn pdf_images(pdf: &[u8]) -> Vec<Vec<PlacedImage>> {
+    let doc = lopdf::Document::load_mem(pdf).expect("lopdf reads sheet.pdf");
+    let number = |o: &lopdf::Object| o.as_float().expect("a number");
+    doc.get_pages()
+        .values()
+        .map(|&page| {
+            let page_dict = doc.get_dictionary(page).unwrap();
+            let xobjects = doc
+                .get_dict_in_dict(page_dict, b"Resources")
+                .and_then(|r| doc.get_dict_in_dict(r, b"XObject"))
+                .ok();
+            let content = doc.get_and_decode_page_content(page).unwrap();
+            let mut ctm = [1.0f32, 0.0, 0.0, 1.0, 0.0, 0.0];
+            let mut saved = Vec::new();
+            let mut images = Vec::new();
+            for op in &content.operations {
+                match op.operator.as_str() {
+                    "q" => saved.push(ctm),
+                    "Q" => ctm = saved.pop().expect("balanced q/Q"),
+                    "cm" => {
+                        let m: Vec<f32> = op.operands.iter().map(number).collect();
+                        let c = ctm;
+                        ctm = [
+                            m[0] * c[0] + m[1] * c[2],
+                            m[0] * c[1] + m[1] * c[3],
+                            m[2] * c[0] + m[3] * c[2],
+                            m[2] * c[1] + m[3] * c[3],
+                            m[4] * c[0] + m[5] * c[2] + c[4],
+                            m[4] * c[1] + m[5] * c[3] + c[5],
+                        ];
+                    }
+                    "Do" => {
+                        let name = op.operands[0].as_name().unwrap();
+                        let id = xobjects.unwrap().get(name).unwrap().as_reference().unwrap();
+                        let stream = doc.get_object(id).unwrap().as_stream().unwrap();
+                        if stream.dict.get(b"Subtype").and_then(|s| s.as_name()).ok()
+                            != Some(b"Image".as_slice())
+                        {
+                            continue;
+                        }
+                        let int = |k: &[u8]| stream.dict.get(k).unwrap().as_i64().unwrap();
+                        assert_eq!(int(b"BitsPerComponent"), 8);
+                        let (x0, y0) = (ctm[4], ctm[5]);
+                        let (x1, y1) = (ctm[0] + ctm[2] + ctm[4], ctm[1] + ctm[3] + ctm[5]);
+                        images.push(PlacedImage {
+                            width: int(b"Width") as usize,
+                            height: int(b"Height") as usize,
+                            rgb: stream
+                                .decompressed_content()
+                                .unwrap_or(stream.content.clone()),
+                            area: [x0.min(x1), y0.min(y1), x0.max(x1), y0.max(y1)],
+                        });
+                    }
+                    _ => {}
+                }
+            }
+            images
+        })
+        .collect()
+}
+
+#[test]
+fn sheet_pdf_ends_with_a_folding_guide_of_the_motion() {
+    use crease::pipeline::{fabricate, FabOptions, Guide, GUIDE_PICTURES};
+    let design = crease::io::read(&repo("patterns/miura-bent.fold")).unwrap();
+    let machine = crease::machine::Machine::load("generic-hpgl").unwrap();
+    let run = |guide| {
+        let options = FabOptions {
+            guide,
+            route: crease::fab::RouteSearch::Draft,
+            ..FabOptions::default()
+        };
+        let out = fabricate(&design, &machine, &options).unwrap();
+        let pdf = common::fabbing::output(&out, "sheet.pdf").to_vec();
+        (out, pdf)
+    };
+    let (guided, pdf) = run(Guide::Auto);
+    let (plain, plain_pdf) = run(Guide::Never);
+    let (pages, plain_pages) = (pdf_images(&pdf), pdf_images(&plain_pdf));
+    assert_eq!(pages.len(), plain_pages.len() + 1, "one page more");
+    assert!(plain.guide_note.is_none());
+    let said = guided.guide_note.as_deref().unwrap();
+    assert!(said.contains("ends with a folding guide"), "{said}");
+    assert!(plain_pages.iter().all(Vec::is_empty), "no pictures without");
+
+    let images = pages.last().unwrap();
+    assert_eq!(images.len(), GUIDE_PICTURES);
+    assert!((4..=6).contains(&images.len()), "4–6 frames");
+    // Each caption gives how far it is folded: 0% first, the design (100%) last, rising.
+    let doc = printpdf::PdfDocument::parse(&pdf, &Default::default(), &mut Vec::new()).unwrap();
+    let last = doc.pages.last().unwrap();
+    let texts = common::fabbing::pdf_texts(last);
+    let percents: Vec<f64> = texts
+        .iter()
+        .filter_map(|t| {
+            let before = t.split('%').next().filter(|_| t.contains('%'))?;
+            let n = before.rsplit([' ', '(']).next()?;
+            n.parse().ok()
+        })
+        .collect();
+    assert_eq!(percents.len(), images.len(), "{texts:?}");
+    assert_eq!(percents.first(), Some(&0.0), "{texts:?}");
+    assert_eq!(percents.last(), Some(&100.0), "{texts:?}");
+    assert!(percents.windows(2).all(|w| w[0] < w[1]), "{percents:?}");
+    // The pictures: each one frame of the sheet (not blank), no two alike, side by side
+    // on the page without overlapping, and at least 35 mm wide.
+    let (w_pt, h_pt) = (last.media_box.width.0, last.media_box.height.0);
+    for image in images {
+        assert_eq!(image.rgb.len(), image.width * image.height * 3);
+        let background = &image.rgb[..3];
+        let painted = image
+            .rgb
+            .chunks_exact(3)
+            .filter(|p| *p != background)
+            .count();
+        assert!(
+            painted * 20 > image.width * image.height,
+            "the sheet covers over 5% of each picture ({painted} px)"
+        );
+        let [x0, y0, x1, y1] = image.area;
+        assert!(
+            x0 >= 0.0 && y0 >= 0.0 && x1 <= w_pt && y1 <= h_pt,
+            "{:?}",
+            image.area
+        );
+        assert!(
+            x1 - x0 > 100.0,
+            "each picture is over 35 mm wide: {:?}",
+            image.area
+        );
+        let aspect = (x1 - x0) / (y1 - y0);
+        let pixels = image.width as f32 / image.height as f32;
+        assert!((aspect - pixels).abs() < 0.01, "drawn undistorted");
+    }
+    for i in 0..images.len() {
+        for j in i + 1..images.len() {
+            let (a, b) = (&images[i], &images[j]);
+            let differ = a
+                .rgb
+                .chunks_exact(3)
+                .zip(b.rgb.chunks_exact(3))
+                .filter(|(p, q)| p != q)
+                .count();
+            assert!(
+                differ * 100 > a.rgb.len() / 3,
+                "frames {i} and {j} differ in over 1% of their pixels"
+            );
+            let (p, q) = (a.area, b.area);
+            assert!(
+                p[2] <= q[0] || q[2] <= p[0] || p[3] <= q[1] || q[3] <= p[1],
+                "pictures {i} and {j} overlap"
+            );
+        }
+    }
+}
+
+#[test]
+fn the_folding_guide_is_left_out_where_the_path_is_not_clear_or_turned_off() {
+    // The two-flap strip with its 3D form (both flaps mountain to 170°, crossing): the
+    // design fails verification, cut with --force; its path from flat is blocked.
+    let (c, s) = (170f64.to_radians().cos(), 170f64.to_radians().sin());
+    let cp = [
+        [0., 0.],
+        [30., 0.],
+        [40., 0.],
+        [70., 0.],
+        [0., 10.],
+        [30., 10.],
+        [40., 10.],
+        [70., 10.],
+    ];
+    let folded: Vec<[f64; 3]> = cp
+        .iter()
+        .map(|&[x, y]| match x {
+            x if x < 30.0 => [30.0 - (30.0 - x) * c, y, -(30.0 - x) * s],
+            x if x > 40.0 => [40.0 + (x - 40.0) * c, y, -(x - 40.0) * s],
+            x => [x, y, 0.0],
+        })
+        .collect();
+    let fold = serde_json::json!({
+        "file_spec": 1.1, "frame_classes": ["foldedForm"], "frame_attributes": ["3D"],
+        "vertices_coords": folded,
+        "faces_vertices": [[0,1,5,4],[1,2,6,5],[2,3,7,6]],
+        "edges_vertices": [[0,1],[1,2],[2,3],[3,7],[7,6],[6,5],[5,4],[4,0],[1,5],[2,6]],
+        "edges_assignment": ["B","B","B","B","B","B","B","B","M","M"],
+        "edges_foldAngle": [0,0,0,0,0,0,0,0,-170,-170],
+        "file_frames": [{"frame_classes": ["creasePattern"], "frame_inherit": true,
+                         "frame_parent": 0, "vertices_coords": cp}]
+    });
+    let file = common::scratch_file("animate", "flaps-3d.fold", &fold.to_string());
+    let dir = file.parent().unwrap().to_path_buf();
+    let pages = |out: &Path| {
+        let pages = pdf_images(&std::fs::read(out.join("sheet.pdf")).unwrap());
+        (pages.len(), pages.iter().map(Vec::len).sum::<usize>())
+    };
+    let mut counts = Vec::new();
+    for (name, extra) in [
+        ("flaps-guide", None),
+        ("flaps-no-guide", Some("--no-guide")),
+    ] {
+        let out = dir.join(name);
+        let mut args = vec![
+            "fab",
+            file.to_str().unwrap(),
+            "--force",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        let (code, stdout, stderr) = common::run_crease(&args);
+        assert_eq!(code, 0, "{stdout}{stderr}");
+        let report: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(out.join("report.json")).unwrap()).unwrap();
+        let said = &report["previews"]["folding-guide"];
+        if extra.is_none() {
+            let said = said.as_str().unwrap();
+            assert!(
+                said.contains("no folding guide") && said.contains("pass through each other"),
+                "{said}"
+            );
+            assert!(stderr.contains(said), "the maker is told: {stderr}");
+        } else {
+            assert!(said.is_null(), "{said}");
+        }
+        counts.push(pages(&out));
+    }
+    assert_eq!(counts[0], counts[1], "no guide page either way");
+    assert_eq!(counts[0].1, 0, "no pictures");
+}

@@ -269,6 +269,8 @@ fn the_pdf_page_is_the_media_and_its_scale_bar_is_100_mm() {
     for media in ["a4", "letter"] {
         let options = FabOptions {
             media: Some(crease::fab::Media::parse(media).unwrap()),
+            // The folding guide's page is its own test's (design/animate.rs).
+            guide: crease::pipeline::Guide::Never,
             ..Default::default()
         };
         let out = fabricate(&mesh, &machine, &options).unwrap();

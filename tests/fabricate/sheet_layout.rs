@@ -91,6 +91,8 @@ fn a_tiled_sheet_is_turned_to_print_on_the_fewest_pages() {
             &FabOptions {
                 media: Some(media),
                 tile: true,
+                // Every page a tile or the notes (the guide's page has its own test).
+                guide: crease::pipeline::Guide::Never,
                 ..Default::default()
             },
         )
@@ -402,6 +404,8 @@ fn the_template_prints_inside_a_10_mm_margin_on_paper_and_its_text_clears_the_pa
                 fit,
                 hide_flat,
                 route: RouteSearch::Draft,
+                // The folding guide's page is checked in its own test (design/animate.rs).
+                guide: crease::pipeline::Guide::Never,
                 ..Default::default()
             };
             let Ok(out) = fabricate(&mesh, &Machine::load(machine).unwrap(), &options) else {

@@ -3,13 +3,15 @@
 //! solid; a 100 mm scale bar to check the printer did not scale; a legend, the title and
 //! the report's summary) and the print-and-cut page ([`print`]).
 
+mod guide;
 mod print;
 mod template;
 
+pub use guide::{FoldingGuide, GUIDE_DPI};
 pub use print::{to_bytes_print, PrintPage};
 pub use template::{
     home_paper_for, home_tiles, paper_for, to_bytes, to_bytes_tiled, to_bytes_two_sided, Paper,
-    AS_CUT_TITLE, PRINTABLE_MARGIN_MM, TILE_MARGIN_MM, TILE_OVERLAP_MM,
+    Template, AS_CUT_TITLE, PRINTABLE_MARGIN_MM, TILE_MARGIN_MM, TILE_OVERLAP_MM,
 };
 
 use crate::fab::LineKind;
@@ -142,9 +144,15 @@ fn wrap(s: &str, width: usize) -> Vec<String> {
     lines
 }
 
-fn save(title: &str, pages: Vec<PdfPage>) -> Vec<u8> {
-    PdfDocument::new(title)
-        .with_pages(pages)
+/// `pages` as a PDF, the folding guide after them on paper the size of the first.
+fn save(title: &str, mut pages: Vec<PdfPage>, guide: Option<&FoldingGuide>) -> Vec<u8> {
+    let mut doc = PdfDocument::new(title);
+    if let (Some(guide), Some(first)) = (guide, pages.first()) {
+        let mm = |p: Pt| f64::from(Mm::from(p).0);
+        let size = [mm(first.media_box.width), mm(first.media_box.height)];
+        pages.push(guide::page(&mut doc, guide, size, title));
+    }
+    doc.with_pages(pages)
         .save(&PdfSaveOptions::default(), &mut Vec::new())
 }
 

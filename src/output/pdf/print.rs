@@ -16,11 +16,13 @@ pub struct PrintPage<'a> {
     pub fill: Option<[u8; 3]>,
     /// Lines printed below the frame (title, how to print), clear of marks and sheet.
     pub caption: Vec<String>,
+    /// The folding guide, a page after the page as cut, if any.
+    pub guide: Option<&'a super::FoldingGuide<'a>>,
 }
 
 /// A print-and-cut sheet as PDF bytes: page 1 is printed (the sheet filled and its fold
 /// guides, the registration marks, a caption and a 100 mm scale bar below the frame),
-/// page 2 shows what the knife cuts, as the job has it.
+/// page 2 shows what the knife cuts, as the job has it; the folding guide follows.
 pub fn to_bytes_print(sheet: &Sheet, title: &str, print: &PrintPage, cut: &Toolpath) -> Vec<u8> {
     use crate::fab::print_and_cut::LINE_MM;
     let (w, h) = (sheet.media.width, sheet.media.height);
@@ -97,5 +99,6 @@ pub fn to_bytes_print(sheet: &Sheet, title: &str, print: &PrintPage, cut: &Toolp
             PdfPage::new(Mm(w as f32), Mm(h as f32), ops),
             as_cut_page(cut, &super::template::Paper::of_media(&sheet.media)),
         ],
+        print.guide,
     )
 }

@@ -2,6 +2,7 @@
 //! bar, a legend, the title and the run's summary; a two-sided job's page of steps; a
 //! sheet too large tiled over pages; and the page as cut.
 
+use super::guide::FoldingGuide;
 use super::{crease_line, cross, line, save, solid_black, stroke, style, text, wrap, SCALE_BAR_MM};
 use crate::fab::labels::{label_box, LABEL_PT};
 use crate::fab::{LineKind, Media, Sheet, Toolpath};
@@ -349,16 +350,29 @@ fn stroke_bounds(path: &Toolpath, shift: Vec2) -> (Vec2, Vec2) {
     crate::mesh::bounds(&ends)
 }
 
+/// What a template carries besides the sheet.
+pub struct Template<'a> {
+    /// Its title (the design's).
+    pub title: &'a str,
+    /// The run's summary, one line each.
+    pub summary: &'a [String],
+    /// Whether flat lines are drawn (light grey) or left out.
+    pub flat: bool,
+    /// The folding guide, the last page, if any.
+    pub guide: Option<&'a FoldingGuide<'a>>,
+}
+
 /// The template as PDF bytes, on [`paper_for`] the sheet: the page to fold by (flat
 /// lines light grey, or left out when `flat` is false), a page of notes if the title,
-/// summary or legend had no room beside the pattern, then, with `cut`, the page as cut.
-pub fn to_bytes(
-    sheet: &Sheet,
-    title: &str,
-    summary: &[String],
-    cut: Option<&Toolpath>,
-    flat: bool,
-) -> Vec<u8> {
+/// summary or legend had no room beside the pattern, with `cut` the page as cut, and
+/// the folding guide.
+pub fn to_bytes(sheet: &Sheet, template: &Template, cut: Option<&Toolpath>) -> Vec<u8> {
+    let &Template {
+        title,
+        summary,
+        flat,
+        guide,
+    } = template;
     let paper = paper_for(sheet);
     let (ops, all) = fold_page(sheet, &paper, title, summary, flat);
     let all = all && cut.is_none_or(|c| as_cut_titled(c, &paper));
@@ -371,7 +385,7 @@ pub fn to_bytes(
         pages.push(notes_page(sheet, &paper, title, summary, flat));
     }
     pages.extend(cut.map(|c| as_cut_page(c, &paper)));
-    save(title, pages)
+    save(title, pages, guide)
 }
 
 /// A two-sided job's template: the sheet with the front job's registration crosses at
@@ -379,13 +393,17 @@ pub fn to_bytes(
 /// how to check the registration — and a sketch of the sheet's two sides with the crosses.
 pub fn to_bytes_two_sided(
     sheet: &Sheet,
-    title: &str,
-    summary: &[String],
+    template: &Template,
     marks: &[Vec2],
     steps: &[String],
     cut: Option<&Toolpath>,
-    flat: bool,
 ) -> Vec<u8> {
+    let &Template {
+        title,
+        summary,
+        flat,
+        guide,
+    } = template;
     let paper = paper_for(sheet);
     let (w, h) = (paper.width, paper.height);
     let (mut ops, all) = fold_page(sheet, &paper, title, summary, flat);
@@ -453,7 +471,7 @@ pub fn to_bytes_two_sided(
         pages.push(notes_page(sheet, &paper, title, summary, flat));
     }
     pages.extend(cut.map(|c| as_cut_page(c, &paper)));
-    save(title, pages)
+    save(title, pages, guide)
 }
 
 /// A sheet too large for the printer, split over `page` sized pages. Each page shows a
@@ -466,10 +484,14 @@ pub fn to_bytes_tiled(
     page: &Media,
     margin: f64,
     overlap: f64,
-    title: &str,
-    summary: &[String],
-    flat: bool,
+    template: &Template,
 ) -> Vec<u8> {
+    let &Template {
+        title,
+        summary,
+        flat,
+        guide,
+    } = template;
     let (uw, uh) = (page.width - 2.0 * margin, page.height - 2.0 * margin);
     let step = (uw - overlap, uh - overlap);
     let size = [sheet.media.width, sheet.media.height];
@@ -524,5 +546,5 @@ pub fn to_bytes_tiled(
         summary,
         flat,
     ));
-    save(title, pages)
+    save(title, pages, guide)
 }
