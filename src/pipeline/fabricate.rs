@@ -159,17 +159,12 @@ pub fn fabricate_verified(
     let (pictures, mut previews) = preview_files(mesh, &toolpath)?;
     files.extend(pictures);
     let motion = super::guide::run_motion(mesh, options)?;
-    if let (true, Some(m)) = (options.motion, &motion.motion) {
-        let picture = crate::output::png::motion(&m.sheet, &m.frames).map_err(FabError::Input)?;
-        files.push(("motion.png".to_string(), picture));
-        previews.motion = Some(m.summary());
-    }
+    files.extend(super::guide::motion_png(&motion, options, &mut previews)?);
     let guide = motion
         .motion
         .as_ref()
         .filter(|_| motion.guide)
         .map(super::guide::folding_guide);
-    previews.guide.clone_from(&motion.guide_line);
     let figures = run.figures();
     let next_steps = next_steps_of(print.as_ref(), machine, &jobs_written);
     let hinge = hinge_of(mesh, &sheet, machine, tiled)?;
@@ -190,19 +185,7 @@ pub fn fabricate_verified(
     let job_line = run.job_line(&figures);
     let mut warnings: Vec<String> = run.unscored_warning().into_iter().collect();
     warnings.extend(hinge.as_ref().and_then(too_far_warning));
-    if let (Some(material), false) = (&machine.material, machine.material_unused.is_empty()) {
-        let unused = &machine.material_unused;
-        let list = match unused.split_last() {
-            Some((last, [])) => last.clone(),
-            Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
-            None => String::new(),
-        };
-        warnings.push(format!(
-            "{} takes no {list} from {material}: set {} in its own software",
-            machine.name,
-            if unused.len() == 1 { "it" } else { "them" }
-        ));
-    }
+    warnings.extend(material_unused_warning(machine));
     let mut summary = run.summary(&verification.verdict(), &job_line, &warnings);
     if let Some(seam) = &report.seam {
         summary.push(format!(
@@ -379,6 +362,22 @@ fn print_pdf(
         guide,
     };
     crate::output::pdf::to_bytes_print(sheet, title, &page, toolpath)
+}
+
+/// The settings of the profile's material the machine does not take from crease (a
+/// Cricut's pressure), to be set in its own software.
+fn material_unused_warning(machine: &crate::machine::Machine) -> Option<String> {
+    let material = machine.material.as_ref()?;
+    let unused = &machine.material_unused;
+    let list = match unused.split_last()? {
+        (last, []) => last.clone(),
+        (last, rest) => format!("{} or {last}", rest.join(", ")),
+    };
+    Some(format!(
+        "{} takes no {list} from {material}: set {} in its own software",
+        machine.name,
+        if unused.len() == 1 { "it" } else { "them" }
+    ))
 }
 
 /// What the maker does next in the machine's software (the profile's `steps`), or for a

@@ -74,6 +74,22 @@ pub(super) fn run_motion(mesh: &Mesh, options: &FabOptions) -> Result<RunMotion,
     Ok(run)
 }
 
+/// `motion.png` when `fab --motion` asked for it, and what the previews say of the
+/// motion and the guide.
+pub(super) fn motion_png(
+    run: &RunMotion,
+    options: &FabOptions,
+    previews: &mut super::PreviewsReport,
+) -> Result<Option<(String, Vec<u8>)>, FabError> {
+    previews.guide.clone_from(&run.guide_line);
+    let Some(m) = run.motion.as_ref().filter(|_| options.motion) else {
+        return Ok(None);
+    };
+    let picture = crate::output::png::motion(&m.sheet, &m.frames).map_err(FabError::Input)?;
+    previews.motion = Some(m.summary());
+    Ok(Some(("motion.png".to_string(), picture)))
+}
+
 /// The folding guide of a clear `motion`: [`GUIDE_PICTURES`] of its frames evenly along
 /// the path, the flat sheet first and the design last, each captioned with how far it
 /// is folded (every crease is driven in step, so k/n of the way is each crease at that

@@ -367,12 +367,12 @@ pub struct Template<'a> {
 /// summary or legend had no room beside the pattern, with `cut` the page as cut, and
 /// the folding guide.
 pub fn to_bytes(sheet: &Sheet, template: &Template, cut: Option<&Toolpath>) -> Vec<u8> {
-    let &Template {
-        title,
-        summary,
-        flat,
-        guide,
-    } = template;
+    let (title, summary, flat, guide) = (
+        template.title,
+        template.summary,
+        template.flat,
+        template.guide,
+    );
     let paper = paper_for(sheet);
     let (ops, all) = fold_page(sheet, &paper, title, summary, flat);
     let all = all && cut.is_none_or(|c| as_cut_titled(c, &paper));
@@ -398,12 +398,12 @@ pub fn to_bytes_two_sided(
     steps: &[String],
     cut: Option<&Toolpath>,
 ) -> Vec<u8> {
-    let &Template {
-        title,
-        summary,
-        flat,
-        guide,
-    } = template;
+    let (title, summary, flat, guide) = (
+        template.title,
+        template.summary,
+        template.flat,
+        template.guide,
+    );
     let paper = paper_for(sheet);
     let (w, h) = (paper.width, paper.height);
     let (mut ops, all) = fold_page(sheet, &paper, title, summary, flat);
@@ -430,15 +430,29 @@ pub fn to_bytes_two_sided(
         }
         y -= 2.0;
     }
-    // The sheet's two sides, small: the front as it is cut, then turned over left to
-    // right, with the crosses where each job cuts them.
+    two_sides_sketch(&mut second, sheet, marks, y, w);
+    // The steps stay page 2, as the summary says; notes, if any, follow them.
+    let mut pages = vec![
+        PdfPage::new(Mm(w as f32), Mm(h as f32), ops),
+        PdfPage::new(Mm(w as f32), Mm(h as f32), second),
+    ];
+    if !all {
+        pages.push(notes_page(sheet, &paper, title, summary, flat));
+    }
+    pages.extend(cut.map(|c| as_cut_page(c, &paper)));
+    save(title, pages, guide)
+}
+
+/// The sheet's two sides, small, below `y` on a page `w` mm wide: the front as it is cut,
+/// then turned over left to right, with the crosses where each job cuts them.
+fn two_sides_sketch(second: &mut Vec<Op>, sheet: &Sheet, marks: &[Vec2], y: f64, w: f64) {
     let (mw, mh) = (sheet.media.width, sheet.media.height);
     let k = ((w - 30.0) / 2.0 / mw).min((y - 20.0) / mh).max(0.05);
     let mirrored: Vec<Vec2> = marks
         .iter()
         .map(|&m| crate::fab::registration::mirrored(mw, m))
         .collect();
-    solid_black(&mut second);
+    solid_black(second);
     for (i, (label, points)) in [
         ("front (first job)", marks),
         ("back, turned left to right (second job)", &mirrored[..]),
@@ -458,20 +472,10 @@ pub fn to_bytes_two_sided(
             second.push(line(corners[j], corners[(j + 1) % 4]));
         }
         for p in points {
-            cross(&mut second, (x0 + p.x * k, y0 + p.y * k), 4.0);
+            cross(second, (x0 + p.x * k, y0 + p.y * k), 4.0);
         }
-        text(&mut second, x0, y0 - 5.0, 8.0, label);
+        text(second, x0, y0 - 5.0, 8.0, label);
     }
-    // The steps stay page 2, as the summary says; notes, if any, follow them.
-    let mut pages = vec![
-        PdfPage::new(Mm(w as f32), Mm(h as f32), ops),
-        PdfPage::new(Mm(w as f32), Mm(h as f32), second),
-    ];
-    if !all {
-        pages.push(notes_page(sheet, &paper, title, summary, flat));
-    }
-    pages.extend(cut.map(|c| as_cut_page(c, &paper)));
-    save(title, pages, guide)
 }
 
 /// A sheet too large for the printer, split over `page` sized pages. Each page shows a
@@ -486,12 +490,12 @@ pub fn to_bytes_tiled(
     overlap: f64,
     template: &Template,
 ) -> Vec<u8> {
-    let &Template {
-        title,
-        summary,
-        flat,
-        guide,
-    } = template;
+    let (title, summary, flat, guide) = (
+        template.title,
+        template.summary,
+        template.flat,
+        template.guide,
+    );
     let (uw, uh) = (page.width - 2.0 * margin, page.height - 2.0 * margin);
     let step = (uw - overlap, uh - overlap);
     let size = [sheet.media.width, sheet.media.height];
