@@ -11,7 +11,7 @@ mod browser_support;
 #[path = "common/studio.rs"]
 mod studio_process;
 
-use browser_support::{eval, open_page, page_state, wait_until, Driver};
+use browser_support::{downloads, eval, open_page, page_state, wait_until, Driver};
 use fantoccini::actions::{
     InputSource, KeyAction, KeyActions, MouseActions, PointerAction, MOUSE_BUTTON_LEFT,
 };
@@ -125,6 +125,7 @@ async fn dragging_a_vertex_with_the_mouse_moves_it_and_every_condition_still_hol
     fabricate_and_see_the_preview(&client).await;
     let png = client.screenshot().await.expect("a screenshot");
     std::fs::write(out_dir().join("studio.png"), png).unwrap();
+    play_and_export_the_folding_motion(&client, &profile).await;
 
     fit_to_a_dome_by_pressing_fit(&client, &before).await;
     let png = client.screenshot().await.expect("a screenshot");
@@ -335,6 +336,144 @@ async fn fabricate_and_see_the_preview(client: &Client) {
         ink > 0.02 * sheet,
         "strokes cover {ink} of {sheet} pixels: {counts}"
     );
+}
+
+/// The 3D view's pixels as a data URL (the renderer keeps its drawing buffer).
+async fn view_pixels(client: &Client) -> String {
+    let url = eval(
+        client,
+        "return document.querySelector('#view3d canvas').toDataURL('image/png');",
+        vec![],
+    )
+    .await;
+    url.as_str().unwrap().to_string()
+}
+
+/// A real click on the range input `id` at `fraction` of its width from the left.
+async fn click_range_at(client: &Client, id: &str, fraction: f64) {
+    let slider = client.find(fantoccini::Locator::Id(id)).await.unwrap();
+    let width = eval(
+        client,
+        "return document.getElementById(arguments[0]).getBoundingClientRect().width;",
+        vec![json!(id)],
+    )
+    .await
+    .as_f64()
+    .unwrap();
+    let click = MouseActions::new("mouse".into())
+        .then(PointerAction::MoveToElement {
+            element: slider,
+            duration: Some(Duration::from_millis(50)),
+            x: (fraction - 0.5) * (width - 4.0),
+            y: 0.0,
+        })
+        .then(PointerAction::Down {
+            button: MOUSE_BUTTON_LEFT,
+        })
+        .then(PointerAction::Up {
+            button: MOUSE_BUTTON_LEFT,
+        });
+    client
+        .perform_actions(click)
+        .await
+        .expect("a click on the slider");
+    client.release_actions().await.expect("actions released");
+}
+
+/// Issue 49: Play (a real click) folds the design from flat and plays every frame in the
+/// 3D view; the slider, clicked at its two ends, shows the flat sheet and the design (two
+/// different pictures); Export (a real click) downloads the motion as .glb, which the
+/// Khronos glTF validator passes with no error and no warning.
+async fn play_and_export_the_folding_motion(client: &Client, profile: &Path) {
+    client
+        .find(fantoccini::Locator::Id("motion-play"))
+        .await
+        .unwrap()
+        .click()
+        .await
+        .expect("a click on Play");
+    wait_until(
+        client,
+        "the motion to play to its end",
+        "return window.crease.motion().played >= 1;",
+    )
+    .await;
+    let state = eval(client, "return window.crease.motion();", vec![]).await;
+    let frames = state["frames"].as_u64().unwrap();
+    assert!(frames > 2, "{state}");
+    assert_eq!(
+        state["shown"].as_u64(),
+        Some(frames - 1),
+        "played to the end: {state}"
+    );
+    assert!(
+        state["framesDrawn"].as_u64().unwrap() >= frames,
+        "every frame drawn: {state}"
+    );
+    assert_eq!(state["showing"], false, "back to the design: {state}");
+    let info = eval(
+        client,
+        "return document.getElementById('motion-info').textContent;",
+        vec![],
+    )
+    .await;
+    assert!(info.as_str().unwrap().contains("path from flat"), "{info}");
+
+    click_range_at(client, "motion-frame", 0.0).await;
+    let first = eval(client, "return window.crease.motion();", vec![]).await;
+    assert_eq!(first["shown"], 0, "{first}");
+    assert_eq!(first["showing"], true, "{first}");
+    tokio::time::sleep(Duration::from_millis(200)).await;
+    let flat = view_pixels(client).await;
+    click_range_at(client, "motion-frame", 1.0).await;
+    let last = eval(client, "return window.crease.motion();", vec![]).await;
+    assert_eq!(last["shown"].as_u64(), Some(frames - 1), "{last}");
+    tokio::time::sleep(Duration::from_millis(200)).await;
+    assert_ne!(
+        flat,
+        view_pixels(client).await,
+        "the flat sheet and the design differ on screen"
+    );
+
+    let dir = downloads(profile);
+    client
+        .find(fantoccini::Locator::Id("motion-export"))
+        .await
+        .unwrap()
+        .click()
+        .await
+        .expect("a click on Export");
+    let start = std::time::Instant::now();
+    let file = loop {
+        let done = std::fs::read_dir(&dir).ok().and_then(|entries| {
+            entries
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .find(|p| p.extension().is_some_and(|e| e == "glb"))
+        });
+        if let Some(f) = done {
+            break f;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "no .glb downloaded into {}",
+            dir.display()
+        );
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    };
+    let out = Command::new("node")
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/js/validate-gltf.mjs"))
+        .arg(&file)
+        .output()
+        .expect("node runs (tests/run installs it and tests/js's packages)");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(report["errors"], 0, "{report}");
+    assert_eq!(report["warnings"], 0, "{report}");
+    assert_eq!(report["animations"], 1, "{report}");
 }
 
 /// Issue 47, item 5: after a fit, simulation mode chosen with a click and New pressed on

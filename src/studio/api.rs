@@ -9,7 +9,8 @@
 use super::assets;
 use super::hub::Hub;
 use super::session::{
-    Command, FabRequest, FitRequest, GenerateRequest, Reply, Settings, TargetPlacement, MAX_UPLOAD,
+    Command, FabRequest, FitRequest, GenerateRequest, MotionRequest, Reply, Settings,
+    TargetPlacement, MAX_UPLOAD,
 };
 use crate::constraints::Family;
 use crate::generate::{Params, PatternKind};
@@ -402,6 +403,14 @@ fn command_for(
         ("GET", "/state") => Command::State,
         ("GET", "/design.fold") => Command::SaveFold,
         ("GET", r) if r.starts_with("/fab/") => Command::FabFile(r["/fab/".len()..].to_string()),
+        ("POST", "/motion") => Command::Motion(parse::<MotionRequest>(path, &body)?),
+        ("GET", "/motion/export") => Command::MotionFile(
+            query_value(query, "format")
+                .map(percent_decode)
+                .ok_or_else(|| {
+                    Response::error(400, "/api/motion/export needs ?format=glb, fold or png")
+                })?,
+        ),
         ("POST", "/drag") => {
             let b = parse::<DragBody>(path, &body)?;
             Command::Drag {

@@ -18,6 +18,7 @@ const FILES: &[(&str, &[u8])] = &[
     ("panes.js", include_bytes!("assets/panes.js")),
     ("panel.js", include_bytes!("assets/panel.js")),
     ("fit.js", include_bytes!("assets/fit.js")),
+    ("motion.js", include_bytes!("assets/motion.js")),
     (
         "vendor/three/three.module.js",
         include_bytes!("assets/vendor/three/three.module.js"),
@@ -46,6 +47,7 @@ pub fn content_type(name: &str) -> &'static str {
         Some("pdf") => "application/pdf",
         Some("json") | Some("fold") => "application/json",
         Some("png") => "image/png",
+        Some("glb") => "model/gltf-binary",
         _ => "text/plain; charset=utf-8",
     }
 }

@@ -144,6 +144,26 @@ pub fn strip_pattern_json(strip: &Mesh) -> String {
     value.to_string()
 }
 
+/// The folding motion for the page to play: the sheet it moves (a tube's strip has its
+/// own faces and creases), every frame's positions, and what the path found.
+pub fn motion_value(motion: &crate::pipeline::Motion) -> Value {
+    let mut value = topology_value(&motion.sheet);
+    let frames: Vec<Vec<f64>> = motion
+        .frames
+        .iter()
+        .map(|x| {
+            x.iter()
+                .flat_map(|p| [micro(p.x), micro(p.y), micro(p.z)])
+                .collect()
+        })
+        .collect();
+    value["frames"] = json!(frames);
+    value["summary"] = json!(motion.summary());
+    value["exitCode"] = json!(motion.exit_code());
+    value["rigid"] = json!(motion.bending.is_rigid());
+    value
+}
+
 /// Rounds to 1 µm: the page needs no more, and the numbers print shorter.
 fn micro(x: f64) -> f64 {
     (x * 1e3).round() / 1e3

@@ -83,7 +83,12 @@ pub async fn browser(driver: &Driver, profile: &Path) -> Client {
                 "--disable-sync", "--no-first-run",
                 "--window-size=1400,860",
                 format!("--user-data-dir={}", profile.display()),
-            ]
+            ],
+            // Downloads (Save FOLD, Export) land in the profile's downloads/, unasked.
+            "prefs": {
+                "download.default_directory": downloads(profile),
+                "download.prompt_for_download": false,
+            }
         }
     });
     let Value::Object(caps) = caps else {
@@ -94,6 +99,11 @@ pub async fn browser(driver: &Driver, profile: &Path) -> Client {
         .connect(&driver.url)
         .await
         .expect("a browser session")
+}
+
+/// Where the browser of `profile` puts what the page downloads.
+pub fn downloads(profile: &Path) -> PathBuf {
+    profile.join("downloads")
 }
 
 pub async fn eval(client: &Client, script: &str, args: Vec<Value>) -> Value {

@@ -1052,3 +1052,119 @@ fn a_target_loaded_far_from_the_design_is_moved_onto_it_and_said() {
     );
     assert!(!s["message"].as_str().unwrap().contains("moved onto it"));
 }
+
+#[test]
+fn the_folding_motion_plays_from_flat_to_the_design_exports_and_refuses_bad_requests() {
+    let hub = fresh_hub();
+    let design = state(&hub)["positions"].clone();
+    let (status, m) = json_call(&hub, "POST", "/api/motion", json!({}));
+    assert_eq!(status, 200, "{m}");
+    let frames: Vec<Vec<f64>> = serde_json::from_value(m["frames"].clone()).unwrap();
+    assert_eq!(frames.len(), 61, "60 steps and the flat sheet");
+    assert_eq!(m["exitCode"], 0, "{}", m["summary"]);
+    assert_eq!(m["rigid"], true, "{}", m["summary"]);
+    let n = m["vertices"].as_u64().unwrap() as usize;
+    let edges: Vec<(usize, usize, String)> = serde_json::from_value(m["edges"].clone()).unwrap();
+    let length = |x: &[f64], (a, b): (usize, usize)| {
+        ((x[3 * a] - x[3 * b]).powi(2)
+            + (x[3 * a + 1] - x[3 * b + 1]).powi(2)
+            + (x[3 * a + 2] - x[3 * b + 2]).powi(2))
+        .sqrt()
+    };
+    for (k, x) in frames.iter().enumerate() {
+        assert_eq!(x.len(), 3 * n);
+        // Simulation mode: every edge keeps its length (to the 1 µm the page is sent).
+        for &(a, b, _) in &edges {
+            let (l0, l) = (length(&frames[0], (a, b)), length(x, (a, b)));
+            assert!((l - l0).abs() < 3e-3, "frame {k}, edge {a}-{b}: {l0} → {l}");
+        }
+    }
+    // The flat sheet is a plane: every vertex on the plane of three of them.
+    let p = |i: usize| {
+        nalgebra::Vector3::new(frames[0][3 * i], frames[0][3 * i + 1], frames[0][3 * i + 2])
+    };
+    let normal = (p(1) - p(0)).cross(&(p(n - 1) - p(0))).normalize();
+    let off = (0..n)
+        .map(|i| (p(i) - p(0)).dot(&normal).abs())
+        .fold(0.0, f64::max);
+    assert!(off < 1e-2, "frame 0 is flat: {off} mm off its plane");
+    // The last frame is the design, where the page shows it.
+    let design: Vec<f64> = serde_json::from_value::<Vec<[f64; 3]>>(design)
+        .unwrap()
+        .concat();
+    let last = frames.last().unwrap();
+    let gap = design
+        .iter()
+        .zip(last)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(gap < 2e-3, "the last frame is the design: {gap} mm apart");
+
+    // Export: one file each, named after the design, in the format asked.
+    for (format, magic) in [
+        ("glb", &b"glTF"[..]),
+        ("png", &b"\x89PNG"[..]),
+        ("fold", &b"{"[..]),
+    ] {
+        let r = call(
+            &hub,
+            "GET",
+            &format!("/api/motion/export?format={format}"),
+            b"",
+        );
+        assert_eq!(
+            r.status,
+            200,
+            "{format}: {}",
+            String::from_utf8_lossy(&r.body)
+        );
+        assert_eq!(
+            r.download.as_deref(),
+            Some(format!("miura-motion.{format}").as_str())
+        );
+        assert!(r.body.starts_with(magic), "{format}");
+    }
+    let fold = call(&hub, "GET", "/api/motion/export?format=fold", b"");
+    let read = crease::io::fold::parse(std::str::from_utf8(&fold.body).unwrap()).unwrap();
+    let gap = read
+        .positions()
+        .iter()
+        .flat_map(|p| [p.x, p.y, p.z])
+        .zip(last)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        gap < 2e-3,
+        "the FOLD's last frame is the design: {gap} mm apart"
+    );
+
+    // Bad requests: a 4xx naming the cause; the design stays.
+    for body in [
+        json!({"frames": 0}),
+        json!({"frames": 100000}),
+        json!({"steps": 3}),
+    ] {
+        let (status, r) = json_call(&hub, "POST", "/api/motion", body.clone());
+        assert_eq!(status, 400, "{body}: {r}");
+        assert!(r["error"].as_str().unwrap().len() < 300, "one line: {r}");
+    }
+    for query in [
+        "format=exe",
+        "format=gltf",
+        "form=glb",
+        "format=../../etc/passwd",
+    ] {
+        let r = call(&hub, "GET", &format!("/api/motion/export?{query}"), b"");
+        assert_eq!(
+            r.status,
+            400,
+            "{query}: {}",
+            String::from_utf8_lossy(&r.body)
+        );
+    }
+    let after = serde_json::from_value::<Vec<[f64; 3]>>(state(&hub)["positions"].clone())
+        .unwrap()
+        .concat();
+    assert_eq!(after, design, "the design stays");
+    hub.stop();
+}

@@ -5,11 +5,13 @@
 //   window.crease.screenOf(v)  -> {x, y}: client coordinates of vertex v in the 3D view
 //   window.crease.ready        -> true once the first frame is drawn
 //   window.crease.framesShown() -> frames drawn with new positions so far (benchmarks)
+//   window.crease.motion()     -> the folding motion shown: frames, shown, played, …
 
 import { View3D } from '/view3d.js';
 import { PatternPane, XrayPane } from '/panes.js';
 import { Panel } from '/panel.js';
 import { FitPanel } from '/fit.js';
+import { MotionPanel } from '/motion.js';
 
 /** JSON request; a 4xx/5xx rejects with the server's one-line message. */
 export async function api(path, body, raw) {
@@ -42,6 +44,7 @@ const view = new View3D(document.getElementById('view3d'), {
   },
 });
 const fitPanel = new FitPanel(api, showStatus, view);
+const motionPanel = new MotionPanel(api, showStatus, view);
 const cpPane = new PatternPane(document.getElementById('cp'));
 const xrayPane = new XrayPane(document.getElementById('xray'), document.getElementById('xray-reason'));
 
@@ -137,6 +140,7 @@ window.crease = {
   markerScreen: () => view.markerScreen(),
   framesShown: () => view.framesShown,
   framesApplied: () => framesApplied,
+  motion: () => motionPanel.state(),
 };
 
 window.addEventListener('resize', () => { cpPane.draw(model); xrayPane.draw(model); });
@@ -148,4 +152,5 @@ window.addEventListener('keydown', (e) => {
 setInterval(paintStatus, 1000);
 
 fitPanel.init();
+motionPanel.init();
 panel.init().then(poll);

@@ -44,6 +44,9 @@ export class View3D {
     this.framesShown = 0;
     this.freshPositions = false;
     this.framed = false;
+    // The folding motion shown in place of the design, if any, and its frames drawn.
+    this.motionOf = null;
+    this.motionFramesDrawn = 0;
     // Registered before OrbitControls so a press on a vertex can switch orbiting off
     // before the controls see it.
     const el = this.renderer.domElement;
@@ -117,6 +120,80 @@ export class View3D {
     }
   }
 
+  /** Each edge's colour by its kind, twice (both ends), for a LineSegments. */
+  static edgeColours(edges) {
+    const colours = new Float32Array(edges.length * 6);
+    edges.forEach(([, , kind], i) => {
+      const c = new THREE.Color(KIND_COLOURS[kind] ?? KIND_COLOURS.F);
+      colours.set([c.r, c.g, c.b, c.r, c.g, c.b], i * 6);
+    });
+    return colours;
+  }
+
+  /** Fills `line` with both ends of every edge at positions `pos` (x, y, z each). */
+  static edgeEnds(edges, pos, line) {
+    edges.forEach(([a, b], i) => {
+      line[i * 6] = pos[3 * a]; line[i * 6 + 1] = pos[3 * a + 1]; line[i * 6 + 2] = pos[3 * a + 2];
+      line[i * 6 + 3] = pos[3 * b]; line[i * 6 + 4] = pos[3 * b + 1]; line[i * 6 + 5] = pos[3 * b + 2];
+    });
+  }
+
+  /**
+   * Shows frame k of a folding motion in place of the design: the motion's own faces and
+   * creases (a tube folds as its strip), drawn as the design is.
+   */
+  showMotion(motion, k) {
+    if (this.motionOf !== motion) {
+      this.endMotion();
+      const faces = new THREE.BufferGeometry();
+      faces.setIndex(motion.faces);
+      faces.setAttribute('position', new THREE.BufferAttribute(new Float32Array(motion.vertices * 3), 3));
+      const lines = new THREE.BufferGeometry();
+      lines.setAttribute('color', new THREE.BufferAttribute(View3D.edgeColours(motion.edges), 3));
+      lines.setAttribute('position', new THREE.BufferAttribute(new Float32Array(motion.edges.length * 6), 3));
+      this.motionFaces = new THREE.Mesh(faces, this.faces.material);
+      this.motionLines = new THREE.LineSegments(lines, this.creases.material);
+      this.scene.add(this.motionFaces, this.motionLines);
+      this.motionOf = motion;
+      for (const o of [this.faces, this.creases, this.pins, this.anchor, this.worst, this.hover]) o.visible = false;
+    }
+    const pos = this.motionFaces.geometry.getAttribute('position');
+    pos.array.set(motion.frames[k]);
+    pos.needsUpdate = true;
+    this.motionFaces.geometry.computeBoundingSphere();
+    const line = this.motionLines.geometry.getAttribute('position');
+    View3D.edgeEnds(motion.edges, motion.frames[k], line.array);
+    line.needsUpdate = true;
+    this.motionLines.geometry.computeBoundingSphere();
+    this.motionFramesDrawn++;
+    this.render();
+  }
+
+  /** Points the camera at every frame of a motion (the flat sheet is the widest). */
+  frameMotion(motion) {
+    const box = new THREE.Box3();
+    const p = new THREE.Vector3();
+    for (const x of motion.frames) {
+      for (let i = 0; i < x.length; i += 3) box.expandByPoint(p.set(x[i], x[i + 1], x[i + 2]));
+    }
+    const s = box.getBoundingSphere(new THREE.Sphere());
+    this.frameSphere(s);
+  }
+
+  /** Whether a motion is shown in place of the design. */
+  motionShown() { return !!this.motionOf; }
+
+  /** Back to the design. */
+  endMotion() {
+    if (!this.motionOf) return;
+    this.scene.remove(this.motionFaces, this.motionLines);
+    this.motionFaces.geometry.dispose();
+    this.motionLines.geometry.dispose();
+    this.motionFaces = this.motionLines = this.motionOf = null;
+    for (const o of [this.faces, this.creases, this.pins, this.anchor, this.worst, this.hover]) o.visible = true;
+    this.render();
+  }
+
   /** Rebuilds what changed from the model the server sent. */
   update(model, topologyChanged) {
     const live = model.live, topo = model.topology;
@@ -125,24 +202,15 @@ export class View3D {
     const g = this.faces.geometry;
     if (topologyChanged) {
       g.setIndex(topo.faces);
-      const colours = new Float32Array(topo.edges.length * 6);
-      topo.edges.forEach(([, , kind], i) => {
-        const c = new THREE.Color(KIND_COLOURS[kind] ?? KIND_COLOURS.F);
-        colours.set([c.r, c.g, c.b, c.r, c.g, c.b], i * 6);
-      });
-      this.creases.geometry.setAttribute('color', new THREE.BufferAttribute(colours, 3));
+      this.creases.geometry.setAttribute('color', new THREE.BufferAttribute(View3D.edgeColours(topo.edges), 3));
     }
     // Buffers refilled in place; no vertex normals (flat shading takes each face's own).
     View3D.fill(g, 'position', this.positions, 3);
     this.freshPositions = true;
     if (topologyChanged || !g.boundingSphere) g.computeBoundingSphere();
     if (!this.line || this.line.length !== topo.edges.length * 6) this.line = new Float32Array(topo.edges.length * 6);
-    const line = this.line, pos = this.positions;
-    topo.edges.forEach(([a, b], i) => {
-      line[i * 6] = pos[3 * a]; line[i * 6 + 1] = pos[3 * a + 1]; line[i * 6 + 2] = pos[3 * a + 2];
-      line[i * 6 + 3] = pos[3 * b]; line[i * 6 + 4] = pos[3 * b + 1]; line[i * 6 + 5] = pos[3 * b + 2];
-    });
-    View3D.fill(this.creases.geometry, 'position', line, 3);
+    View3D.edgeEnds(topo.edges, this.positions, this.line);
+    View3D.fill(this.creases.geometry, 'position', this.line, 3);
     if (topologyChanged || !this.creases.geometry.boundingSphere) this.creases.geometry.computeBoundingSphere();
     this.setMarkers(this.pins, live.pinned);
     this.setMarkers(this.anchor, live.anchor.filter((v) => !live.pinned.includes(v)));
@@ -182,7 +250,11 @@ export class View3D {
   /** Points the camera at the whole design, seen from above and in front. */
   frame() {
     const s = this.faces.geometry.boundingSphere;
-    if (!s) return;
+    if (s) this.frameSphere(s);
+  }
+
+  /** Points the camera at a sphere, seen from above and in front. */
+  frameSphere(s) {
     const d = s.radius / Math.sin((this.camera.fov * Math.PI) / 360) * 1.05;
     this.controls.target.copy(s.center);
     this.camera.position.copy(s.center).add(new THREE.Vector3(0.15, -0.75, 0.65).normalize().multiplyScalar(d));
@@ -222,7 +294,8 @@ export class View3D {
   }
 
   down(e) {
-    if (e.button !== 0) return;
+    // While a motion is shown, a press orbits: its vertices are not the design's.
+    if (e.button !== 0 || this.motionOf) return;
     const v = this.pick(e);
     if (v === null) return;
     this.controls.enabled = false;

@@ -11,10 +11,12 @@ mod analysis;
 mod drag;
 mod edits;
 mod fit;
+mod motion;
 mod requests;
 
 pub use requests::{
-    Command, FabRequest, FitRequest, GenerateRequest, Refusal, Reply, Settings, TargetPlacement,
+    Command, FabRequest, FitRequest, GenerateRequest, MotionRequest, Refusal, Reply, Settings,
+    TargetPlacement,
 };
 
 use super::frame::{self, Frame, Meter};
@@ -75,6 +77,8 @@ pub struct Session {
     versions: frame::Versions,
     meter: Meter,
     fab_files: Vec<(String, Vec<u8>)>,
+    /// The folding motion of the design as it is, once asked for.
+    motion: Option<crate::pipeline::Motion>,
     /// The conditions in force, computed once per design and settings (the default set
     /// needs the design's reference state).
     in_force: Option<ConstraintSet>,
@@ -116,6 +120,7 @@ impl Session {
             versions: frame::Versions::default(),
             meter: Meter::default(),
             fab_files: Vec::new(),
+            motion: None,
             in_force: None,
             unpublished: false,
             target: None,
@@ -231,6 +236,7 @@ impl Session {
         }
         self.in_force = None;
         self.fab_files.clear();
+        self.motion = None;
     }
 
     /// The conditions in force: simulation mode's, the user's choice, or what the design's
@@ -273,6 +279,8 @@ impl Session {
                 })
             }
             Command::Fabricate(r) => self.fabricate(r),
+            Command::Motion(r) => self.motion(r),
+            Command::MotionFile(format) => self.motion_file(&format),
             Command::LoadTarget { name, bytes } => self.load_target(&name, &bytes),
             Command::PlaceTarget(p) => self.place_target(p),
             Command::ClearTarget => Ok(self.clear_target()),
@@ -312,6 +320,7 @@ impl Session {
     fn is_quiet(&self, command: &Command) -> bool {
         match command {
             Command::State | Command::FabFile(_) | Command::TargetMesh => true,
+            Command::MotionFile(_) => true,
             Command::Drag { vertex, .. } => self.drag.as_ref().is_some_and(|d| d.vertex == *vertex),
             _ => false,
         }

@@ -49,6 +49,10 @@ pub enum Command {
     Fabricate(FabRequest),
     /// A file of the last fabrication.
     FabFile(String),
+    /// Fold the design from flat and keep the motion, for the page to play.
+    Motion(MotionRequest),
+    /// The motion as a file in a format by its extension (glb, fold, png).
+    MotionFile(String),
     /// Load a target surface for the fit from a file's bytes (.obj, .stl).
     LoadTarget {
         /// Its name (the extension picks the format).
@@ -128,6 +132,15 @@ pub struct FitRequest {
     pub within: Option<f64>,
     /// "mid" or "all".
     pub surface: Option<String>,
+}
+
+/// A request for the folding motion.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MotionRequest {
+    /// Steps from flat (`crease animate --frames`); default as many of
+    /// [`super::motion::PLAYED_FRAMES`] as the page can hold.
+    pub frames: Option<usize>,
 }
 
 /// A fabrication request.
