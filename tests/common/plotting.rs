@@ -21,6 +21,8 @@ pub fn cutter_job(design: &str, machine: &str) -> String {
     .unwrap();
     let options = crease::pipeline::FabOptions {
         media: Some(crease::fab::Media::parse("a3").unwrap()),
+        // The job is what the plotting tests send; sheet.pdf's guide is not read here.
+        guide: crease::pipeline::Guide::Never,
         ..Default::default()
     };
     let out = crease::pipeline::fabricate(&mesh, &machine, &options).unwrap();

@@ -643,6 +643,8 @@ fn check_job(
             force: true,
             fit,
             route,
+            // The job is what is measured; the folding guide has its own test.
+            guide: crease::pipeline::Guide::Never,
             ..Default::default()
         };
         fabricate_verified(mesh, verification.clone(), machine, &options)

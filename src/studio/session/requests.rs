@@ -139,7 +139,7 @@ pub struct FitRequest {
 #[serde(deny_unknown_fields)]
 pub struct MotionRequest {
     /// Steps from flat (`crease animate --frames`); default as many of
-    /// [`super::motion::PLAYED_FRAMES`] as the page can hold.
+    /// `PLAYED_FRAMES` (60) as the page can hold.
     pub frames: Option<usize>,
 }
 
