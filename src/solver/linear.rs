@@ -21,6 +21,23 @@ use sprs::CsMat;
 /// the minimum-norm solution by a relative 1e-12.
 const RELATIVE_SHIFT: f64 = 1e-12;
 
+/// Systems of fewer rows are factorised and solved on one thread: handing the small
+/// supernodes of a few thousand rows to another thread costs more than it gives (a
+/// 961-vertex Miura-ori's folding motion of 60 frames, normal equations of about 2,900
+/// rows: 22 s with both cores on every system, 13.6 s with this threshold); the design
+/// step's benchmark gains from the second core from 10k vertices (29,000 active rows) up,
+/// and was the same on one core and two at 256 vertices.
+pub const PARALLEL_ROWS: usize = 10_000;
+
+/// faer's parallelism for a system of `rows` rows ([`PARALLEL_ROWS`]).
+fn parallelism(rows: usize) -> Par {
+    if rows < PARALLEL_ROWS {
+        Par::Seq
+    } else {
+        faer::get_global_parallelism()
+    }
+}
+
 /// How the Tikhonov shift λ of J Jᵀ + λI is sized.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Shift {
@@ -179,7 +196,7 @@ impl NormalSolver {
             }
             Shift::EachRow => a.shift_each_row(RELATIVE_SHIFT),
         }
-        let par = faer::get_global_parallelism();
+        let par = parallelism(m);
         let reuse =
             matches!(&self.factor, Some(f) if f.col_ptr == a.col_ptr && f.row_idx == a.row_idx);
         if !reuse {
@@ -299,7 +316,7 @@ fn solve_column<T: faer::traits::ComplexField + Copy>(
     LltRef::new(symbolic, values).solve_in_place_with_conj(
         Conj::No,
         rhs.as_mut(),
-        faer::get_global_parallelism(),
+        parallelism(b.len()),
         MemStack::new(scratch),
     );
     (0..b.len()).map(|i| back(rhs[(i, 0)])).collect()
