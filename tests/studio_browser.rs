@@ -8,6 +8,8 @@
 
 #[path = "common/browser.rs"]
 mod browser_support;
+#[path = "common/js.rs"]
+mod js;
 #[path = "common/studio.rs"]
 mod studio_process;
 
@@ -460,17 +462,7 @@ async fn play_and_export_the_folding_motion(client: &Client, profile: &Path) {
         );
         tokio::time::sleep(Duration::from_millis(100)).await;
     };
-    let out = Command::new("node")
-        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/js/validate-gltf.mjs"))
-        .arg(&file)
-        .output()
-        .expect("node runs (tests/run installs it and tests/js's packages)");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let report: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let report = js::node("validate-gltf.mjs", &file);
     assert_eq!(report["errors"], 0, "{report}");
     assert_eq!(report["warnings"], 0, "{report}");
     assert_eq!(report["animations"], 1, "{report}");

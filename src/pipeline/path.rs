@@ -102,7 +102,8 @@ impl std::fmt::Display for PathReport {
             "path from flat: clear (folded to the design's angles in {} steps{bending}, no faces passing through each other",
             self.steps
         )?;
-        if self.wrong_way_degrees > 0.0 {
+        // Below the two decimals shown it would read "0.00°".
+        if self.wrong_way_degrees >= 0.005 {
             write!(
                 f,
                 "; near flat a crease turns up to {:.2}° against its sign",

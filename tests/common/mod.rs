@@ -5,6 +5,7 @@
 pub mod fabbing;
 #[allow(dead_code)] // only the command line's hostile-input tests use it
 pub mod hostile_inputs;
+pub mod js;
 #[allow(dead_code)] // only the layer tests use it
 pub mod order_check;
 #[allow(dead_code)] // only the plotting tests use it

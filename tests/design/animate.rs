@@ -4,6 +4,7 @@
 //! (both installed by tests/run into tests/js); its animated PNG decoded by the png crate.
 
 use crate::common;
+use crate::common::js::node;
 use crease::mesh::{Mesh, Vec3};
 use crease::pipeline::{fold_motion, motion_files, Motion};
 use std::path::{Path, PathBuf};
@@ -29,21 +30,6 @@ fn congruence_gap(a: &[Vec3], b: &[Vec3]) -> f64 {
         }
     }
     worst
-}
-
-/// Runs a script of tests/js under node and parses what it prints.
-fn node(script: &str, file: &Path) -> serde_json::Value {
-    let out = std::process::Command::new("node")
-        .arg(repo("tests/js").join(script))
-        .arg(file)
-        .output()
-        .expect("node runs (tests/run installs it and tests/js's packages)");
-    assert!(
-        out.status.success(),
-        "{script}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).unwrap()
 }
 
 /// Writes `motion` as `name` in a scratch folder; the main file's path.
