@@ -18,6 +18,10 @@ pub struct AnimateArgs {
     /// Steps from flat to the design; the motion has these frames and the flat sheet.
     #[arg(long, default_value_t = 60, value_name = "N")]
     frames: usize,
+    /// Go on from the design to the flat-folded state (every mountain and valley crease
+    /// at 180°) in half as many steps again, checked for faces passing through each other.
+    #[arg(long)]
+    flat: bool,
 }
 
 /// `crease animate`: writes the motion as far as it goes; exit 0 when the path is clear,
@@ -29,8 +33,18 @@ pub fn animate(args: AnimateArgs) -> Result<u8, String> {
     for note in &imported.notes {
         eprintln!("note: {note}");
     }
-    let motion = pipeline::fold_motion(&imported.mesh, args.frames, &mut super::progress_bar())
-        .map_err(|e| e.to_string())?;
+    let flat_steps = if args.flat {
+        args.frames.div_ceil(2)
+    } else {
+        0
+    };
+    let motion = pipeline::fold_motion_on(
+        &imported.mesh,
+        args.frames,
+        flat_steps,
+        &mut super::progress_bar(),
+    )
+    .map_err(|e| e.to_string())?;
     for (path, bytes) in pipeline::motion_files(&motion, &args.output).map_err(|e| e.to_string())? {
         io::write_atomic(&path, &bytes).map_err(|e| e.to_string())?;
         out(&format!(

@@ -25,8 +25,8 @@ pub use fabricate::{
 };
 pub use fit::{BlockedBy, ConditionResidual, Distances, FitReport, FitStage, PlacementRecord};
 pub use motion::{
-    fold_motion, motion_files, out_of_plane, panels, Motion, MotionFormat, PanelBending,
-    MAX_FRAME_VERTICES, RIGID_PANEL_MM,
+    fold_motion, fold_motion_on, motion_files, out_of_plane, panels, Motion, MotionFormat,
+    PanelBending, MAX_FRAME_VERTICES, RIGID_PANEL_MM,
 };
 pub use path::{
     foldable_sheet, folding_path, PathCollision, PathReport, PathShort, PATH_STEPS, REACHED_RADIANS,

@@ -5,7 +5,7 @@
 //! The frames are what [`crate::output::gltf`], the multi-frame FOLD and the animated
 //! preview write; nothing here formats bytes.
 
-use super::path::{foldable_sheet, walk, PathReport};
+use super::path::{foldable_sheet, on_to_flat, walk, PathReport};
 use super::{PipelineError, Progress};
 use crate::fit::kabsch;
 use crate::mesh::{Assignment, Mesh, UnionFind, Vec3};
@@ -36,6 +36,10 @@ pub struct Motion {
     pub report: Result<PathReport, String>,
     /// The most any panel bends out of its plane over the motion.
     pub bending: PanelBending,
+    /// When asked to go on to the flat-folded state ([`fold_motion_on`]): the first
+    /// collision on the way (the frames end there), none when it folds flat, or why the
+    /// solver stopped.
+    pub flat: Option<Result<Option<super::PathCollision>, String>>,
 }
 
 /// The largest out-of-plane deviation of a panel (faces joined by flat lines) over a
@@ -87,12 +91,24 @@ pub fn fold_motion(
     steps: usize,
     progress: Progress,
 ) -> Result<Motion, PipelineError> {
+    fold_motion_on(design, steps, 0, progress)
+}
+
+/// [`fold_motion`], then, when its path is clear and `flat_steps` is not 0, on from the
+/// design to the flat-folded state (every mountain and valley crease at ±180°) in
+/// `flat_steps` more steps (`animate --flat`); [`Motion::flat`] says how that went.
+pub fn fold_motion_on(
+    design: &Mesh,
+    steps: usize,
+    flat_steps: usize,
+    progress: Progress,
+) -> Result<Motion, PipelineError> {
     crate::limits::FRAMES.check_count("--frames", steps as u64)?;
-    let kept = (steps + 1).saturating_mul(design.vertex_count());
+    let kept = (steps + flat_steps + 1).saturating_mul(design.vertex_count());
     if kept > MAX_FRAME_VERTICES {
         return Err(PipelineError::Input(format!(
             "--frames {steps}: {} frames of {} vertices is more than crease keeps ({} vertex positions); ask for fewer frames",
-            steps + 1,
+            steps + flat_steps + 1,
             design.vertex_count(),
             MAX_FRAME_VERTICES
         )));
@@ -107,8 +123,18 @@ pub fn fold_motion(
         frames.push(x.to_vec());
     });
     let report = walked.map_err(|e| format!("the solver stopped: {e}"));
-    let last = frames.last().expect("the flat sheet is frame 0");
-    if report.as_ref().is_ok_and(PathReport::is_clear) && design.has_3d() {
+    let clear = report.as_ref().is_ok_and(PathReport::is_clear);
+    let design_frame = frames.len() - 1;
+    let mut flat = None;
+    if clear && flat_steps > 0 {
+        let at_design = frames[design_frame].clone();
+        let on = on_to_flat(&design, &at_design, flat_steps, progress, &mut |x| {
+            frames.push(x.to_vec());
+        });
+        flat = Some(on.map_err(|e| format!("the solver stopped: {e}")));
+    }
+    let last = &frames[design_frame];
+    if clear && design.has_3d() {
         let placement = kabsch(last, design.positions());
         for frame in &mut frames {
             for p in frame.iter_mut() {
@@ -122,26 +148,44 @@ pub fn fold_motion(
         frames,
         report,
         bending,
+        flat,
     })
 }
 
 impl Motion {
     /// The exit status `crease animate` gives, as `verify --path`'s: 0 clear, 1 faces
     /// pass through each other, 3 short of the design or the solver stopped.
+    /// With [`Motion::flat`], the way on to the flat-folded state counts the same.
     pub fn exit_code(&self) -> u8 {
-        match &self.report {
-            Ok(r) if r.is_clear() => 0,
-            Ok(r) if r.collision.is_some() => 1,
+        match (&self.report, &self.flat) {
+            (Ok(r), None | Some(Ok(None))) if r.is_clear() => 0,
+            (Ok(r), _) if r.collision.is_some() => 1,
+            (Ok(_), Some(Ok(Some(_)))) => 1,
             _ => 3,
         }
     }
 
     /// What the motion shows, one line each: the path and the panels.
     pub fn summary(&self) -> String {
-        let path = match &self.report {
+        let mut path = match &self.report {
             Ok(r) => r.to_string(),
             Err(why) => format!("path from flat: UNDECIDED — {why}"),
         };
+        match &self.flat {
+            None => {}
+            Some(Ok(None)) => path.push_str(
+                "\non to flat: folded flat (every mountain and valley at 180°), no faces passing through each other",
+            ),
+            Some(Ok(Some(c))) => path.push_str(&format!(
+                "\non to flat: faces {} and {} pass through each other ({:.2} mm deep) at step {} ({:.0}% of the way to flat)",
+                c.faces.0,
+                c.faces.1,
+                c.depth,
+                c.step,
+                100.0 * c.fraction
+            )),
+            Some(Err(why)) => path.push_str(&format!("\non to flat: UNDECIDED — {why}")),
+        }
         format!(
             "{path}\n{}\nframes: {} (the flat sheet and {} steps)",
             self.bending,

@@ -254,6 +254,68 @@ fn walk_with(
     Ok(report)
 }
 
+/// Folds `state` (the crease pattern at the design, its creases' targets the design's
+/// angles) on from the design until every mountain and valley crease is folded flat
+/// (±180°), in `steps` even steps, calling `frame` with each state; checks each for faces
+/// passing through each other as the path from flat does. The first collision, if any.
+/// Flat is the limit where layers touch: the last step's contact is not a crossing, so
+/// a wrong stacking shows on the steps before it, where the layers are still apart.
+pub(super) fn on_to_flat(
+    sheet: &Mesh,
+    state: &[Vec3],
+    steps: usize,
+    progress: Progress,
+    frame: &mut dyn FnMut(&[Vec3]),
+) -> Result<Option<PathCollision>, PipelineError> {
+    let mut start = sheet.clone();
+    start.set_positions(state.to_vec());
+    record_fold_angles(&mut start);
+    for edge in start.edges_mut() {
+        let folded = edge.fold_angle.abs() > crate::tolerance::SAME_ANGLE_RADIANS;
+        if folded && matches!(edge.assignment, Assignment::Mountain | Assignment::Valley) {
+            edge.target = edge.fold_angle.signum() * std::f64::consts::PI;
+        } else {
+            edge.target = 0.0;
+        }
+    }
+    let anchor = Solver::default_fixed(&start, &[]);
+    let mut solver = Solver::new(start, Mode::folding_set(), &anchor, Options::default())?;
+    let creases: Vec<usize> = (0..solver.mesh().edges().len())
+        .filter(|&e| solver.mesh().edges()[e].target != 0.0)
+        .collect();
+    if creases.is_empty() {
+        return Ok(None);
+    }
+    let fraction = |solver: &Solver| {
+        creases
+            .iter()
+            .map(|&e| solver.reference().previous_fold[e] / solver.mesh().edges()[e].target)
+            .sum::<f64>()
+            / creases.len() as f64
+    };
+    let from = fraction(&solver);
+    for step in 1..=steps {
+        let amount = from + (1.0 - from) * step as f64 / steps as f64;
+        fold_toward(&mut solver, amount, continuation_steps(steps), &mut |_| {})?;
+        progress("on to flat", step, steps);
+        frame(solver.positions());
+        let mut now = solver.mesh().clone();
+        now.set_positions(solver.positions().to_vec());
+        if let Some(worst) = self_intersections(&now)
+            .iter()
+            .max_by(|a, b| a.depth.total_cmp(&b.depth))
+        {
+            return Ok(Some(PathCollision {
+                step,
+                fraction: amount,
+                faces: worst.faces,
+                depth: worst.depth,
+            }));
+        }
+    }
+    Ok(None)
+}
+
 /// The driven crease furthest from its target at the solver's state.
 fn furthest_from_target(solver: &Solver) -> Option<PathShort> {
     let folds = &solver.reference().previous_fold;

@@ -717,3 +717,51 @@ fn the_folding_guide_is_left_out_where_the_path_is_not_clear_or_turned_off() {
     assert_eq!(counts[0], counts[1], "no guide page either way");
     assert_eq!(counts[0].1, 0, "no pictures");
 }
+
+#[test]
+fn on_to_flat_the_miura_ori_folds_flat_through_its_design_keeping_every_length() {
+    let design = crease::io::read(&repo("patterns/miura.fold")).unwrap();
+    let motion = crease::pipeline::fold_motion_on(&design, 10, 5, &mut |_, _, _| {}).unwrap();
+    assert_eq!(motion.frames.len(), 16, "{}", motion.summary());
+    assert_eq!(motion.exit_code(), 0, "{}", motion.summary());
+    assert!(
+        matches!(motion.flat, Some(Ok(None))),
+        "{}",
+        motion.summary()
+    );
+    // Frame 10 is the design, in place.
+    let gap = motion.frames[10]
+        .iter()
+        .zip(design.positions())
+        .map(|(p, q)| (p - q).norm())
+        .fold(0.0, f64::max);
+    assert!(gap < 1e-6, "the design frame is {gap} mm off the design");
+    // Every frame keeps every edge's length; the last lies in one plane (folded flat).
+    let sheet = &motion.sheet;
+    let flat = sheet.flat().unwrap();
+    for (k, x) in motion.frames.iter().enumerate() {
+        for e in sheet.edges() {
+            let [a, b] = e.vertices;
+            let (l0, l) = ((flat[a] - flat[b]).norm(), (x[a] - x[b]).norm());
+            assert!((l - l0).abs() < 1e-6 * l0, "frame {k}: {l0} → {l}");
+        }
+    }
+    let last = motion.frames.last().unwrap();
+    let size = sheet
+        .flat()
+        .unwrap()
+        .iter()
+        .map(|p| p.norm())
+        .fold(0.0, f64::max);
+    let thickness = crease::pipeline::out_of_plane(last.iter().copied());
+    assert!(
+        thickness < 1e-3 * size,
+        "folded flat: {thickness} mm out of one plane"
+    );
+    // It was not flat at the design.
+    let at_design = crease::pipeline::out_of_plane(motion.frames[10].iter().copied());
+    assert!(
+        at_design > 1e3 * thickness.max(1e-9),
+        "{at_design} mm at the design"
+    );
+}
