@@ -226,9 +226,7 @@ pub const MOTION_HOLD_MS: u16 = 1500;
 /// from [`motion_view`] by one camera framing every frame, so the sheet does not jump.
 /// It plays on a loop and holds the last frame; a viewer without APNG shows frame 0.
 pub fn motion(sheet: &Mesh, frames: &[Vec<Vec3>]) -> Result<Vec<u8>, String> {
-    let all: Vec<Vec3> = frames.iter().flatten().copied().collect();
-    let view = motion_view(sheet, frames.iter().map(Vec::as_slice));
-    let camera = DesignCamera::framing_sized(&all, view, MOTION_SIZE_PX);
+    let (camera, view) = motion_camera(sheet, frames.iter().map(Vec::as_slice), MOTION_SIZE_PX);
     let [w, h] = MOTION_SIZE_PX;
     let mut bytes = Vec::new();
     {
@@ -304,6 +302,18 @@ pub fn motion_view<'a>(sheet: &Mesh, frames: impl Iterator<Item = &'a [Vec3]> + 
         .map_or(preferred, |(_, d)| d)
 }
 
+/// The one camera and view a motion's pictures share ([`motion_view`]), framing every
+/// frame in a picture of `size_px`.
+fn motion_camera<'a>(
+    sheet: &Mesh,
+    frames: impl Iterator<Item = &'a [Vec3]> + Clone,
+    size_px: [u32; 2],
+) -> (DesignCamera, Vec3) {
+    let all: Vec<Vec3> = frames.clone().flatten().copied().collect();
+    let view = motion_view(sheet, frames);
+    (DesignCamera::framing_sized(&all, view, size_px), view)
+}
+
 /// A picture as plain pixels: opaque RGB, 8 bits a channel, rows top to bottom.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Picture {
@@ -319,9 +329,7 @@ pub struct Picture {
 /// painted as [`motion`] paints them: seen from [`motion_view`] by one camera framing
 /// all of them, so their sizes and positions compare, each `size_px`.
 pub fn stills(sheet: &Mesh, frames: &[&[Vec3]], size_px: [u32; 2]) -> Result<Vec<Picture>, String> {
-    let all: Vec<Vec3> = frames.iter().flat_map(|x| x.iter().copied()).collect();
-    let view = motion_view(sheet, frames.iter().copied());
-    let camera = DesignCamera::framing_sized(&all, view, size_px);
+    let (camera, view) = motion_camera(sheet, frames.iter().copied(), size_px);
     frames
         .iter()
         .map(|x| {

@@ -12,7 +12,7 @@ use super::{record_fold_angles, PipelineError, Progress};
 use crate::fab::self_intersections;
 use crate::io::fold::angle_to_fold;
 use crate::mesh::{Assignment, Mesh, Vec3};
-use crate::solver::{fold_toward, Mode, Options, Solver};
+use crate::solver::{fold_toward, mean_fraction, Mode, Options, Solver};
 
 /// Steps of the path: each a twentieth of the way, so a collision is placed to within 5%
 /// of the fold.
@@ -236,16 +236,8 @@ fn walk_with(
         report.wrong_way_degrees = report.wrong_way_degrees.max(folded.wrong_way.to_degrees());
         progress("path", step, steps);
         frame(fraction, solver.positions());
-        let mut now = solver.mesh().clone();
-        now.set_positions(solver.positions().to_vec());
-        let crossings = self_intersections(&now);
-        if let Some(worst) = crossings.iter().max_by(|a, b| a.depth.total_cmp(&b.depth)) {
-            report.collision = Some(PathCollision {
-                step,
-                fraction,
-                faces: worst.faces,
-                depth: worst.depth,
-            });
+        report.collision = first_crossing(&solver, step, fraction);
+        if report.collision.is_some() {
             return Ok(report);
         }
     }
@@ -280,40 +272,36 @@ pub(super) fn on_to_flat(
     }
     let anchor = Solver::default_fixed(&start, &[]);
     let mut solver = Solver::new(start, Mode::folding_set(), &anchor, Options::default())?;
-    let creases: Vec<usize> = (0..solver.mesh().edges().len())
-        .filter(|&e| solver.mesh().edges()[e].target != 0.0)
-        .collect();
-    if creases.is_empty() {
+    if solver.mesh().edges().iter().all(|e| e.target == 0.0) {
         return Ok(None);
     }
-    let fraction = |solver: &Solver| {
-        creases
-            .iter()
-            .map(|&e| solver.reference().previous_fold[e] / solver.mesh().edges()[e].target)
-            .sum::<f64>()
-            / creases.len() as f64
-    };
-    let from = fraction(&solver);
+    let from = mean_fraction(&solver);
     for step in 1..=steps {
         let amount = from + (1.0 - from) * step as f64 / steps as f64;
         fold_toward(&mut solver, amount, continuation_steps(steps), &mut |_| {})?;
         progress("on to flat", step, steps);
         frame(solver.positions());
-        let mut now = solver.mesh().clone();
-        now.set_positions(solver.positions().to_vec());
-        if let Some(worst) = self_intersections(&now)
-            .iter()
-            .max_by(|a, b| a.depth.total_cmp(&b.depth))
-        {
-            return Ok(Some(PathCollision {
-                step,
-                fraction: amount,
-                faces: worst.faces,
-                depth: worst.depth,
-            }));
+        if let Some(hit) = first_crossing(&solver, step, amount) {
+            return Ok(Some(hit));
         }
     }
     Ok(None)
+}
+
+/// The deepest pair of faces passing through each other at the solver's state, as the
+/// collision at `step` (`fraction` of the way), or none.
+fn first_crossing(solver: &Solver, step: usize, fraction: f64) -> Option<PathCollision> {
+    let mut now = solver.mesh().clone();
+    now.set_positions(solver.positions().to_vec());
+    self_intersections(&now)
+        .iter()
+        .max_by(|a, b| a.depth.total_cmp(&b.depth))
+        .map(|worst| PathCollision {
+            step,
+            fraction,
+            faces: worst.faces,
+            depth: worst.depth,
+        })
 }
 
 /// The driven crease furthest from its target at the solver's state.

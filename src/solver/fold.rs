@@ -75,7 +75,7 @@ pub fn fold_toward(
     // couple the creases (a Miura-ori has one folding motion): shift the goal by the miss.
     let mut goal = amount;
     for _ in 0..MEAN_ROUNDS {
-        let miss = amount - run.mean_fraction(solver);
+        let miss = amount - mean_fraction(solver);
         if miss.abs() < 1e-6 || run.creases.is_empty() {
             break;
         }
@@ -119,7 +119,7 @@ pub fn fold_toward(
         steps,
         wrong_way,
         error: worst,
-        mean_fraction: run.mean_fraction(solver),
+        mean_fraction: mean_fraction(solver),
     })
 }
 
@@ -135,17 +135,24 @@ struct Continuation {
     normal: NormalSolver,
 }
 
-impl Continuation {
-    /// Mean ρ / target over the folded creases at the solver's state.
-    fn mean_fraction(&self, solver: &Solver) -> f64 {
-        let sum: f64 = self
-            .creases
-            .iter()
-            .map(|&e| solver.reference.previous_fold[e] / self.mesh.edges()[e].target)
-            .sum();
-        sum / self.creases.len().max(1) as f64
-    }
+/// Mean ρ / target over the creases with a target at the solver's state: how far along
+/// its fold the sheet is, the `amount` [`fold_toward`] aims at (0 with no such crease).
+pub fn mean_fraction(solver: &Solver) -> f64 {
+    let edges = solver.mesh().edges();
+    let (sum, count) = edges
+        .iter()
+        .enumerate()
+        .filter(|(_, edge)| edge.target != 0.0)
+        .fold((0.0, 0usize), |(sum, count), (e, edge)| {
+            (
+                sum + solver.reference.previous_fold[e] / edge.target,
+                count + 1,
+            )
+        });
+    sum / count.max(1) as f64
+}
 
+impl Continuation {
     /// Levenberg–Marquardt iterations toward the goals at continuation parameter `s`:
     /// each crease at start + s · (amount · target − start), lengths stiff.
     fn relax(&mut self, solver: &mut Solver, s: f64, amount: f64) -> Result<(), SolverError> {

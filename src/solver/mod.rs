@@ -18,7 +18,7 @@ pub use drag::{
     PointerStep, Stage, StepCheck, ARRIVED_EDGES, KEEP_HALVINGS, POINTER_STEP_CAP,
 };
 pub use error::{Blocker, LinearError, SolverError};
-pub use fold::{fold_toward, FoldReport, WRONG_WAY_NEAR_FLAT_RADIANS};
+pub use fold::{fold_toward, mean_fraction, FoldReport, WRONG_WAY_NEAR_FLAT_RADIANS};
 pub use linear::{NormalSolver, Shift};
 pub use mode::Mode;
 pub use remesh::{collapse_edge, flip_edge, Change, Refusal, RemeshOutcome};

@@ -35,23 +35,41 @@ pub struct FoldingGuide<'a> {
     pub note: String,
 }
 
-/// Where each picture goes on a `w × h` mm page: columns × rows, and the picture's size
-/// (mm, 4:3).
-fn grid(w: f64, h: f64, count: usize) -> (usize, usize, f64, f64) {
+/// How the pictures sit on the page, mm: in `cols` columns of cells `cell` wide and
+/// high below the heading, each picture `picture` (4:3) above its caption.
+struct Grid {
+    cols: usize,
+    cell: [f64; 2],
+    picture: [f64; 2],
+}
+
+/// The grid of `count` pictures on a `w × h` mm page: three columns on a landscape page,
+/// two on a portrait one.
+fn grid(w: f64, h: f64, count: usize) -> Grid {
     let cols = if w >= h { 3 } else { 2 }.min(count.max(1));
     let rows = count.div_ceil(cols).max(1);
-    let cell_w = (w - 2.0 * MARGIN_MM) / cols as f64;
-    let cell_h = (h - 2.0 * MARGIN_MM - HEAD_MM) / rows as f64;
-    let box_w = (cell_w - 4.0).max(1.0);
-    let box_h = (cell_h - CAPTION_MM - 4.0).max(1.0);
+    let cell = [
+        (w - 2.0 * MARGIN_MM) / cols as f64,
+        (h - 2.0 * MARGIN_MM - HEAD_MM) / rows as f64,
+    ];
+    let box_w = (cell[0] - 4.0).max(1.0);
+    let box_h = (cell[1] - CAPTION_MM - 4.0).max(1.0);
     let pw = box_w.min(box_h * 4.0 / 3.0);
-    (cols, rows, pw, pw * 3.0 / 4.0)
+    Grid {
+        cols,
+        cell,
+        picture: [pw, pw * 3.0 / 4.0],
+    }
 }
 
 /// The guide as a `size` (mm) page, its pictures added to `doc`.
 pub fn page(doc: &mut PdfDocument, guide: &FoldingGuide, size: [f64; 2], title: &str) -> PdfPage {
     let [w, h] = size;
-    let (cols, rows, pw, ph) = grid(w, h, guide.frames.len());
+    let Grid {
+        cols,
+        cell: [cell_w, cell_h],
+        picture: [pw, ph],
+    } = grid(w, h, guide.frames.len());
     let px_w = (pw / 25.4 * GUIDE_DPI).clamp(8.0, MAX_PICTURE_PX);
     let px = [px_w.round() as u32, (px_w * 0.75).round() as u32];
     let dpi = (f64::from(px[0]) / (pw / 25.4)) as f32;
@@ -87,8 +105,6 @@ pub fn page(doc: &mut PdfDocument, guide: &FoldingGuide, size: [f64; 2], title: 
             return PdfPage::new(Mm(w as f32), Mm(h as f32), ops);
         }
     };
-    let cell_w = (w - 2.0 * MARGIN_MM) / cols as f64;
-    let cell_h = (h - 2.0 * MARGIN_MM - HEAD_MM) / rows as f64;
     let top = h - MARGIN_MM - HEAD_MM;
     let mut frames = Vec::new();
     for (k, (picture, (_, caption))) in pictures.into_iter().zip(&guide.frames).enumerate() {

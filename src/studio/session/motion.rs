@@ -38,7 +38,7 @@ impl Session {
         };
         let motion = self.kept_motion(steps)?;
         let value = super::super::frame::motion_value(motion);
-        let summary = motion.summary();
+        let summary = value["summary"].as_str().unwrap_or_default();
         self.message = summary.lines().next().unwrap_or_default().to_string();
         Ok(Reply::Json(value))
     }
