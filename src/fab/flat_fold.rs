@@ -8,6 +8,12 @@
 //! only where Kawasaki's alternating sum vanishes (eq. 5 at ρ = ±π);
 //! [`FlatFolded::mismatch`] measures the worst gap and names its vertex, which makes a
 //! pattern that does not fold flat visible.
+//!
+//! A tube (paper §7) has no one crease pattern: its strip is folded flat instead, and the
+//! seam's two sides must meet again in the folded image, as a crease's two faces do. Going
+//! round the tube composes the reflections of every crease the loop crosses; only where
+//! that composition is the identity does the tube close up flat, which no vertex's own
+//! condition implies.
 
 use crate::constraints::mirrored_edges;
 use crate::mesh::{Mesh, UnionFind, Vec2};
@@ -88,6 +94,14 @@ pub struct FlatFolded {
     pub mismatch: f64,
     /// The vertex with that gap.
     pub worst_vertex: Option<usize>,
+    /// Whether that gap is where a tube's seam fails to meet itself (the faces close up
+    /// round every vertex of the strip, not round the tube): a proof that it does not
+    /// fold flat, not a drawing's noise.
+    pub open_seam: bool,
+    /// Per face, whether its front (its normal) faces +z once folded.
+    pub front_up: Vec<bool>,
+    /// The gap (mm) below which the faces count as closing up ([`closure_tolerance`]).
+    pub tolerance: f64,
 }
 
 /// The gap (mm) below which the faces of a flat-folded state close up around their
@@ -112,12 +126,11 @@ impl FlatFolded {
         images
     }
 
-    /// Whether the layers close up around every vertex, within [`closure_tolerance`] of
-    /// the crease pattern `flat` (from a file rounded to `precision` mm): the one test of
-    /// closure that verification, the layer solver and the studio's x-ray apply, so their
-    /// verdicts agree.
-    pub fn layers_close(&self, flat: &[Vec2], precision: f64) -> bool {
-        self.mismatch <= closure_tolerance(flat, precision)
+    /// Whether the layers close up around every vertex (and a tube round its seam),
+    /// within [`FlatFolded::tolerance`]: the one test of closure that verification, the
+    /// layer solver and the studio's x-ray apply, so their verdicts agree.
+    pub fn layers_close(&self) -> bool {
+        self.mismatch <= self.tolerance
     }
 
     /// The folded state with corners that lie within `scale` of each other moved to
@@ -152,6 +165,9 @@ pub enum NotFlatFoldable {
     /// No crease pattern is known (a 3D-only file that was never unfolded).
     #[error("the design has no crease pattern")]
     NoCreasePattern,
+    /// A tube that cannot be cut open and unrolled into its strip.
+    #[error("the tube cannot be unrolled into its strip to fold flat: {0}")]
+    NoStrip(String),
     /// A crease aims at a partial fold, so the folded-flat state is not what the pattern
     /// describes.
     #[error("crease {edge} targets {degrees:.0}°, not ±180°: this pattern does not fold flat")]
@@ -164,19 +180,24 @@ pub enum NotFlatFoldable {
 }
 
 /// The flat-folded state of `mesh`'s crease pattern (`flat` overrides the stored pattern,
-/// e.g. one freshly unfolded from a design being varied). Fails when a crease targets a
+/// e.g. one freshly unfolded from a design being varied), or of a tube's strip with its
+/// seam checked to close ([`FlatFolded::open_seam`]). Fails when a crease targets a
 /// partial fold.
 ///
 /// # Performance
-/// O(faces): one breadth-first walk.
+/// O(faces): one breadth-first walk (a tube's unrolling first is O(faces) too).
 pub fn flat_folded(mesh: &Mesh, flat: Option<&[Vec2]>) -> Result<FlatFolded, NotFlatFoldable> {
-    let cp = flat
-        .or_else(|| mesh.flat())
-        .ok_or(NotFlatFoldable::NoCreasePattern)?;
+    let cp = flat.or_else(|| mesh.flat());
+    if cp.is_none() && !mesh.is_tube() {
+        return Err(NotFlatFoldable::NoCreasePattern);
+    }
     let reflects = mirrored_edges(mesh).map_err(|edge| NotFlatFoldable::PartialTarget {
         edge,
         degrees: mesh.edges()[edge].target.to_degrees(),
     })?;
+    let Some(cp) = cp else {
+        return tube_folded(mesh, &reflects);
+    };
     let faces = mesh.faces();
     let topo = mesh.topology();
     let centre = cp.iter().sum::<Vec2>() / cp.len().max(1) as f64;
@@ -220,13 +241,86 @@ pub fn flat_folded(mesh: &Mesh, flat: Option<&[Vec2]>) -> Result<FlatFolded, Not
         .map(|(f, m)| f.map(|v| m.apply(cp[v])))
         .collect();
     let (mismatch, worst_vertex) = worst_closure(mesh, cp, &reflects);
+    let front_up = faces
+        .iter()
+        .zip(&motions)
+        .map(|(f, m)| {
+            let counter_clockwise = (cp[f[1]] - cp[f[0]]).perp(&(cp[f[2]] - cp[f[0]])) > 0.0;
+            counter_clockwise != m.flips()
+        })
+        .collect();
     Ok(FlatFolded {
         root,
         motions,
         triangles,
         mismatch,
         worst_vertex,
+        open_seam: false,
+        front_up,
+        tolerance: closure_tolerance(cp, mesh.coordinate_precision),
     })
+}
+
+/// A tube's flat-folded state: its strip folded flat (faces keep their numbers and corner
+/// order, so the strip's images are the tube's), with every edge's two faces checked to
+/// meet — at the seam, where the strip was cut, they need not. `reflects` is the tube's
+/// [`mirrored_edges`].
+fn tube_folded(tube: &Mesh, reflects: &[bool]) -> Result<FlatFolded, NotFlatFoldable> {
+    let strip = crate::geometry::unfold::unfold_tube(tube)
+        .map_err(|e| NotFlatFoldable::NoStrip(e.to_string()))?;
+    let mut folded = flat_folded(&strip.sheet, None)?;
+    folded.worst_vertex = folded.worst_vertex.map(|v| strip.origin[v]);
+    let (gap, vertex) = worst_edge_gap(tube, &folded.triangles, reflects);
+    if gap > folded.mismatch {
+        folded.mismatch = gap;
+        folded.worst_vertex = vertex;
+        // Rounding leaves the seam a little open as it leaves any vertex: only a gap
+        // past the closure tolerance is the tube's own.
+        folded.open_seam = gap > folded.tolerance;
+    }
+    Ok(folded)
+}
+
+/// The widest gap (mm) between an interior edge's two faces in the folded image
+/// `triangles`, and a vertex of that edge: its ends should land on the same points, and
+/// the faces on one side of it when it is folded (`reflects`), on both sides when not.
+/// A face on the wrong side is as far off as its far corner is from its mirror image.
+fn worst_edge_gap(mesh: &Mesh, triangles: &[[Vec2; 3]], reflects: &[bool]) -> (f64, Option<usize>) {
+    let faces = mesh.faces();
+    let topo = mesh.topology();
+    let corner = |f: usize, v: usize| {
+        let k = faces[f].iter().position(|&w| w == v);
+        triangles[f][k.expect("an edge's face holds its ends")]
+    };
+    let apex = |f: usize, [u, v]: [usize; 2]| {
+        let k = faces[f].iter().position(|&w| w != u && w != v);
+        triangles[f][k.expect("a triangle has a third corner")]
+    };
+    let mut worst = (0.0, None);
+    for (e, edge) in mesh.edges().iter().enumerate() {
+        let [Some(f), Some(g)] = topo.edge_faces[e] else {
+            continue;
+        };
+        let [u, v] = edge.vertices;
+        let (p, q) = (corner(f, u), corner(f, v));
+        let ends = (corner(g, u) - p).norm().max((corner(g, v) - q).norm());
+        let along = (q - p).normalize();
+        let (side_f, side_g) = (
+            along.perp(&(apex(f, edge.vertices) - p)),
+            along.perp(&(apex(g, edge.vertices) - p)),
+        );
+        let same_side = side_f * side_g > 0.0;
+        let turned = if same_side == reflects[e] {
+            0.0
+        } else {
+            2.0 * side_g.abs()
+        };
+        let gap = ends.max(turned);
+        if gap > worst.0 {
+            worst = (gap, Some(u));
+        }
+    }
+    worst
 }
 
 /// The largest failure of the faces around one interior vertex to close up when folded

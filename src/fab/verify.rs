@@ -573,7 +573,7 @@ fn verify_as_drawn(
 }
 
 /// A design whose creases all fold to ±180° claims a flat-folded state; where none could
-/// be built to judge (a tube's sheet, which closes round on itself), the report says so
+/// be built to judge (a tube that cannot be unrolled into its strip), the report says so
 /// rather than nothing.
 fn flat_state_unjudged(mesh: &Mesh) -> Option<String> {
     let mut folded = mesh.edges().iter().filter(|e| e.assignment.is_folded());
@@ -584,13 +584,9 @@ fn flat_state_unjudged(mesh: &Mesh) -> Option<String> {
     if !all_flat {
         return None;
     }
-    let why = if mesh.is_tube() {
-        "it is a tube, and only a sheet's flat-folded state is built".to_string()
-    } else {
-        match super::flat_folded(mesh, None) {
-            Err(e) => e.to_string(),
-            Ok(_) => "its crease pattern could not be folded flat to order".to_string(),
-        }
+    let why = match super::flat_folded(mesh, None) {
+        Err(e) => e.to_string(),
+        Ok(_) => "its crease pattern could not be folded flat to order".to_string(),
     };
     Some(format!(
         "every crease of this design folds to ±180°, but whether it folds flat was not judged: {why}"
@@ -751,10 +747,11 @@ fn layer_order_report(
     only_reported: bool,
     claimed: bool,
 ) -> Option<FamilyReport> {
-    use super::layers::{layer_order_within, LayerError, LayerOrder};
+    use super::layers::{
+        layer_order_naming_within, LayerError, LayerOrder, ADVISORY_SHRINK_TIME, SHRINK_TIME,
+    };
     let folded = super::flat_folded(mesh, None).ok()?;
-    let cp = mesh.flat()?;
-    let closes = folded.layers_close(cp, mesh.coordinate_precision);
+    let closes = folded.layers_close();
     let creases = mesh.edges().iter().any(|e| e.assignment.is_folded());
     if !creases {
         return None;
@@ -763,13 +760,16 @@ fn layer_order_report(
     // conditions usually fail there and say why; where they hold within the drawing's
     // allowances, nothing about the layers was shown, and a claim to fold flat is
     // undecided, not passed.
+    if !closes && folded.open_seam {
+        return Some(open_tube_report(&folded, only_reported));
+    }
     if !closes {
         let why = format!(
             "folded flat, the faces around vertex {} leave a gap of {:.1e} mm, past the {:.1e} mm \
              the drawing explains: there is no flat-folded state to order",
             folded.worst_vertex.unwrap_or(0),
             folded.mismatch,
-            super::closure_tolerance(cp, mesh.coordinate_precision)
+            folded.tolerance
         );
         return Some(FamilyReport {
             gating: false,
@@ -810,8 +810,12 @@ fn layer_order_report(
         }),
         ..budget.clone()
     };
-    let budget = if only_reported { &reported } else { budget };
-    let mut report = match layer_order_within(mesh, budget) {
+    let (budget, naming) = if only_reported {
+        (&reported, ADVISORY_SHRINK_TIME)
+    } else {
+        (budget, SHRINK_TIME)
+    };
+    let mut report = match layer_order_naming_within(mesh, budget, naming) {
         Ok(LayerOrder::Found(orders)) => FamilyReport {
             rows: orders.len(),
             ..summarise("layer-order", &[], 0.0)
@@ -843,6 +847,29 @@ fn layer_order_report(
         );
     }
     Some(report)
+}
+
+/// The failing layer-order row of a tube whose seam does not close once folded flat: the
+/// reflections of the creases round the tube do not compose to the identity, so no flat
+/// state exists (a proof, not a search), though every vertex may fold flat on its own.
+fn open_tube_report(folded: &super::FlatFolded, only_reported: bool) -> FamilyReport {
+    let vertex = folded.worst_vertex.unwrap_or(0);
+    let mut r = summarise(
+        "layer-order",
+        &[(folded.mismatch, Element::Vertex(vertex))],
+        folded.tolerance,
+    );
+    r.violators = vec![format!(
+        "folded flat, the tube does not close: its seam's two sides land {:.3} mm apart at vertex \
+         {vertex}, though every vertex folds flat on its own",
+        folded.mismatch
+    )];
+    r.basis = format!(
+        "the tube's strip folded flat closes round the tube within {:.1e} mm",
+        folded.tolerance
+    );
+    r.gating = !only_reported;
+    r
 }
 
 /// The failing layer-order row of faces that admit no order.

@@ -186,7 +186,7 @@ fn pattern_value(mesh: &Mesh, pattern: Option<&[Vec2]>) -> Value {
             // Where the layers close up (by verification's own tolerance, so the pane and
             // the verdict agree) every vertex has one image, and the page needs only
             // those (a sixth of the triangles' numbers); otherwise each face's own.
-            Ok(f) if f.layers_close(p, mesh.coordinate_precision) => {
+            Ok(f) if f.layers_close() => {
                 let points = f.vertex_images(mesh.faces(), p.len());
                 json!({
                     "points": flat2(points.into_iter()),

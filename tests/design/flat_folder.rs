@@ -362,12 +362,15 @@ fn the_sides_found_for_unassigned_creases_are_written() {
         "--assign",
     ]);
     assert_eq!(code, 0, "{err}");
-    assert!(err.contains("5 mountain(s), 4 valley(s)"), "{err}");
+    // Any of its 512 states will do; the note counts the sides of the one found, and the
+    // file has them.
     let mesh = crease::io::read(&assigned).unwrap();
     let count = |a: Assignment| mesh.edges().iter().filter(|e| e.assignment == a).count();
-    assert_eq!(
-        (count(Assignment::Mountain), count(Assignment::Valley)),
-        (5, 4)
+    let (m, v) = (count(Assignment::Mountain), count(Assignment::Valley));
+    assert_eq!(m + v, 9, "{err}");
+    assert!(
+        err.contains(&format!("{m} mountain(s), {v} valley(s)")),
+        "{err}"
     );
     assert_eq!(count(Assignment::Unassigned), 0);
     let text = std::fs::read_to_string(&assigned).unwrap();
@@ -554,19 +557,29 @@ fn grey_lines_read_as_flat_and_the_crane_passes() {
 }
 
 /// A tube whose creases all fold to ±180° claims a flat-folded state; the report says
-/// that it was not judged, and why, rather than nothing.
+/// whether it has one. The bundled Kresling's strip is made to close at half its height:
+/// folded flat, every vertex folds flat, but the rows' reflections carry the strip's end
+/// 18 mm from its start, so the tube does not close. Reported, not gating: it folds to
+/// its 3D form.
 #[test]
-fn a_tube_of_flat_folds_says_its_flat_state_was_not_judged() {
+fn a_tube_of_flat_folds_says_whether_it_folds_flat() {
     let kresling = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/kresling.fold");
     let report = verified(&kresling);
+    assert_eq!(report.verdict(), Verdict::Pass, "{report}");
+    let row = report
+        .families
+        .iter()
+        .find(|f| f.name == "layer-order")
+        .unwrap_or_else(|| panic!("no layer-order row: {report}"));
+    assert!(row.violations == 1 && !row.gating, "{report}");
+    assert!((row.max - 18.0).abs() < 0.5, "{report}");
     assert!(
-        report.notes.iter().any(|n| n.contains("folds to ±180°")
-            && n.contains("whether it folds flat was not judged: it is a tube")),
+        report
+            .notes
+            .iter()
+            .any(|n| n.contains("cannot fold flat") && n.contains("the tube does not close")),
         "{report}"
     );
-    assert!(report
-        .to_string()
-        .contains("note: every crease of this design folds to ±180°"));
 }
 
 /// The strongest check of the layer solver there is: the number of flat-folded states of

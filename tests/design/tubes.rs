@@ -364,3 +364,104 @@ fn the_vase_flares_from_its_script_and_its_strip_becomes_a_fan() {
         );
     }
 }
+
+/// A square tube of side 20 and height 10 (two rings of four corners, each side split by a
+/// flat diagonal), its corner `i` (the edge from ring vertex `i` up) a crease of the
+/// given assignment (none: a flat line).
+fn square_tube(corners: [Option<crease::mesh::Assignment>; 4]) -> Mesh {
+    use crease::mesh::{Assignment, Edge, MeshParts};
+    let square = [(0.0, 0.0), (20.0, 0.0), (20.0, 20.0), (0.0, 20.0)];
+    let positions: Vec<Vec3> = [0.0, 10.0]
+        .iter()
+        .flat_map(|&z| square.iter().map(move |&(x, y)| Vec3::new(x, y, z)))
+        .collect();
+    let mut faces = Vec::new();
+    let mut edges = Vec::new();
+    for (i, corner) in corners.into_iter().enumerate() {
+        let j = (i + 1) % 4;
+        faces.push([i, j, j + 4]);
+        faces.push([i, j + 4, i + 4]);
+        edges.push(Edge::new(i, j + 4, Assignment::Flat));
+        edges.push(Edge::new(i, j, Assignment::Boundary));
+        edges.push(Edge::new(i + 4, j + 4, Assignment::Boundary));
+        edges.push(Edge::new(i, i + 4, corner.unwrap_or(Assignment::Flat)));
+    }
+    Mesh::new(MeshParts {
+        positions: Some(positions),
+        flat: None,
+        faces,
+        edges,
+    })
+    .unwrap()
+}
+
+#[test]
+fn a_tube_folds_flat_only_where_its_creases_close_round_it_and_stack() {
+    use crease::fab::{flat_folded, layer_order, LayerOrder};
+    use crease::mesh::Assignment::{Mountain as M, Valley as V};
+    // Two opposite corners folded the same way flatten the tube into two layers: closed
+    // round the tube, with an order (either way round: outside out, or turned inside out).
+    for side in [M, V] {
+        let tube = square_tube([Some(side), None, Some(side), None]);
+        assert!(tube.is_tube() && tube.flat().is_none());
+        let folded = flat_folded(&tube, None).unwrap();
+        assert!(
+            folded.layers_close() && !folded.open_seam,
+            "{side:?}: {}",
+            folded.mismatch
+        );
+        // Every face lands on the 40 × 10 rectangle the flattened tube covers (half its
+        // 80 mm round).
+        let images = folded.vertex_images(tube.faces(), tube.vertex_count());
+        let width = |axis: usize| {
+            let xs = images.iter().map(|p| p[axis]);
+            xs.clone().fold(f64::MIN, f64::max) - xs.fold(f64::MAX, f64::min)
+        };
+        let mut sides = [width(0), width(1)];
+        sides.sort_by(f64::total_cmp);
+        assert!(
+            (sides[0] - 10.0).abs() < 1e-9 && (sides[1] - 40.0).abs() < 1e-9,
+            "{sides:?}"
+        );
+        assert!(
+            matches!(layer_order(&tube), Ok(LayerOrder::Found(_))),
+            "{side:?}: {:?}",
+            layer_order(&tube)
+        );
+    }
+    // One mountain and one valley: closed round the tube, but each fold puts the other
+    // layer on its own side, so no order exists.
+    let mixed = square_tube([Some(M), None, Some(V), None]);
+    assert!(flat_folded(&mixed, None).unwrap().layers_close());
+    assert!(matches!(layer_order(&mixed), Ok(LayerOrder::Conflict(_))));
+    // Four corners folded the same way close round the square too (each side lands on
+    // the last), but a loop wound twice round cannot stack: the last hinge would have to
+    // pass through the first.
+    let coiled = square_tube([Some(M); 4]);
+    assert!(flat_folded(&coiled, None).unwrap().layers_close());
+    assert!(matches!(layer_order(&coiled), Ok(LayerOrder::Conflict(_))));
+    // Two neighbouring corners folded: every vertex is on a rim (nothing to fail on its
+    // own), but folded flat the tube's two ends land 40 mm apart — no flat state at all.
+    let open = square_tube([Some(M), Some(M), None, None]);
+    let folded = flat_folded(&open, None).unwrap();
+    assert!(folded.open_seam, "{}", folded.mismatch);
+    assert!((folded.mismatch - 40.0).abs() < 1e-9, "{}", folded.mismatch);
+    let report = crease::fab::verify(&open, None, Default::default());
+    let row = report
+        .families
+        .iter()
+        .find(|f| f.name == "layer-order")
+        .unwrap();
+    assert_eq!(row.violations, 1, "{report}");
+    assert!(
+        !row.gating,
+        "a 3D tube's flat state is reported, not gating: {report}"
+    );
+    assert!(
+        report
+            .notes
+            .iter()
+            .any(|n| n.contains("the tube does not close")),
+        "{report}"
+    );
+}

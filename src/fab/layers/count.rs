@@ -33,15 +33,7 @@ impl Problem {
                 watching[v].push(k);
             }
         }
-        let mut search = Search {
-            problem: self,
-            only: None,
-            watching,
-            value: vec![None; self.pairs.len()],
-            trail: Vec::new(),
-            decisions: 0,
-            budget,
-        };
+        let mut search = Search::new(self, None, watching, budget);
         for &(var, v) in &self.fixed {
             if !search.assign(var, v) {
                 return Ok(None);

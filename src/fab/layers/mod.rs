@@ -12,9 +12,10 @@
 //! - *taco–taco*: two creases folded onto the same line do not interleave their flaps;
 //! - *transitivity*: three faces with a common overlap are not stacked in a cycle.
 //!
-//! The solver propagates forced values and searches the rest depth first, one
-//! independent group of variables at a time. An unsatisfiable group is shrunk to a
-//! smallest set of faces that still has no order, which the report names.
+//! The solver propagates forced values and searches the rest with conflict-driven clause
+//! learning ([`search`]), one independent group of variables at a time. An
+//! unsatisfiable group is shrunk towards a smallest set of faces that still has no
+//! order, which the report names.
 
 mod count;
 mod crimp;
@@ -183,6 +184,12 @@ pub enum LayerError {
     OverBudget(#[from] OverBudget),
 }
 
+/// The most time a verdict spends naming fewer faces of a conflict already proved.
+pub const SHRINK_TIME: std::time::Duration = std::time::Duration::from_secs(4);
+
+/// The most time a row that only advises (a 3D design's flat state) spends on it.
+pub const ADVISORY_SHRINK_TIME: std::time::Duration = std::time::Duration::from_millis(500);
+
 /// Decisions the search may take before giving up (a bound on time, not a verdict).
 pub const SEARCH_BUDGET: usize = 2_000_000;
 
@@ -204,21 +211,35 @@ pub fn layer_order(mesh: &Mesh) -> Result<LayerOrder, LayerError> {
 /// deadline between steps, so a pattern with thousands of faces stacked on one point ends
 /// with [`LayerError::OverBudget`] instead of exhausting memory.
 pub fn layer_order_within(mesh: &Mesh, budget: &Budget) -> Result<LayerOrder, LayerError> {
-    decide(mesh, budget, true)
+    decide(mesh, budget, Some(SHRINK_TIME))
+}
+
+/// [`layer_order_within`] with at most `naming` spent shrinking a conflict to fewer
+/// faces (for a row that only advises, where seconds spent naming are not worth it).
+pub fn layer_order_naming_within(
+    mesh: &Mesh,
+    budget: &Budget,
+    naming: std::time::Duration,
+) -> Result<LayerOrder, LayerError> {
+    decide(mesh, budget, Some(naming))
 }
 
 /// Whether `mesh`'s flat-folded state has a layer order, within `budget`: `None` when it
 /// has, else the faces of a group of overlapping pairs that has none (not shrunk to a
 /// smallest set, which costs a solve per face: this is the check a drag step is held to).
 pub fn layer_conflict(mesh: &Mesh, budget: &Budget) -> Result<Option<LayerConflict>, LayerError> {
-    Ok(match decide(mesh, budget, false)? {
+    Ok(match decide(mesh, budget, None)? {
         LayerOrder::Found(_) => None,
         LayerOrder::Conflict(c) => Some(c),
     })
 }
 
-/// The order, or a conflict (shrunk to a smallest set of faces when `shrink`).
-fn decide(mesh: &Mesh, budget: &Budget, shrink: bool) -> Result<LayerOrder, LayerError> {
+/// The order, or a conflict (shrunk towards a smallest set of faces for at most `shrink`).
+fn decide(
+    mesh: &Mesh,
+    budget: &Budget,
+    shrink: Option<std::time::Duration>,
+) -> Result<LayerOrder, LayerError> {
     Ok(match solved(mesh, budget, shrink)? {
         Solved::Order(problem, values) => LayerOrder::Found(problem.face_orders(&values)),
         Solved::Conflict(c) => LayerOrder::Conflict(c),
@@ -233,7 +254,7 @@ pub fn assign_unassigned(
     mesh: &Mesh,
     budget: &Budget,
 ) -> Result<Result<Vec<(usize, Assignment)>, LayerConflict>, LayerError> {
-    Ok(match solved(mesh, budget, true)? {
+    Ok(match solved(mesh, budget, Some(SHRINK_TIME))? {
         Solved::Order(problem, values) => Ok(problem.hinge_assignments(mesh, &values)),
         Solved::Conflict(c) => Err(c),
     })
@@ -268,12 +289,11 @@ enum Prepared {
 /// The flat-folded state of `mesh` and its layer problem, checked to close up.
 fn prepared(mesh: &Mesh, budget: &Budget) -> Result<Prepared, LayerError> {
     let folded = super::flat_folded(mesh, None)?;
-    let cp = mesh.flat().ok_or(super::NotFlatFoldable::NoCreasePattern)?;
-    if !folded.layers_close(cp, mesh.coordinate_precision) {
+    if !folded.layers_close() {
         return Err(LayerError::Open {
             vertex: folded.worst_vertex.unwrap_or(0),
             gap: folded.mismatch,
-            tolerance: super::closure_tolerance(cp, mesh.coordinate_precision),
+            tolerance: folded.tolerance,
         });
     }
     // Judged at the drawing's precision: corners meant to meet, met.
@@ -292,7 +312,11 @@ fn prepared(mesh: &Mesh, budget: &Budget) -> Result<Prepared, LayerError> {
 }
 
 /// [`decide`]'s work, keeping the problem and its values.
-fn solved(mesh: &Mesh, budget: &Budget, shrink: bool) -> Result<Solved, LayerError> {
+fn solved(
+    mesh: &Mesh,
+    budget: &Budget,
+    shrink: Option<std::time::Duration>,
+) -> Result<Solved, LayerError> {
     let problem = match prepared(mesh, budget)? {
         Prepared::Problem(problem) => problem,
         Prepared::Conflict(c) => return Ok(Solved::Conflict(c)),
@@ -300,10 +324,9 @@ fn solved(mesh: &Mesh, budget: &Budget, shrink: bool) -> Result<Solved, LayerErr
     match problem.solve(None, budget)? {
         Ok(values) => Ok(Solved::Order(problem, values)),
         Err(group) => {
-            let pieces = if shrink {
-                problem.smallest_conflict(group, budget)?
-            } else {
-                group
+            let pieces = match shrink {
+                Some(time) => problem.smallest_conflict(group, budget, time),
+                None => group,
             };
             Ok(Solved::Conflict(problem.conflict(&pieces)))
         }
@@ -444,18 +467,7 @@ impl Problem {
         pairs.sort_unstable();
         pairs.dedup();
         let index = PairIndex::new(members.len(), &pairs);
-        let cp = mesh
-            .flat()
-            .expect("a flat-folded state has a crease pattern");
-        let front_up = mesh
-            .faces()
-            .iter()
-            .zip(&folded.motions)
-            .map(|(f, m)| {
-                let counter_clockwise = (cp[f[1]] - cp[f[0]]).perp(&(cp[f[2]] - cp[f[0]])) > 0.0;
-                counter_clockwise != m.flips()
-            })
-            .collect();
+        let front_up = folded.front_up.clone();
         let mut problem = Problem {
             piece_of,
             members,
@@ -708,15 +720,7 @@ impl Problem {
                 }
             }
         }
-        let mut search = Search {
-            problem: self,
-            only,
-            watching,
-            value: vec![None; self.pairs.len()],
-            trail: Vec::new(),
-            decisions: 0,
-            budget,
-        };
+        let mut search = Search::new(self, only, watching, budget);
         let pieces_of = |vars: &[usize]| {
             let mut f: Vec<usize> = vars
                 .iter()
@@ -749,25 +753,71 @@ impl Problem {
         Ok(Ok(search.value.iter().map(|v| v.unwrap_or(true)).collect()))
     }
 
-    /// Shrinks a group of pieces without an order: drop pieces one at a time while the
-    /// rest still has none.
+    /// Shrinks a group of pieces without an order to a smallest one: drop pieces while
+    /// the rest still has none — halves of the candidates first, then quarters, down to
+    /// single pieces, so a small conflict inside a large group costs a few solves per
+    /// piece it keeps, not one per piece it drops; an unsolvable rest is narrowed at once
+    /// to its own unsolvable group. The conflict is already proved: shrinking only names
+    /// fewer faces, so it stops after `time` (or at the budget's end) with the set it
+    /// has, never turning the verdict undecided.
     fn smallest_conflict(
         &self,
         pieces: Vec<usize>,
         budget: &Budget,
-    ) -> Result<Vec<usize>, LayerError> {
+        time: std::time::Duration,
+    ) -> Vec<usize> {
+        let now = std::time::Instant::now();
+        let shrink = Budget {
+            deadline: Some(match budget.deadline {
+                Some((at, given)) => (at.min(now + time), given),
+                None => (now + time, time),
+            }),
+            ..budget.clone()
+        };
         let mut keep = vec![false; self.members.len()];
         for &p in &pieces {
             keep[p] = true;
         }
-        for &p in &pieces {
-            budget.check()?;
-            keep[p] = false;
-            if self.solve(Some(&keep), budget)?.is_ok() {
-                keep[p] = true;
+        let mut candidates = pieces;
+        let mut chunk = candidates.len().div_ceil(2).max(1);
+        loop {
+            let mut i = 0;
+            while i < candidates.len() {
+                let end = (i + chunk).min(candidates.len());
+                for &p in &candidates[i..end] {
+                    keep[p] = false;
+                }
+                match self.solve(Some(&keep), &shrink) {
+                    Ok(Err(group)) => {
+                        // Still no order: the dropped pieces go, and so does whatever
+                        // lies outside the group that has none.
+                        let next = candidates.get(end).copied().unwrap_or(usize::MAX);
+                        keep.iter_mut().for_each(|k| *k = false);
+                        for &p in &group {
+                            keep[p] = true;
+                        }
+                        candidates.retain(|&p| keep[p]);
+                        i = candidates.partition_point(|&p| p < next);
+                    }
+                    Ok(Ok(_)) => {
+                        for &p in &candidates[i..end] {
+                            keep[p] = true;
+                        }
+                        i = end;
+                    }
+                    Err(_) => {
+                        for &p in &candidates[i..end] {
+                            keep[p] = true;
+                        }
+                        return candidates;
+                    }
+                }
             }
+            if chunk == 1 {
+                return candidates;
+            }
+            chunk = chunk.div_ceil(2);
         }
-        Ok((0..self.members.len()).filter(|&p| keep[p]).collect())
     }
 
     /// The conflict among `pieces`, as their faces with the overlaps among them.

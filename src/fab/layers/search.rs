@@ -1,22 +1,95 @@
 //! The search for values of the pair variables: propagation of what each constraint
-//! forces, and depth-first decisions with an undo trail.
+//! forces, and conflict-driven decisions with clause learning (CDCL, as SAT solvers do).
+//!
+//! A plain depth-first search undoes only its latest decision when it meets a
+//! contradiction, so a wrong early choice is paid for by every arrangement of the
+//! choices after it: exponential on the patterns where the layers' constraints chain
+//! round a closed loop (a tube folded flat, Tarantula's stacked flaps). Here each
+//! contradiction is traced back through the constraints that forced it to the decisions
+//! that caused it (the first unique implication point), the negation of those causes is
+//! kept as a learnt clause, and the search jumps back to where that clause first forces
+//! something. Variables seen in recent contradictions are decided first (VSIDS), each
+//! keeps the side it last had (phase saving), and the search restarts on Luby's
+//! sequence; all three are standard and none changes what is decided, only how fast.
 
 use super::{Constraint, LayerError, Lit, Problem, SEARCH_BUDGET};
 use crate::fab::budget::Budget;
+use std::collections::BinaryHeap;
 
-/// Depth-first search with propagation and an undo trail.
-pub(super) struct Search<'a> {
-    pub(super) problem: &'a Problem,
-    /// The pieces taken into account (all when `None`).
-    pub(super) only: Option<&'a [bool]>,
-    pub(super) watching: Vec<Vec<usize>>,
-    pub(super) value: Vec<Option<bool>>,
-    pub(super) trail: Vec<usize>,
-    pub(super) decisions: usize,
-    pub(super) budget: &'a Budget,
+/// Why a variable has its value: what [`Search::causes`] traces a contradiction through.
+#[derive(Clone, Copy, Debug)]
+enum Reason {
+    /// Decided (or given: a crease's side, a count's branch).
+    Decision,
+    /// Forced by constraint `k` of the problem.
+    Constraint(u32),
+    /// Forced by the "no cycle" rule of the triple of pair `x` with piece `c`.
+    Triple(u32, u32),
+    /// Forced by learnt clause `k`.
+    Learnt(u32),
 }
 
-impl Search<'_> {
+/// Conflicts between restarts, times Luby's sequence (1, 1, 2, 1, 1, 2, 4, …).
+const RESTART_UNIT: u64 = 100;
+/// VSIDS: each conflict's bump grows by this factor, so older bumps fade.
+const ACTIVITY_GROWTH: f64 = 1.0 / 0.95;
+
+/// Propagation, decisions, learning and an undo trail over a [`Problem`]'s variables.
+pub(super) struct Search<'a> {
+    problem: &'a Problem,
+    /// The pieces taken into account (all when `None`).
+    only: Option<&'a [bool]>,
+    /// Per variable, the constraints it takes part in.
+    watching: Vec<Vec<usize>>,
+    pub(super) value: Vec<Option<bool>>,
+    /// Variables in the order they were set.
+    trail: Vec<usize>,
+    /// Trail entries whose consequences are propagated.
+    propagated: usize,
+    /// Per decision level above the run's start, where it begins on the trail.
+    level_starts: Vec<usize>,
+    level: Vec<u32>,
+    reason: Vec<Reason>,
+    learnt: Vec<Vec<Lit>>,
+    /// Per variable, the learnt clauses watching it (their first two literals).
+    learnt_watch: Vec<Vec<u32>>,
+    activity: Vec<f64>,
+    bump: f64,
+    /// Each variable's last value, tried first when it is decided again.
+    phase: Vec<bool>,
+    decisions: usize,
+    budget: &'a Budget,
+}
+
+impl<'a> Search<'a> {
+    /// A search with nothing set; `watching` lists each variable's constraints.
+    pub(super) fn new(
+        problem: &'a Problem,
+        only: Option<&'a [bool]>,
+        watching: Vec<Vec<usize>>,
+        budget: &'a Budget,
+    ) -> Search<'a> {
+        let n = problem.pairs.len();
+        Search {
+            problem,
+            only,
+            watching,
+            value: vec![None; n],
+            trail: Vec::new(),
+            propagated: 0,
+            level_starts: Vec::new(),
+            level: vec![0; n],
+            reason: vec![Reason::Decision; n],
+            learnt: Vec::new(),
+            learnt_watch: vec![Vec::new(); n],
+            activity: vec![0.0; n],
+            bump: 1.0,
+            phase: vec![true; n],
+            decisions: 0,
+            budget,
+        }
+    }
+
     fn lit(&self, l: Lit) -> Option<bool> {
         self.value[l.var].map(|v| v == l.value)
     }
@@ -38,89 +111,238 @@ impl Search<'_> {
         (trues, unknown, last)
     }
 
+    /// Sets an unset variable, recording why, at the current level.
+    fn set(&mut self, var: usize, v: bool, why: Reason) {
+        self.value[var] = Some(v);
+        self.level[var] = self.level_starts.len() as u32;
+        self.reason[var] = why;
+        self.trail.push(var);
+    }
+
     /// Sets a variable and everything it forces; false on a contradiction (the trail
     /// keeps what was set, for undoing).
     pub(super) fn assign(&mut self, var: usize, v: bool) -> bool {
-        let mut queue = vec![(var, v)];
-        while let Some((x, v)) = queue.pop() {
-            match self.value[x] {
-                Some(old) if old == v => continue,
-                Some(_) => return false,
-                None => {
-                    self.value[x] = Some(v);
-                    self.trail.push(x);
-                }
-            }
-            if !self.transitive(x, &mut queue) {
-                return false;
-            }
-            for &k in &self.watching[x] {
-                match self.problem.constraints[k] {
-                    Constraint::Same(a, b) => {
-                        for (p, q) in [(a, b), (b, a)] {
-                            if let Some(t) = self.lit(p) {
-                                // q must have the same truth.
-                                queue.push((q.var, t == q.value));
-                            }
-                        }
-                    }
-                    Constraint::Parity(l) => {
-                        let (ones, unknown, last) = self.tally(&l);
-                        match (unknown, last) {
-                            (0, _) if ones % 2 == 1 => return false,
-                            (1, Some(u)) => {
-                                let need_true = ones % 2 == 1;
-                                queue.push((u.var, need_true == u.value));
-                            }
-                            _ => {}
-                        }
-                    }
-                }
+        match self.value[var] {
+            Some(old) => old == v,
+            None => {
+                self.set(var, v, Reason::Decision);
+                self.propagate().is_none()
             }
         }
-        true
     }
 
-    /// The "no cycle" constraints of the triples through variable `x` (both of each:
-    /// not a above b above c above a, nor the reverse), pushing what they force. `x` is
-    /// the pair a < b, so "a above b" is `x` itself; the other two pairs are looked up.
-    fn transitive(&self, x: usize, queue: &mut Vec<(usize, bool)>) -> bool {
+    /// Propagates every value on the trail not yet propagated; on a contradiction, the
+    /// variables of the constraint it breaks (all set).
+    fn propagate(&mut self) -> Option<Vec<usize>> {
+        while self.propagated < self.trail.len() {
+            let x = self.trail[self.propagated];
+            self.propagated += 1;
+            if let Some(conflict) = self
+                .transitive(x)
+                .or_else(|| self.constraints_of(x))
+                .or_else(|| self.learnt_of(x))
+            {
+                return Some(conflict);
+            }
+        }
+        None
+    }
+
+    /// The problem's constraints through `x`.
+    fn constraints_of(&mut self, x: usize) -> Option<Vec<usize>> {
+        for i in 0..self.watching[x].len() {
+            let k = self.watching[x][i];
+            let why = Reason::Constraint(k as u32);
+            match self.problem.constraints[k] {
+                Constraint::Same(a, b) => {
+                    for (p, q) in [(a, b), (b, a)] {
+                        let Some(t) = self.lit(p) else { continue };
+                        match self.lit(q) {
+                            None => self.set(q.var, t == q.value, why),
+                            Some(u) if u != t => return Some(vec![a.var, b.var]),
+                            Some(_) => {}
+                        }
+                    }
+                }
+                Constraint::Parity(l) => match self.tally(&l) {
+                    (ones, 0, _) if ones % 2 == 1 => return Some(l.map(|x| x.var).to_vec()),
+                    (ones, 1, Some(u)) => self.set(u.var, (ones % 2 == 1) == u.value, why),
+                    _ => {}
+                },
+            }
+        }
+        None
+    }
+
+    /// The three literals of the triple of pair `x` = (a, b) with piece `c`, "a above
+    /// b above c above a": a cycle when all three hold, or none does.
+    fn triple(&self, x: usize, c: usize) -> [Lit; 3] {
         let p = self.problem;
         let (a, b) = p.pairs[x];
-        let ab = Lit {
-            var: x,
-            value: true,
-        };
-        for &c in &p.thirds[x] {
-            let c = c as usize;
+        [
+            Lit {
+                var: x,
+                value: true,
+            },
+            p.above(b, c).expect("a triple's pairs overlap"),
+            p.above(c, a).expect("a triple's pairs overlap"),
+        ]
+    }
+
+    /// The "no cycle" constraints of the triples through pair `x` (both of each: not a
+    /// above b above c above a, nor the reverse), setting what they force.
+    fn transitive(&mut self, x: usize) -> Option<Vec<usize>> {
+        for i in 0..self.problem.thirds[x].len() {
+            let c = self.problem.thirds[x][i] as usize;
             if self.only.is_some_and(|keep| !keep[c]) {
                 continue;
             }
-            let lits = [
-                ab,
-                p.above(b, c).expect("a triple's pairs overlap"),
-                p.above(c, a).expect("a triple's pairs overlap"),
-            ];
+            let lits = self.triple(x, c);
             for negate in [false, true] {
                 let l = lits.map(|l| Lit {
                     var: l.var,
                     value: l.value != negate,
                 });
-                let (trues, unknown, last) = self.tally(&l);
-                if trues == 3 {
-                    return false;
-                }
-                if let (2, 1, Some(u)) = (trues, unknown, last) {
-                    queue.push((u.var, !u.value));
+                match self.tally(&l) {
+                    (3, _, _) => return Some(l.map(|x| x.var).to_vec()),
+                    (2, 1, Some(u)) => {
+                        self.set(u.var, !u.value, Reason::Triple(x as u32, c as u32))
+                    }
+                    _ => {}
                 }
             }
         }
-        true
+        None
     }
 
-    fn undo_to(&mut self, mark: usize) {
+    /// The learnt clauses watching `x`, now set: each moves its watch to a literal not
+    /// yet false, or forces its other watched literal, or is broken.
+    fn learnt_of(&mut self, x: usize) -> Option<Vec<usize>> {
+        let mut watchers = std::mem::take(&mut self.learnt_watch[x]);
+        let mut conflict = None;
+        let mut i = 0;
+        while i < watchers.len() {
+            let k = watchers[i] as usize;
+            let value = |l: Lit| self.value[l.var].map(|v| v == l.value);
+            let clause = &mut self.learnt[k];
+            if clause[0].var == x {
+                clause.swap(0, 1);
+            }
+            let first = clause[0];
+            if value(clause[1]) != Some(false) || value(first) == Some(true) {
+                i += 1;
+                continue;
+            }
+            if let Some(j) = (2..clause.len()).find(|&j| value(clause[j]) != Some(false)) {
+                clause.swap(1, j);
+                let moved_to = clause[1].var;
+                self.learnt_watch[moved_to].push(k as u32);
+                watchers.swap_remove(i);
+                continue;
+            }
+            if value(first).is_some() {
+                conflict = Some(clause.iter().map(|l| l.var).collect());
+                break;
+            }
+            self.set(first.var, first.value, Reason::Learnt(k as u32));
+            i += 1;
+        }
+        // Watches moved onto x itself while it was taken out stay too.
+        watchers.append(&mut self.learnt_watch[x]);
+        self.learnt_watch[x] = watchers;
+        conflict
+    }
+
+    /// The variables whose values forced `var`'s (none for a decision).
+    fn causes(&self, var: usize) -> Vec<usize> {
+        let others = |vars: &[usize]| vars.iter().copied().filter(|&v| v != var).collect();
+        match self.reason[var] {
+            Reason::Decision => Vec::new(),
+            Reason::Constraint(k) => match self.problem.constraints[k as usize] {
+                Constraint::Same(a, b) => others(&[a.var, b.var]),
+                Constraint::Parity(l) => others(&l.map(|x| x.var)),
+            },
+            Reason::Triple(x, c) => others(&self.triple(x as usize, c as usize).map(|l| l.var)),
+            Reason::Learnt(k) => {
+                let vars: Vec<usize> = self.learnt[k as usize].iter().map(|l| l.var).collect();
+                others(&vars)
+            }
+        }
+    }
+
+    /// From a contradiction among `conflict`'s variables, the clause to learn (its
+    /// first literal the one it will force) and the level to jump back to: the causes
+    /// traced back on the trail to the first unique implication point.
+    fn analyse(&mut self, conflict: Vec<usize>, seen: &mut [bool]) -> (Vec<Lit>, usize) {
+        let current = self.level_starts.len() as u32;
+        let mut earlier: Vec<usize> = Vec::new();
+        let mut open = 0usize;
+        let mut at = self.trail.len();
+        let mut causes = conflict;
+        let uip = loop {
+            for v in causes {
+                if seen[v] || self.level[v] == 0 {
+                    continue;
+                }
+                seen[v] = true;
+                self.activity[v] += self.bump;
+                if self.level[v] == current {
+                    open += 1;
+                } else {
+                    earlier.push(v);
+                }
+            }
+            let v = loop {
+                at -= 1;
+                if seen[self.trail[at]] {
+                    break self.trail[at];
+                }
+            };
+            seen[v] = false;
+            open -= 1;
+            if open == 0 {
+                break v;
+            }
+            causes = self.causes(v);
+        };
+        for &v in &earlier {
+            seen[v] = false;
+        }
+        self.bump *= ACTIVITY_GROWTH;
+        if self.bump > 1e100 {
+            self.activity.iter_mut().for_each(|a| *a *= 1e-100);
+            self.bump *= 1e-100;
+        }
+        // The clause says: not all of these values again.
+        let negated = |v: usize| Lit {
+            var: v,
+            value: !self.value[v].expect("a cause is set"),
+        };
+        let mut clause = vec![negated(uip)];
+        earlier.sort_by_key(|&v| std::cmp::Reverse(self.level[v]));
+        let back_to = earlier.first().map_or(0, |&v| self.level[v] as usize);
+        clause.extend(earlier.into_iter().map(negated));
+        (clause, back_to)
+    }
+
+    /// Undoes every value set from trail position `mark` on.
+    pub(super) fn undo_to(&mut self, mark: usize) {
         for x in self.trail.drain(mark..) {
+            self.phase[x] = self.value[x].expect("the trail holds set variables");
             self.value[x] = None;
+        }
+        self.propagated = self.propagated.min(mark);
+    }
+
+    /// Back to decision `level` (0: the run's start), returning the freed variables.
+    fn back_to(&mut self, level: usize, free: &mut BinaryHeap<(Activity, usize)>) {
+        if level < self.level_starts.len() {
+            let mark = self.level_starts[level];
+            for &x in &self.trail[mark..] {
+                free.push((Activity(self.activity[x]), x));
+            }
+            self.undo_to(mark);
+            self.level_starts.truncate(level);
         }
     }
 
@@ -178,19 +400,53 @@ impl Search<'_> {
         }
     }
 
-    /// Decides the variables in `order` not yet set: true when all could be. Depth
-    /// first: each decision tries "above" then "below"; a contradiction undoes back to the
-    /// latest decision with a branch left.
+    /// Decides the variables in `order` not yet set (one independent group: no
+    /// constraint joins them to a variable outside it): true when all could be, false
+    /// when the group has no values, proved by a contradiction that no decision caused.
+    /// What was set before stays set.
     pub(super) fn run(&mut self, order: &[usize]) -> Result<bool, LayerError> {
-        let mut stack: Vec<(usize, usize, bool)> = Vec::new();
-        let mut pos = 0;
+        self.level_starts.clear();
+        let mut free: BinaryHeap<(Activity, usize)> = order
+            .iter()
+            .map(|&v| (Activity(self.activity[v]), v))
+            .collect();
+        let mut seen = vec![false; self.value.len()];
+        let (mut conflicts, mut restart) = (0u64, 1u64);
+        let mut next_restart = RESTART_UNIT;
         loop {
-            while pos < order.len() && self.value[order[pos]].is_some() {
-                pos += 1;
+            if let Some(conflict) = self.propagate() {
+                if self.level_starts.is_empty() {
+                    return Ok(false);
+                }
+                let (clause, level) = self.analyse(conflict, &mut seen);
+                self.back_to(level, &mut free);
+                let (var, value) = (clause[0].var, clause[0].value);
+                let k = self.learnt.len() as u32;
+                if clause.len() > 1 {
+                    self.learnt_watch[clause[0].var].push(k);
+                    self.learnt_watch[clause[1].var].push(k);
+                }
+                self.learnt.push(clause);
+                self.set(var, value, Reason::Learnt(k));
+                conflicts += 1;
+                // A conflict can cost a long propagation: the deadline is watched here
+                // as well as between decisions.
+                if conflicts.is_multiple_of(64) {
+                    self.budget.check()?;
+                }
+                if conflicts >= next_restart {
+                    restart += 1;
+                    next_restart = conflicts + RESTART_UNIT * luby(restart);
+                    self.back_to(0, &mut free);
+                }
+                continue;
             }
-            if pos == order.len() {
+            let Some(var) = std::iter::from_fn(|| free.pop())
+                .map(|(_, v)| v)
+                .find(|&v| self.value[v].is_none())
+            else {
                 return Ok(true);
-            }
+            };
             self.decisions += 1;
             if self.decisions > SEARCH_BUDGET {
                 return Err(LayerError::GaveUp(SEARCH_BUDGET));
@@ -198,31 +454,50 @@ impl Search<'_> {
             if self.decisions.is_multiple_of(1024) {
                 self.budget.check()?;
             }
-            let mark = self.trail.len();
-            if self.assign(order[pos], true) {
-                stack.push((pos, mark, false));
-                continue;
-            }
-            self.undo_to(mark);
-            if self.assign(order[pos], false) {
-                stack.push((pos, mark, true));
-                continue;
-            }
-            self.undo_to(mark);
-            loop {
-                let Some((p, m, tried_both)) = stack.pop() else {
-                    return Ok(false);
-                };
-                self.undo_to(m);
-                if !tried_both {
-                    if self.assign(order[p], false) {
-                        stack.push((p, m, true));
-                        pos = p;
-                        break;
-                    }
-                    self.undo_to(m);
-                }
-            }
+            self.level_starts.push(self.trail.len());
+            self.set(var, self.phase[var], Reason::Decision);
         }
+    }
+}
+
+/// A variable's activity, ordered (activities are finite and never negative).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Activity(f64);
+
+impl Eq for Activity {}
+
+impl PartialOrd for Activity {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Activity {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.0.total_cmp(&other.0)
+    }
+}
+
+/// Luby's sequence, 1-based: 1, 1, 2, 1, 1, 2, 4, 1, 1, 2, 1, 1, 2, 4, 8, …
+fn luby(i: u64) -> u64 {
+    let mut k = 1;
+    while (1u64 << k) - 1 < i {
+        k += 1;
+    }
+    if (1u64 << k) - 1 == i {
+        1 << (k - 1)
+    } else {
+        luby(i - (1u64 << (k - 1)) + 1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::luby;
+
+    #[test]
+    fn luby_sequence_starts_as_published() {
+        let first: Vec<u64> = (1..=15).map(luby).collect();
+        assert_eq!(first, [1, 1, 2, 1, 1, 2, 4, 1, 1, 2, 1, 1, 2, 4, 8]);
     }
 }
