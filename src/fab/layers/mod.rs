@@ -13,7 +13,7 @@
 //! - *transitivity*: three faces with a common overlap are not stacked in a cycle.
 //!
 //! The solver propagates forced values and searches the rest with conflict-driven clause
-//! learning ([`search`]), one independent group of variables at a time. An
+//! learning (module `search`), one independent group of variables at a time. An
 //! unsatisfiable group is shrunk towards a smallest set of faces that still has no
 //! order, which the report names.
 
