@@ -262,15 +262,15 @@ pub fn flat_folded(mesh: &Mesh, flat: Option<&[Vec2]>) -> Result<FlatFolded, Not
 }
 
 /// A tube's flat-folded state: its strip folded flat (faces keep their numbers and corner
-/// order, so the strip's images are the tube's), with every edge's two faces checked to
-/// meet — at the seam, where the strip was cut, they need not. `reflects` is the tube's
-/// [`mirrored_edges`].
+/// order, so the strip's images are the tube's), with each seam edge's two faces checked
+/// to meet again — the walk over the strip never crosses the seam, so nothing else
+/// joins them. `reflects` is the tube's [`mirrored_edges`].
 fn tube_folded(tube: &Mesh, reflects: &[bool]) -> Result<FlatFolded, NotFlatFoldable> {
     let strip = crate::geometry::unfold::unfold_tube(tube)
         .map_err(|e| NotFlatFoldable::NoStrip(e.to_string()))?;
     let mut folded = flat_folded(&strip.sheet, None)?;
     folded.worst_vertex = folded.worst_vertex.map(|v| strip.origin[v]);
-    let (gap, vertex) = worst_edge_gap(tube, &folded.triangles, reflects);
+    let (gap, vertex) = worst_edge_gap(tube, &folded.triangles, reflects, &strip.edges);
     if gap > folded.mismatch {
         folded.mismatch = gap;
         folded.worst_vertex = vertex;
@@ -281,11 +281,17 @@ fn tube_folded(tube: &Mesh, reflects: &[bool]) -> Result<FlatFolded, NotFlatFold
     Ok(folded)
 }
 
-/// The widest gap (mm) between an interior edge's two faces in the folded image
-/// `triangles`, and a vertex of that edge: its ends should land on the same points, and
-/// the faces on one side of it when it is folded (`reflects`), on both sides when not.
-/// A face on the wrong side is as far off as its far corner is from its mirror image.
-fn worst_edge_gap(mesh: &Mesh, triangles: &[[Vec2; 3]], reflects: &[bool]) -> (f64, Option<usize>) {
+/// Of `edges` (interior edges of `mesh`), the widest gap (mm) between an edge's two faces
+/// in the folded image `triangles`, and a vertex of that edge: its ends should land on
+/// the same points, and the faces on one side of it when it is folded (`reflects`), on
+/// both sides when not. A face on the wrong side is as far off as its far corner is from
+/// its mirror image.
+fn worst_edge_gap(
+    mesh: &Mesh,
+    triangles: &[[Vec2; 3]],
+    reflects: &[bool],
+    edges: &[usize],
+) -> (f64, Option<usize>) {
     let faces = mesh.faces();
     let topo = mesh.topology();
     let corner = |f: usize, v: usize| {
@@ -297,7 +303,8 @@ fn worst_edge_gap(mesh: &Mesh, triangles: &[[Vec2; 3]], reflects: &[bool]) -> (f
         triangles[f][k.expect("a triangle has a third corner")]
     };
     let mut worst = (0.0, None);
-    for (e, edge) in mesh.edges().iter().enumerate() {
+    for &e in edges {
+        let edge = &mesh.edges()[e];
         let [Some(f), Some(g)] = topo.edge_faces[e] else {
             continue;
         };

@@ -57,6 +57,9 @@ pub(super) struct Search<'a> {
     bump: f64,
     /// Each variable's last value, tried first when it is decided again.
     phase: Vec<bool>,
+    /// [`Search::analyse`]'s marks, all false between analyses (kept here, not
+    /// allocated per group: a pattern may have thousands of groups).
+    seen: Vec<bool>,
     decisions: usize,
     budget: &'a Budget,
 }
@@ -85,6 +88,7 @@ impl<'a> Search<'a> {
             activity: vec![0.0; n],
             bump: 1.0,
             phase: vec![true; n],
+            seen: vec![false; n],
             decisions: 0,
             budget,
         }
@@ -273,7 +277,8 @@ impl<'a> Search<'a> {
     /// From a contradiction among `conflict`'s variables, the clause to learn (its
     /// first literal the one it will force) and the level to jump back to: the causes
     /// traced back on the trail to the first unique implication point.
-    fn analyse(&mut self, conflict: Vec<usize>, seen: &mut [bool]) -> (Vec<Lit>, usize) {
+    fn analyse(&mut self, conflict: Vec<usize>) -> (Vec<Lit>, usize) {
+        let mut seen = std::mem::take(&mut self.seen);
         let current = self.level_starts.len() as u32;
         let mut earlier: Vec<usize> = Vec::new();
         let mut open = 0usize;
@@ -308,6 +313,7 @@ impl<'a> Search<'a> {
         for &v in &earlier {
             seen[v] = false;
         }
+        self.seen = seen;
         self.bump *= ACTIVITY_GROWTH;
         if self.bump > 1e100 {
             self.activity.iter_mut().for_each(|a| *a *= 1e-100);
@@ -410,7 +416,6 @@ impl<'a> Search<'a> {
             .iter()
             .map(|&v| (Activity(self.activity[v]), v))
             .collect();
-        let mut seen = vec![false; self.value.len()];
         let (mut conflicts, mut restart) = (0u64, 1u64);
         let mut next_restart = RESTART_UNIT;
         loop {
@@ -418,7 +423,7 @@ impl<'a> Search<'a> {
                 if self.level_starts.is_empty() {
                     return Ok(false);
                 }
-                let (clause, level) = self.analyse(conflict, &mut seen);
+                let (clause, level) = self.analyse(conflict);
                 self.back_to(level, &mut free);
                 let (var, value) = (clause[0].var, clause[0].value);
                 let k = self.learnt.len() as u32;
