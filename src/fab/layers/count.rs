@@ -54,17 +54,7 @@ impl Problem {
         for c in &self.constraints {
             join(&c.vars());
         }
-        for (v, thirds) in self.thirds.iter().enumerate() {
-            let (a, b) = self.pairs[v];
-            for &c in thirds {
-                let c = c as usize;
-                let bc = self.index.get(b.min(c), b.max(c));
-                let ac = self.index.get(a.min(c), a.max(c));
-                if let (Some(bc), Some(ac)) = (bc, ac) {
-                    join(&[v, bc, ac]);
-                }
-            }
-        }
+        self.for_each_triple(None, |vars| join(&vars));
         let mut members: HashMap<usize, Vec<usize>> = HashMap::new();
         for v in (0..self.pairs.len()).filter(|&v| open(v)) {
             members.entry(group.find(v)).or_default().push(v);

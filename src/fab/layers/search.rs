@@ -12,7 +12,7 @@
 //! keeps the side it last had (phase saving), and the search restarts on Luby's
 //! sequence; all three are standard and none changes what is decided, only how fast.
 
-use super::{Constraint, LayerError, Lit, Problem, SEARCH_BUDGET};
+use super::{Constraint, LayerError, Lit, Problem, SpreadRow, SEARCH_BUDGET};
 use crate::fab::budget::Budget;
 use std::collections::BinaryHeap;
 
@@ -62,6 +62,8 @@ pub(super) struct Search<'a> {
     seen: Vec<bool>,
     decisions: usize,
     budget: &'a Budget,
+    /// The rows of the two pieces of the pair whose triples were last propagated.
+    rows: [SpreadRow; 2],
 }
 
 impl<'a> Search<'a> {
@@ -91,6 +93,7 @@ impl<'a> Search<'a> {
             seen: vec![false; n],
             decisions: 0,
             budget,
+            rows: [0, 1].map(|_| SpreadRow::new(problem.members.len())),
         }
     }
 
@@ -189,19 +192,40 @@ impl<'a> Search<'a> {
                 value: true,
             },
             p.above(b, c).expect("a triple's pairs overlap"),
-            p.above(c, a).expect("a triple's pairs overlap"),
+            // "c above a", looked up in a's row (a and b are this loop's, c varies).
+            p.above(a, c).expect("a triple's pairs overlap").negated(),
         ]
     }
 
     /// The "no cycle" constraints of the triples through pair `x` (both of each: not a
     /// above b above c above a, nor the reverse), setting what they force.
     fn transitive(&mut self, x: usize) -> Option<Vec<usize>> {
-        for i in 0..self.problem.thirds[x].len() {
-            let c = self.problem.thirds[x][i] as usize;
+        let problem = self.problem;
+        let thirds = &problem.thirds[x];
+        let spread = problem.worth_spreading(x);
+        if spread {
+            let (a, b) = problem.pairs[x];
+            self.rows[0].load(problem, a);
+            self.rows[1].load(problem, b);
+        }
+        for &c in thirds {
+            let c = c as usize;
             if self.only.is_some_and(|keep| !keep[c]) {
                 continue;
             }
-            let lits = self.triple(x, c);
+            let lits = if spread {
+                let overlap = "a triple's pairs overlap";
+                [
+                    Lit {
+                        var: x,
+                        value: true,
+                    },
+                    self.rows[1].above(c).expect(overlap),
+                    self.rows[0].above(c).expect(overlap).negated(),
+                ]
+            } else {
+                self.triple(x, c)
+            };
             for negate in [false, true] {
                 let l = lits.map(|l| Lit {
                     var: l.var,
