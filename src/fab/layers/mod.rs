@@ -145,9 +145,12 @@ impl SpreadRow {
         self.piece = Some(piece);
     }
 
-    /// The literal "the loaded piece lies above piece c", as [`Problem::above`] gives it.
-    pub(super) fn above(&self, c: usize) -> Option<Lit> {
-        let piece = self.piece?;
+    /// The literal "`piece` lies above piece c", as [`Problem::above`] gives it: from the
+    /// spread row when it holds `piece`'s, else looked up in the index.
+    pub(super) fn above(&self, problem: &Problem, piece: usize, c: usize) -> Option<Lit> {
+        if self.piece != Some(piece) {
+            return problem.above(piece, c);
+        }
         match self.slot[c] {
             0 => None,
             v => Some(Lit {
@@ -780,37 +783,23 @@ impl Problem {
     fn for_each_triple(&self, only: Option<&[bool]>, mut f: impl FnMut([usize; 3])) {
         let kept = |p: usize| only.is_none_or(|keep| keep[p]);
         let mut rows = [0, 1].map(|_| SpreadRow::new(self.members.len()));
-        // Pairs are sorted by their first piece, so a's row is loaded once per piece.
-        let spread_a = self.index.table.is_none();
+        let overlap = "a triple's pairs overlap";
         for (ab, thirds) in self.thirds.iter().enumerate() {
             let (a, b) = self.pairs[ab];
             if !(kept(a) && kept(b)) {
                 continue;
             }
-            let spread_b = self.worth_spreading(ab);
-            if spread_a {
+            // Pairs are sorted by their first piece, so a's row is loaded once per piece.
+            if self.index.table.is_none() {
                 rows[0].load(self, a);
             }
-            if spread_b {
+            if self.worth_spreading(ab) {
                 rows[1].load(self, b);
             }
-            for &c in thirds {
-                let c = c as usize;
-                if !kept(c) {
-                    continue;
-                }
-                let bc = if spread_b {
-                    rows[1].above(c)
-                } else {
-                    self.above(b, c)
-                };
-                let ac = if spread_a {
-                    rows[0].above(c)
-                } else {
-                    self.above(a, c)
-                };
-                let overlap = "a triple's pairs overlap";
-                f([ab, bc.expect(overlap).var, ac.expect(overlap).var]);
+            for c in thirds.iter().map(|&c| c as usize).filter(|&c| kept(c)) {
+                let bc = rows[1].above(self, b, c).expect(overlap).var;
+                let ac = rows[0].above(self, a, c).expect(overlap).var;
+                f([ab, bc, ac]);
             }
         }
     }

@@ -182,18 +182,20 @@ impl<'a> Search<'a> {
     }
 
     /// The three literals of the triple of pair `x` = (a, b) with piece `c`, "a above
-    /// b above c above a": a cycle when all three hold, or none does.
+    /// b above c above a": a cycle when all three hold, or none does. Looked up in the
+    /// spread rows when they hold a's and b's, else in the index.
     fn triple(&self, x: usize, c: usize) -> [Lit; 3] {
         let p = self.problem;
         let (a, b) = p.pairs[x];
+        let overlap = "a triple's pairs overlap";
         [
             Lit {
                 var: x,
                 value: true,
             },
-            p.above(b, c).expect("a triple's pairs overlap"),
+            self.rows[1].above(p, b, c).expect(overlap),
             // "c above a", looked up in a's row (a and b are this loop's, c varies).
-            p.above(a, c).expect("a triple's pairs overlap").negated(),
+            self.rows[0].above(p, a, c).expect(overlap).negated(),
         ]
     }
 
@@ -201,31 +203,17 @@ impl<'a> Search<'a> {
     /// above b above c above a, nor the reverse), setting what they force.
     fn transitive(&mut self, x: usize) -> Option<Vec<usize>> {
         let problem = self.problem;
-        let thirds = &problem.thirds[x];
-        let spread = problem.worth_spreading(x);
-        if spread {
+        if problem.worth_spreading(x) {
             let (a, b) = problem.pairs[x];
             self.rows[0].load(problem, a);
             self.rows[1].load(problem, b);
         }
-        for &c in thirds {
+        for &c in &problem.thirds[x] {
             let c = c as usize;
             if self.only.is_some_and(|keep| !keep[c]) {
                 continue;
             }
-            let lits = if spread {
-                let overlap = "a triple's pairs overlap";
-                [
-                    Lit {
-                        var: x,
-                        value: true,
-                    },
-                    self.rows[1].above(c).expect(overlap),
-                    self.rows[0].above(c).expect(overlap).negated(),
-                ]
-            } else {
-                self.triple(x, c)
-            };
+            let lits = self.triple(x, c);
             for negate in [false, true] {
                 let l = lits.map(|l| Lit {
                     var: l.var,
