@@ -218,7 +218,9 @@ impl Session {
             match pipeline::layer_order_of_step(solver, pipeline::STEP_ORDER_TIME) {
                 StepOrder::Kept => {}
                 StepOrder::Lost(why) | StepOrder::Undecided(why) => {
-                    self.back_to_confirmed(format!("released: {why}"));
+                    // The same words as a live check's, so the page (and a person) reads
+                    // one message whether the machine was quick enough to check mid-drag.
+                    self.back_to_confirmed(format!("{why} (checked on release)"));
                 }
             }
         }
