@@ -82,7 +82,7 @@ struct LineSettings {
     /// A USB device node written as a file (connection "usb"), not a serial port.
     device: bool,
     baud: u32,
-    flow: String,
+    flow: crease::machine::FlowMode,
     buffer: usize,
 }
 
@@ -95,7 +95,7 @@ impl LineSettings {
                 m.name, m.connection
             )
         })?;
-        let language = Language::from_protocol(&m.protocol).ok_or_else(|| {
+        let language = Language::from_protocol(m.protocol).ok_or_else(|| {
             format!(
                 "{name} ({}) speaks {}, which is a file for its own software, not a stream",
                 m.name, m.protocol
@@ -142,7 +142,7 @@ impl LineSettings {
                 )),
             };
         };
-        let protocol = plotter.protocol.as_str();
+        let protocol = plotter.protocol;
         let language = Language::from_protocol(protocol).ok_or_else(|| {
             bad(&format!(
                 "made for {machine}, whose protocol \"{protocol}\" is not streamed"
@@ -151,9 +151,9 @@ impl LineSettings {
         Ok(Some(LineSettings {
             source: format!("the job's machine ({machine}, from report.json)"),
             language,
-            device: plotter.connection == "usb",
+            device: plotter.connection == crease::machine::Connection::Usb,
             baud: plotter.baud,
-            flow: plotter.flow_control.clone(),
+            flow: plotter.flow_control,
             buffer: plotter.buffer_bytes,
         }))
     }
@@ -271,7 +271,10 @@ pub fn plot(args: PlotArgs) -> Result<u8, String> {
             .check_count("--baud", baud as u64)
             .map_err(|e| e.to_string())?;
     }
-    let flow = FlowMode::parse(args.flow.as_deref().unwrap_or(&line.flow))?;
+    let flow = match args.flow.as_deref() {
+        Some(name) => FlowMode::parse(name)?,
+        None => line.flow,
+    };
     let unfinished = stream::unfinished(text.as_bytes(), &job_path);
     if let (Some(j), false, false) = (&unfinished, args.resume, args.restart) {
         return Err(format!(
@@ -482,7 +485,7 @@ pub fn emulate(args: EmulateArgs) -> Result<u8, String> {
         fail_after,
         reconnect_after: reconnect_after.map(std::time::Duration::from_millis),
         power_cycle,
-        language: Language::from_protocol(&language)
+        language: Language::parse(&language)
             .ok_or_else(|| format!("--language {language}: use hpgl or gpgl"))?,
         media_loaded: !no_media,
         marks_found: !no_marks,

@@ -7,7 +7,9 @@ use crate::mesh::{boundary_runs, curve_runs, run_edges, Assignment, Edge, Mesh, 
 use std::collections::HashMap;
 
 /// What a line does to the paper.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum LineKind {
     /// Paper boundary: cut through.

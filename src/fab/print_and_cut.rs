@@ -44,8 +44,9 @@ pub const CRICUT_TOP_MM: f64 = 10.0;
 /// Room kept below a print-and-cut sheet for the page's caption and scale bar, mm.
 pub const CAPTION_BAND_MM: f64 = 30.0;
 
-/// Whose registration marks a print-and-cut sheet carries.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Whose registration marks a print-and-cut sheet carries (a profile's `print_and_cut`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum MarkFamily {
     /// Silhouette Type 1: a square and two corner marks, drawn by crease.
     Silhouette,
@@ -54,17 +55,6 @@ pub enum MarkFamily {
 }
 
 impl MarkFamily {
-    /// The family a profile names (`print_and_cut = "silhouette"` or `"cricut"`).
-    pub fn parse(name: &str) -> Result<MarkFamily, String> {
-        match name {
-            "silhouette" => Ok(MarkFamily::Silhouette),
-            "cricut" => Ok(MarkFamily::Cricut),
-            other => Err(format!(
-                "unknown print-and-cut marks \"{other}\" (silhouette or cricut)"
-            )),
-        }
-    }
-
     /// The name a profile gives it.
     pub fn name(self) -> &'static str {
         match self {

@@ -19,10 +19,13 @@ pub struct DashCode {
     pub gap: f64,
 }
 
-/// What a fold too short for any dash gets (a machine profile's `short_folds`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// What a fold too short for any dash gets (a machine profile's `short_folds`: nothing,
+/// dash or solid).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum ShortFolds {
     /// No cut: it is named in the report, to be creased by hand.
+    #[default]
     Nothing,
     /// One dash of its kind's length (at most the fold's), centred on it.
     Dash,
@@ -31,18 +34,6 @@ pub enum ShortFolds {
 }
 
 impl ShortFolds {
-    /// Parses nothing, dash or solid; the error names the key.
-    pub fn parse(s: &str) -> Result<ShortFolds, String> {
-        match s {
-            "nothing" => Ok(ShortFolds::Nothing),
-            "dash" => Ok(ShortFolds::Dash),
-            "solid" => Ok(ShortFolds::Solid),
-            _ => Err(format!(
-                "short_folds = \"{s}\" is not one of nothing, dash, solid"
-            )),
-        }
-    }
-
     /// How the report says it.
     pub fn name(self) -> &'static str {
         match self {

@@ -241,23 +241,35 @@ fn integer_count(text: &str) -> usize {
         .count()
 }
 
-/// A TOML error on one line: where it is (line, and the key when the parser names one)
-/// and what is wrong, instead of the parser's multi-line snippet.
+/// A TOML error on one line: where it is (line, and the key with its table, as
+/// `gpgl.axis_order`, or the table header the error sits on) and what is wrong, instead of
+/// the parser's multi-line snippet.
 pub fn toml_error(text: &str, e: &toml::de::Error) -> String {
     let message = e.message().replace('\n', " ");
-    match e.span() {
-        Some(span) => {
-            let line = text[..span.start.min(text.len())].matches('\n').count() + 1;
-            let key = text
-                .lines()
-                .nth(line - 1)
-                .and_then(|l| l.split_once('='))
-                .map(|(k, _)| format!(" (key {})", k.trim()))
-                .unwrap_or_default();
-            format!("line {line}{key}: {message}")
-        }
-        None => message,
-    }
+    let Some(span) = e.span() else {
+        return message;
+    };
+    let line = text[..span.start.min(text.len())].matches('\n').count() + 1;
+    let lines: Vec<&str> = text.lines().collect();
+    let header = |l: &str| {
+        let l = l.trim();
+        l.starts_with('[').then(|| {
+            let name = l.trim_start_matches('[');
+            name.split(']').next().unwrap_or(name).trim().to_string()
+        })
+    };
+    let this = lines.get(line - 1).copied().unwrap_or("");
+    let table = lines[..(line - 1).min(lines.len())]
+        .iter()
+        .rev()
+        .find_map(|l| header(l));
+    let place = match (header(this), this.split_once('='), table) {
+        (Some(h), _, _) => format!(" (table [{h}])"),
+        (None, Some((k, _)), Some(t)) => format!(" (key {t}.{})", k.trim()),
+        (None, Some((k, _)), None) => format!(" (key {})", k.trim()),
+        (None, None, _) => String::new(),
+    };
+    format!("line {line}{place}: {message}")
 }
 
 /// The bytes of the regular file at `path` (a symbolic link is followed), at most

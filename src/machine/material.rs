@@ -4,6 +4,7 @@
 //! cardstock, the reference every material file is relative to.
 
 use super::profile::{text, Machine};
+use crate::fab::LineKind;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -150,17 +151,17 @@ impl Machine {
         let mut m = self.clone();
         m.clearance_mm = material.clearance_mm;
         for (kind, tool) in m.tools.iter_mut() {
-            let dash = match kind.as_str() {
-                "mountain" => Some(material.dash.mountain),
-                "valley" => Some(material.dash.valley),
-                _ => None,
+            let dash = match kind {
+                LineKind::Mountain => Some(material.dash.mountain),
+                LineKind::Valley => Some(material.dash.valley),
+                LineKind::Cut | LineKind::Flat => None,
             };
             if tool.dash.is_some() {
                 tool.dash = dash.or(tool.dash);
             }
             tool.force = tool.force.map(|f| {
                 let f = f * material.force_scale;
-                if m.protocol == "gpgl" {
+                if m.protocol == super::Protocol::Gpgl {
                     f.round().clamp(1.0, 33.0)
                 } else {
                     f

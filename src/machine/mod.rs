@@ -6,9 +6,13 @@
 mod lookup;
 pub mod material;
 mod profile;
+mod protocol;
 
 pub use material::{known_materials, Material, MaterialError};
 pub use profile::{
-    known_machines, line_bytes_per_second, search_path, Machine, MachineError, SerialLine,
-    DEVICE_BYTES_PER_S, MAX_PEN, MIN_DASH_MM, STANDARD_BAUDS,
+    known_machines, search_path, Machine, MachineError, MAX_PEN, MIN_DASH_MM, STANDARD_BAUDS,
+};
+pub use protocol::{
+    line_bytes_per_second, AxisOrder, Connection, FlowMode, Protocol, SerialLine,
+    DEVICE_BYTES_PER_S,
 };

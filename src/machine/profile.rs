@@ -1,6 +1,8 @@
 //! Machine profiles: data, not code (`machines/NAME.toml`). Unknown keys are an error, so a
 //! typo in a profile is caught instead of silently ignored.
 
+use super::protocol::{AxisOrder, Connection, FlowMode, Protocol, SerialLine};
+use crate::fab::print_and_cut::MarkFamily;
 use crate::fab::{DashCode, LineKind, ScoreSettings, ShortFolds};
 use crate::output::{HpglSettings, ToolSetting};
 use serde::Deserialize;
@@ -45,13 +47,13 @@ pub struct Machine {
     /// Silhouette), "dxf" (laser cutters: sheet.dxf and sheet.svg, no cutter job) or
     /// "svg" (cutters driven by their own design software, such as Cricut Design Space:
     /// sheet.svg with one layer per operation, Cut and Score).
-    pub protocol: String,
+    pub protocol: Protocol,
     /// How the job reaches it: "serial" (`crease plot` streams it; needs `baud`,
     /// `flow_control` and `buffer_bytes`), "usb" (`crease plot --port /dev/usb/lpN`
     /// writes it to a USB printer-class device node; needs `buffer_bytes`) or "file" (the
     /// maker's own software sends it).
-    #[serde(default = "serial")]
-    pub connection: String,
+    #[serde(default)]
+    pub connection: Connection,
     /// Plotter units per mm.
     pub units_per_mm: f64,
     /// Default media (a4, letter, 12x12in, WxHmm).
@@ -61,7 +63,7 @@ pub struct Machine {
     /// Serial speed.
     pub baud: Option<u32>,
     /// xonxoff, rtscts, query or none.
-    pub flow_control: Option<String>,
+    pub flow_control: Option<FlowMode>,
     /// Input buffer of the machine, bytes.
     pub buffer_bytes: Option<usize>,
     /// Pen-up travel speed, mm/s.
@@ -70,13 +72,13 @@ pub struct Machine {
     pub clearance_mm: f64,
     /// What a fold too short for any dash gets: "nothing" (named, to crease by hand),
     /// "dash" (one dash centred on it) or "solid" (cut along its length).
-    #[serde(default = "nothing")]
-    pub short_folds: String,
+    #[serde(default)]
+    pub short_folds: ShortFolds,
     /// GP-GL details (protocol "gpgl" only).
     #[serde(default)]
     pub gpgl: Option<GpglProfile>,
     /// Tools by line kind: cut, mountain, valley, and optionally flat.
-    pub tools: BTreeMap<String, Tool>,
+    pub tools: BTreeMap<LineKind, Tool>,
     /// The software a file-connected machine's files go to (e.g. "Cricut Design Space").
     #[serde(default)]
     pub software: Option<String>,
@@ -87,7 +89,7 @@ pub struct Machine {
     /// The registration marks its print-and-cut finds: "silhouette" (Type 1 marks, a
     /// GP-GL job in their frame) or "cricut" (Design Space's own frame; protocol "svg").
     #[serde(default)]
-    pub print_and_cut: Option<String>,
+    pub print_and_cut: Option<MarkFamily>,
     /// The material laid over the profile ([`Machine::with_material`]), if any: not a
     /// profile key.
     #[serde(skip)]
@@ -103,14 +105,6 @@ pub struct Machine {
     pub material_unused: Vec<String>,
 }
 
-fn serial() -> String {
-    "serial".into()
-}
-
-fn nothing() -> String {
-    "nothing".into()
-}
-
 /// What differs between GP-GL cutters.
 #[derive(Clone, Debug, Default, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -118,45 +112,10 @@ pub struct GpglProfile {
     /// Order of `M`/`D` coordinates: "feed-first" (media feed, then carriage: Silhouette
     /// and Graphtec in portrait, `FN0`) or "carriage-first" (as inkcut and robocut send).
     #[serde(default)]
-    pub axis_order: Option<String>,
+    pub axis_order: AxisOrder,
     /// Drag-knife blade offset, mm (`FC`, in 0.05 mm); absent or 0 for a pen.
     #[serde(default)]
     pub blade_offset_mm: Option<f64>,
-}
-
-/// The serial line of a machine that is streamed to.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SerialLine {
-    /// A device node written as a file (connection "usb"), not a serial port.
-    pub device: bool,
-    /// Speed (0 for a device node, which has none).
-    pub baud: u32,
-    /// xonxoff, rtscts, query or none.
-    pub flow_control: String,
-    /// The machine's input buffer, bytes.
-    pub buffer_bytes: usize,
-}
-
-impl SerialLine {
-    /// Bytes the line carries per second: a serial byte is 10 bits on the wire.
-    pub fn bytes_per_second(&self) -> f64 {
-        line_bytes_per_second(self.device, self.baud)
-    }
-}
-
-/// Bytes per second a USB device node takes: far more than a cutter cuts, so the cutter
-/// sets the pace (a USB 1.1 printer-class link moves about 1 MB/s).
-pub const DEVICE_BYTES_PER_S: f64 = 100_000.0;
-
-/// Bytes per second a line carries: a tenth of the baud rate on a serial port (8N1: a
-/// byte is 10 bits on the wire), and for a USB device node a conservative
-/// [`DEVICE_BYTES_PER_S`] (full-speed USB bulk transfers run several times faster).
-pub fn line_bytes_per_second(device: bool, baud: u32) -> f64 {
-    if device {
-        DEVICE_BYTES_PER_S
-    } else {
-        f64::from(baud.max(1)) / 10.0
-    }
 }
 
 /// Why a machine profile cannot be used.
@@ -256,20 +215,14 @@ impl Machine {
         m.check_ranges()?;
         m.check_protocol()?;
         m.check_print_and_cut()?;
-        ShortFolds::parse(&m.short_folds)?;
         for (k, t) in &m.tools {
-            if Machine::kind(k).is_none() {
-                return Err(format!(
-                    "unknown tool \"{k}\" (cut, mountain, valley, flat)"
-                ));
-            }
             if let Some([c, g]) = t.dash {
                 if !(c > 0.0 && g > 0.0) {
-                    return Err(format!("tool {k}: dash lengths must be positive"));
+                    return Err(format!("tool {}: dash lengths must be positive", k.name()));
                 }
             }
         }
-        if !m.tools.contains_key("cut") {
+        if !m.tools.contains_key(&LineKind::Cut) {
             return Err("the profile needs a \"cut\" tool for the outline".into());
         }
         Ok(m)
@@ -305,45 +258,26 @@ impl Machine {
                 .map_err(text)?;
         }
         for (k, t) in &self.tools {
-            check_tool(k, t)?;
+            check_tool(k.name(), t)?;
         }
         Ok(())
     }
 
     /// Protocol, connection and the settings they need, each refusal naming its key.
     fn check_protocol(&self) -> Result<(), String> {
-        if !["hpgl", "gpgl", "dxf", "svg"].contains(&self.protocol.as_str()) {
-            return Err(format!(
-                "protocol \"{}\" is not one of hpgl, gpgl, dxf, svg",
-                self.protocol
-            ));
-        }
         self.check_connection()?;
-        if let Some(flow) = &self.flow_control {
-            if !["xonxoff", "rtscts", "query", "none"].contains(&flow.as_str()) {
-                return Err(format!(
-                    "flow_control \"{flow}\" is not one of xonxoff, rtscts, query, none"
-                ));
-            }
-        }
         if self.steps.len() > 20 || self.steps.iter().any(|s| s.chars().count() >= 300) {
             return Err("steps: at most 20 steps, each under 300 characters".into());
         }
-        if self.gpgl.is_some() && self.protocol != "gpgl" {
+        if self.gpgl.is_some() && self.protocol != Protocol::Gpgl {
             return Err("a [gpgl] table belongs to protocol \"gpgl\" only".into());
         }
-        if let Some(order) = self.gpgl.as_ref().and_then(|g| g.axis_order.as_deref()) {
-            if !["feed-first", "carriage-first"].contains(&order) {
-                return Err(format!(
-                    "gpgl.axis_order \"{order}\" is not one of feed-first, carriage-first"
-                ));
-            }
-        }
-        if self.protocol == "gpgl" {
+        if self.protocol == Protocol::Gpgl {
             for (k, t) in &self.tools {
                 if let Some(f) = t.force.filter(|f| !(1.0..=33.0).contains(f)) {
                     return Err(format!(
-                        "tools.{k}.force = {f}: GP-GL pressure (FX) is 1 to 33"
+                        "tools.{}.force = {f}: GP-GL pressure (FX) is 1 to 33",
+                        k.name()
                     ));
                 }
             }
@@ -353,32 +287,30 @@ impl Machine {
 
     /// The serial line `crease plot` streams over; `None` for a file-only machine.
     pub fn serial_line(&self) -> Option<SerialLine> {
-        if self.connection == "usb" {
-            return Some(SerialLine {
+        match self.connection {
+            Connection::Usb => Some(SerialLine {
                 device: true,
                 baud: 0,
-                flow_control: "none".into(),
+                flow_control: FlowMode::None,
                 buffer_bytes: self.buffer_bytes?,
-            });
+            }),
+            Connection::Serial => Some(SerialLine {
+                device: false,
+                baud: self.baud?,
+                flow_control: self.flow_control?,
+                buffer_bytes: self.buffer_bytes?,
+            }),
+            Connection::File => None,
         }
-        if self.connection != "serial" {
-            return None;
-        }
-        Some(SerialLine {
-            device: false,
-            baud: self.baud?,
-            flow_control: self.flow_control.clone()?,
-            buffer_bytes: self.buffer_bytes?,
-        })
     }
 
     /// The cutter job's file name, or `None` when the machine takes the drawing itself
     /// (a laser cutter's DXF or SVG).
     pub fn job_file(&self, side: &str) -> Option<String> {
-        match self.protocol.as_str() {
-            "hpgl" => Some(format!("{side}.hpgl")),
-            "gpgl" => Some(format!("{side}.gpgl")),
-            _ => None,
+        match self.protocol {
+            Protocol::Hpgl => Some(format!("{side}.hpgl")),
+            Protocol::Gpgl => Some(format!("{side}.gpgl")),
+            Protocol::Dxf | Protocol::Svg => None,
         }
     }
 
@@ -387,7 +319,7 @@ impl Machine {
         let profile = self.gpgl.clone().unwrap_or_default();
         crate::output::GpglSettings {
             units_per_mm: self.units_per_mm,
-            feed_first: profile.axis_order.as_deref() != Some("carriage-first"),
+            feed_first: profile.axis_order == AxisOrder::FeedFirst,
             blade_offset_mm: self.blade_offset_mm(),
             tools: self.hpgl_settings().tools,
             registration: None,
@@ -398,8 +330,8 @@ impl Machine {
     /// control and buffer; a USB device node its buffer and no line settings; a file
     /// nothing. Each refusal names its key.
     fn check_connection(&self) -> Result<(), String> {
-        match self.connection.as_str() {
-            "serial" => {
+        match self.connection {
+            Connection::Serial => {
                 let missing: Vec<&str> = [
                     ("baud", self.baud.is_none()),
                     ("flow_control", self.flow_control.is_none()),
@@ -415,15 +347,15 @@ impl Machine {
                         missing.join(", ")
                     ));
                 }
-                if ["dxf", "svg"].contains(&self.protocol.as_str()) {
+                if !self.protocol.is_cutter_job() {
                     return Err(format!(
                         "protocol \"{}\" is a file for the machine's own software: use connection = \"file\"",
                         self.protocol
                     ));
                 }
             }
-            "usb" => {
-                if !["hpgl", "gpgl"].contains(&self.protocol.as_str()) {
+            Connection::Usb => {
+                if !self.protocol.is_cutter_job() {
                     return Err(format!(
                         "connection = \"usb\" streams a cutter job; protocol \"{}\" is a file for the machine's own software",
                         self.protocol
@@ -436,51 +368,33 @@ impl Machine {
                     return Err("connection = \"usb\" is a device node with no baud or flow_control: leave them out".into());
                 }
             }
-            "file" => {}
-            other => {
-                return Err(format!(
-                    "connection \"{other}\" is not one of serial, usb, file"
-                ))
-            }
+            Connection::File => {}
         }
         Ok(())
     }
 
     /// The print-and-cut marks the machine finds, if its profile names them.
-    pub fn mark_family(&self) -> Option<crate::fab::print_and_cut::MarkFamily> {
+    pub fn mark_family(&self) -> Option<MarkFamily> {
         self.print_and_cut
-            .as_deref()
-            .and_then(|n| crate::fab::print_and_cut::MarkFamily::parse(n).ok())
     }
 
     /// Silhouette marks are found by a GP-GL job; Cricut's by Design Space, from SVG.
     fn check_print_and_cut(&self) -> Result<(), String> {
-        use crate::fab::print_and_cut::MarkFamily;
-        let Some(name) = &self.print_and_cut else {
+        let Some(family) = self.print_and_cut else {
             return Ok(());
         };
-        let family = MarkFamily::parse(name).map_err(|e| format!("print_and_cut: {e}"))?;
         let needs = match family {
-            MarkFamily::Silhouette => "gpgl",
-            MarkFamily::Cricut => "svg",
+            MarkFamily::Silhouette => Protocol::Gpgl,
+            MarkFamily::Cricut => Protocol::Svg,
         };
         if self.protocol != needs {
             return Err(format!(
-                "print_and_cut = \"{name}\" needs protocol \"{needs}\", not \"{}\"",
+                "print_and_cut = \"{}\" needs protocol \"{needs}\", not \"{}\"",
+                family.name(),
                 self.protocol
             ));
         }
         Ok(())
-    }
-
-    fn kind(name: &str) -> Option<LineKind> {
-        Some(match name {
-            "cut" => LineKind::Cut,
-            "mountain" => LineKind::Mountain,
-            "valley" => LineKind::Valley,
-            "flat" => LineKind::Flat,
-            _ => return None,
-        })
     }
 
     /// Dash codes and clearance for [`crate::fab::score()`].
@@ -489,20 +403,15 @@ impl Machine {
             codes: self
                 .tools
                 .iter()
-                .filter_map(|(k, t)| {
-                    Some((
-                        Machine::kind(k)?,
-                        t.dash.map(|[cut, gap]| DashCode { cut, gap }),
-                    ))
-                })
+                .map(|(k, t)| (*k, t.dash.map(|[cut, gap]| DashCode { cut, gap })))
                 .collect(),
             clearance: self.clearance_mm,
-            // Checked on load; a profile built in code with a bad value scores nothing.
-            short_folds: ShortFolds::parse(&self.short_folds).unwrap_or(ShortFolds::Nothing),
+            short_folds: self.short_folds,
             // A cutter's job lands on its step grid; a laser's DXF keeps the drawing exact.
-            step_mm: match self.protocol.as_str() {
-                "hpgl" | "gpgl" => 1.0 / self.units_per_mm,
-                _ => 0.0,
+            step_mm: if self.protocol.is_cutter_job() {
+                1.0 / self.units_per_mm
+            } else {
+                0.0
             },
             // A drag knife trails its tip by the blade offset and swivels into line over
             // about that length: a shorter dash is not cut as drawn, so it is not cut.
@@ -527,15 +436,15 @@ impl Machine {
             tools: self
                 .tools
                 .iter()
-                .filter_map(|(k, t)| {
-                    Some((
-                        Machine::kind(k)?,
+                .map(|(k, t)| {
+                    (
+                        *k,
                         ToolSetting {
                             pen: t.pen,
                             speed: t.speed_mm_s,
                             force: t.force,
                         },
-                    ))
+                    )
                 })
                 .collect(),
         }
@@ -544,7 +453,7 @@ impl Machine {
     /// Speed of the tool for a kind (mm/s), falling back to the pen-up speed.
     pub fn speed(&self, kind: LineKind) -> f64 {
         self.tools
-            .get(kind.name())
+            .get(&kind)
             .and_then(|t| t.speed_mm_s)
             .unwrap_or(self.pen_up_speed_mm_s)
     }

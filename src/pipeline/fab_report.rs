@@ -4,7 +4,7 @@
 use super::fab_options::{FabOptions, TILE_OVERLAP_MM};
 use super::report_json::{MediaReport, PlotterReport, SheetReport, TwoSidedReport, UnscoredCrease};
 use crate::fab::{Media, Sheet, ShortFolds, Toolpath};
-use crate::machine::Machine;
+use crate::machine::{Machine, Protocol};
 use std::collections::BTreeMap;
 
 /// One fabrication run's results, as the report and the summary describe them.
@@ -87,8 +87,8 @@ impl<'a> Run<'a> {
                 .serial_line()
                 .filter(|_| !self.jobs_written.is_empty())
                 .map(|l| PlotterReport {
-                    protocol: machine.protocol.clone(),
-                    connection: machine.connection.clone(),
+                    protocol: machine.protocol,
+                    connection: machine.connection,
                     baud: l.baud,
                     flow_control: l.flow_control,
                     buffer_bytes: l.buffer_bytes,
@@ -149,9 +149,11 @@ impl<'a> Run<'a> {
         }
         let (travel_mm, seconds) = (f.travel, f.estimate);
         if self.jobs_written.is_empty() {
-            let (files, software) = match self.machine.protocol.as_str() {
-                "svg" => ("sheet.svg", "the cutter's design software"),
-                _ => ("sheet.dxf or sheet.svg", "the laser's software"),
+            let (files, software) = match self.machine.protocol {
+                Protocol::Svg => ("sheet.svg", "the cutter's design software"),
+                Protocol::Dxf | Protocol::Hpgl | Protocol::Gpgl => {
+                    ("sheet.dxf or sheet.svg", "the laser's software")
+                }
             };
             let software = self.machine.software.as_deref().unwrap_or(software);
             return format!(

@@ -320,7 +320,7 @@ fn check_stroke_count(count: usize) -> Result<(), FabError> {
 /// A machine driven by its design software (Cricut) takes sheet.svg as its job, layered
 /// by operation; the others get a layer per line kind.
 fn svg_layers(machine: &crate::machine::Machine) -> crate::output::svg::Layers {
-    if machine.protocol == "svg" {
+    if machine.protocol == crate::machine::Protocol::Svg {
         crate::output::svg::Layers::ByOperation
     } else {
         crate::output::svg::Layers::ByKind
@@ -816,8 +816,8 @@ fn cutter_jobs(
         let (Some(path), Some(name)) = (path, machine.job_file(side)) else {
             continue;
         };
-        let text = match machine.protocol.as_str() {
-            "gpgl" => crate::output::gpgl::to_string(path, &gpgl),
+        let text = match machine.protocol {
+            crate::machine::Protocol::Gpgl => crate::output::gpgl::to_string(path, &gpgl),
             _ => crate::output::hpgl::to_string(path, &machine.hpgl_settings()),
         }
         .map_err(FabError::Input)?;

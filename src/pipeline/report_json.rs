@@ -177,13 +177,13 @@ pub struct SheetReport {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PlotterReport {
     /// hpgl or gpgl.
-    pub protocol: String,
+    pub protocol: crate::machine::Protocol,
     /// serial or usb.
-    pub connection: String,
+    pub connection: crate::machine::Connection,
     /// Baud rate.
     pub baud: u32,
     /// Flow control by name.
-    pub flow_control: String,
+    pub flow_control: crate::machine::FlowMode,
     /// The machine's input buffer (bytes).
     pub buffer_bytes: usize,
 }

@@ -7,33 +7,8 @@ use super::Language;
 use std::path::PathBuf;
 use std::time::Duration;
 
-/// How the sender respects the plotter's buffer.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FlowMode {
-    /// The port's XON/XOFF.
-    XonXoff,
-    /// The port's RTS/CTS.
-    RtsCts,
-    /// Ask ESC.B for free space, send at most that minus a margin.
-    Query,
-    /// No line flow control: send half a buffer, wait for OA; to come back, repeat.
-    None,
-}
-
-impl FlowMode {
-    /// Parses xonxoff, rtscts, query, none.
-    pub fn parse(s: &str) -> Result<FlowMode, String> {
-        match s {
-            "xonxoff" => Ok(FlowMode::XonXoff),
-            "rtscts" => Ok(FlowMode::RtsCts),
-            "query" => Ok(FlowMode::Query),
-            "none" => Ok(FlowMode::None),
-            _ => Err(format!(
-                "unknown flow control \"{s}\" (xonxoff, rtscts, query, none)"
-            )),
-        }
-    }
-}
+/// How the sender respects the plotter's buffer: the profile's `flow_control`, one type.
+pub use crate::machine::FlowMode;
 
 /// Streaming settings.
 #[derive(Clone, Debug)]

@@ -22,9 +22,20 @@ pub enum Language {
 }
 
 impl Language {
-    /// From a machine profile's `protocol` (hpgl, gpgl); other protocols are not streamed.
-    pub fn from_protocol(protocol: &str) -> Option<Language> {
+    /// From a machine profile's `protocol`: HP-GL and GP-GL are streamed, the others are
+    /// files for the machine's own software.
+    pub fn from_protocol(protocol: crate::machine::Protocol) -> Option<Language> {
+        use crate::machine::Protocol;
         match protocol {
+            Protocol::Hpgl => Some(Language::Hpgl),
+            Protocol::Gpgl => Some(Language::Gpgl),
+            Protocol::Dxf | Protocol::Svg => None,
+        }
+    }
+
+    /// From a name (`emulate --language`): hpgl or gpgl.
+    pub fn parse(name: &str) -> Option<Language> {
+        match name {
             "hpgl" => Some(Language::Hpgl),
             "gpgl" => Some(Language::Gpgl),
             _ => None,

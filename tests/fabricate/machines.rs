@@ -146,6 +146,88 @@ fn protocols_and_connections_are_checked_naming_their_key() {
 }
 
 #[test]
+fn a_closed_set_in_a_profile_is_its_type_and_anything_else_is_refused_with_file_line_and_key() {
+    // Issue 48: protocol, connection, flow control, axis order, short folds, print-and-cut
+    // marks and tool names are enums read by serde; a value outside the set fails to load
+    // naming the file, the line and the key (with its table), and lists what it may be.
+    let graphtec = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/graphtec-ce.toml"),
+    )
+    .unwrap();
+    let loaded = Machine::parse(&graphtec).unwrap();
+    assert_eq!(loaded.protocol, crease::machine::Protocol::Gpgl);
+    assert_eq!(
+        loaded.gpgl.as_ref().unwrap().axis_order,
+        crease::machine::AxisOrder::FeedFirst
+    );
+    assert_eq!(
+        loaded.serial_line().unwrap().flow_control,
+        crease::machine::FlowMode::RtsCts
+    );
+    let dir = std::env::temp_dir().join(format!("crease-closed-sets-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let cases = [
+        (
+            "protocol = \"gpgl\"",
+            "protocol = \"gp-gl\"",
+            "key protocol",
+            "`gpgl`",
+        ),
+        (
+            "protocol = \"gpgl\"",
+            "protocol = \"gpgl\"\nconnection = \"wifi\"",
+            "key connection",
+            "`usb`",
+        ),
+        (
+            "flow_control = \"rtscts\"",
+            "flow_control = \"dtr\"",
+            "key flow_control",
+            "`xonxoff`",
+        ),
+        (
+            "axis_order = \"feed-first\"",
+            "axis_order = \"yx\"",
+            "key gpgl.axis_order",
+            "`carriage-first`",
+        ),
+        (
+            "protocol = \"gpgl\"",
+            "protocol = \"gpgl\"\nshort_folds = \"perforate\"",
+            "key short_folds",
+            "`solid`",
+        ),
+        (
+            "protocol = \"gpgl\"",
+            "protocol = \"gpgl\"\nprint_and_cut = \"brother\"",
+            "key print_and_cut",
+            "`cricut`",
+        ),
+        (
+            "[tools.cut]",
+            "[tools.knife]",
+            "table [tools.knife]",
+            "`mountain`",
+        ),
+    ];
+    for (i, (from, to, key, choices)) in cases.into_iter().enumerate() {
+        assert!(graphtec.contains(from), "{from}");
+        let path = dir.join(format!("bad-{i}.toml"));
+        std::fs::write(&path, graphtec.replacen(from, to, 1)).unwrap();
+        let err = Machine::load(path.to_str().unwrap())
+            .expect_err(to)
+            .to_string();
+        assert!(
+            err.starts_with(&format!("{}: line ", path.display())),
+            "{to}: {err}"
+        );
+        assert!(err.contains(key) && err.contains(choices), "{to}: {err}");
+        assert!(!err.contains('\n'), "{to}: one line: {err}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
 fn a_file_only_machine_has_a_job_file_and_plot_refuses_it_by_name() {
     // The Cameo is written to as a USB device node; the same cutter declared file-only
     // has no line at all, so plot refuses it by name.

@@ -214,7 +214,7 @@ fn silhouette_marks_print_where_stated_and_the_job_cuts_the_printed_outline() {
         );
         // The job's cuts (the pressure of the profile's cut tool), moved into the page by
         // the origin the PDF shows, lie on the printed outline within 0.1 mm, and cover it.
-        let cut_force = Machine::load("silhouette-cameo").unwrap().tools["cut"]
+        let cut_force = Machine::load("silhouette-cameo").unwrap().tools[&LineKind::Cut]
             .force
             .unwrap() as i64;
         let to_page = |[feed, carriage]: [i64; 2]| {

@@ -410,7 +410,10 @@ fn curved_creases_leave_as_curves_and_every_file_puts_their_dashes_on_the_curve(
         );
         // sheet.hpgl as the plotter draws it: every crease segment, at five points.
         let drawn = crease::output::hpgl::interpret(output_text(&out, "sheet.hpgl")).unwrap();
-        let crease_pens = [machine.tools["mountain"].pen, machine.tools["valley"].pen];
+        let crease_pens = [
+            machine.tools[&LineKind::Mountain].pen,
+            machine.tools[&LineKind::Valley].pen,
+        ];
         for (pen, a, b) in &drawn.segments {
             if !crease_pens.contains(pen) {
                 continue;

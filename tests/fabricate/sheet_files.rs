@@ -134,7 +134,7 @@ fn sheet_gpgl_read_by_an_independent_reader_carries_exactly_the_toolpath() {
         let strokes: Vec<&Stroke> = pieces.iter().map(|(s, _)| s).collect();
         assert_eq!(segments.len(), strokes.len(), "{}", path.display());
         for ((tool, from, to), s) in segments.iter().zip(&strokes) {
-            assert_eq!(*tool, machine.tools[s.kind.name()].pen);
+            assert_eq!(*tool, machine.tools[&s.kind].pen);
             for (got, want) in [(from, s.from), (to, s.to)] {
                 let want = [(h - want.y) * units, want.x * units];
                 assert!(
@@ -604,7 +604,7 @@ fn cutter_profiles() -> Vec<Machine> {
     let profiles: Vec<Machine> = crease::machine::known_machines()
         .iter()
         .map(|name| Machine::load(name).unwrap())
-        .filter(|m| matches!(m.protocol.as_str(), "hpgl" | "gpgl"))
+        .filter(|m| m.protocol.is_cutter_job())
         .collect();
     assert!(profiles.len() >= 5, "{} cutter profiles", profiles.len());
     profiles
@@ -657,7 +657,7 @@ fn check_job(
         check_previews(&out, mesh, &what);
     }
     let u = machine.units_per_mm;
-    let gpgl = machine.protocol == "gpgl";
+    let gpgl = machine.protocol == crease::machine::Protocol::Gpgl;
     let job = if gpgl {
         read_gpgl_job(output_text(&out, "sheet.gpgl"))
     } else {
@@ -773,7 +773,8 @@ fn check_job(
     // pen plotter draws them solid, in pens of their own.
     let Some(Some(valley)) = settings.codes.get(&LineKind::Valley) else {
         assert_ne!(
-            machine.tools["mountain"].pen, machine.tools["valley"].pen,
+            machine.tools[&LineKind::Mountain].pen,
+            machine.tools[&LineKind::Valley].pen,
             "{what}"
         );
         return (closed.len(), 0, problems);
@@ -999,7 +1000,7 @@ fn a_cricut_job_is_an_svg_with_a_cut_layer_and_a_score_layer_of_continuous_lines
     // to end, the outline in the Cut layer, all on the 12 × 12 in mat inside its quarter
     // inch; read back with the svg crate's parser.
     let machine = Machine::load("cricut-maker").unwrap();
-    assert_eq!(machine.protocol, "svg");
+    assert_eq!(machine.protocol, crease::machine::Protocol::Svg);
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura-bent.fold");
     let mesh = crease::io::read(&path).unwrap();
     let out = fabricate(&mesh, &machine, &FabOptions::default()).unwrap();
