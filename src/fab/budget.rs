@@ -4,7 +4,7 @@
 //! the studio's live analysis has both, so a hostile or merely huge file never blocks it.
 
 use std::fmt;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -27,6 +27,11 @@ pub struct Budget {
     pub cancel: Option<Arc<AtomicBool>>,
     /// Layer-order constraints the problem may hold.
     pub max_constraints: usize,
+    /// Units of search work left (a unit is a constraint or triple the layer search
+    /// visits), shared by every search under this budget. Unlike a deadline it ends at
+    /// the same point on any machine and under any load, so what it bounds (naming fewer
+    /// faces of a proved conflict) gives the same answer everywhere.
+    pub work: Option<Arc<AtomicU64>>,
     /// What to tell the user when the budget runs out (e.g. "run `crease verify`").
     pub advice: &'static str,
 }
@@ -38,6 +43,7 @@ impl Default for Budget {
             deadline: None,
             cancel: None,
             max_constraints: MAX_LAYER_CONSTRAINTS,
+            work: None,
             advice: "",
         }
     }
@@ -55,6 +61,8 @@ pub enum Exceeded {
     },
     /// The answer is no longer wanted.
     Cancelled,
+    /// The units of search work it was given are spent.
+    Work,
 }
 
 /// An analysis stopped by its [`Budget`], with the advice to show.
@@ -76,6 +84,7 @@ impl fmt::Display for OverBudget {
                 *limit as f64
             )?,
             Exceeded::Cancelled => write!(f, "cancelled: the design changed")?,
+            Exceeded::Work => write!(f, "over its budget of search work")?,
         }
         if !self.advice.is_empty() {
             write!(f, " — {}", self.advice)?;
@@ -103,8 +112,31 @@ impl Budget {
             deadline: Some((Instant::now() + time, time)),
             cancel: Some(cancel),
             max_constraints: MAX_LAYER_CONSTRAINTS / 3,
+            work: None,
             advice,
         }
+    }
+
+    /// This budget with `units` of search work to share ([`Budget::work`]).
+    pub fn with_work(&self, units: u64) -> Budget {
+        Budget {
+            work: Some(Arc::new(AtomicU64::new(units))),
+            ..self.clone()
+        }
+    }
+
+    /// Takes `units` of search work; fails once the work given is spent (and from then
+    /// on), and on whatever [`Budget::check`] fails on.
+    pub fn spend(&self, units: u64) -> Result<(), OverBudget> {
+        if let Some(left) = &self.work {
+            let taken = left.fetch_update(Ordering::Relaxed, Ordering::Relaxed, |l| {
+                Some(l.saturating_sub(units))
+            });
+            if taken.is_ok_and(|before| before < units) {
+                return Err(self.over(Exceeded::Work));
+            }
+        }
+        self.check()
     }
 
     fn over(&self, exceeded: Exceeded) -> OverBudget {

@@ -29,8 +29,9 @@ pub use flat_fold::{closure_tolerance, flat_folded, FlatFolded, NotFlatFoldable,
 pub use glue_tab::{glue_tab, with_tab, GlueTab};
 pub use intersect::{self_intersections, Crossing};
 pub use layers::{
-    count_states, layer_conflict, layer_order, layer_order_within, GroupCount, LayerConflict,
-    LayerError, LayerOrder, StateTotal,
+    count_states, layer_conflict, layer_order, layer_order_naming_within, layer_order_within,
+    GroupCount, LayerConflict, LayerError, LayerOrder, StateTotal, ADVISORY_SHRINK_WORK,
+    SHRINK_WORK,
 };
 pub use layout::{layout, LayoutError, Media, Sheet, SheetLabel, Sizing};
 pub use lines::{crease_lines, smooth_creases, CreaseLine, LineKind, SmoothCrease};

@@ -748,7 +748,7 @@ fn layer_order_report(
     claimed: bool,
 ) -> Option<FamilyReport> {
     use super::layers::{
-        layer_order_naming_within, LayerError, LayerOrder, ADVISORY_SHRINK_TIME, SHRINK_TIME,
+        layer_order_naming_within, LayerError, LayerOrder, ADVISORY_SHRINK_WORK, SHRINK_WORK,
     };
     let folded = super::flat_folded(mesh, None).ok()?;
     let closes = folded.layers_close();
@@ -811,9 +811,9 @@ fn layer_order_report(
         ..budget.clone()
     };
     let (budget, naming) = if only_reported {
-        (&reported, ADVISORY_SHRINK_TIME)
+        (&reported, ADVISORY_SHRINK_WORK)
     } else {
-        (budget, SHRINK_TIME)
+        (budget, SHRINK_WORK)
     };
     let mut report = match layer_order_naming_within(mesh, budget, naming) {
         Ok(LayerOrder::Found(orders)) => FamilyReport {

@@ -1041,3 +1041,54 @@ moves = [{{ vertex = 0, to = [30.0, 0.0, -60.0] }}, {{ vertex = 4, to = [30.0, 1
     let (code, report) = verify_json(&out, &with_order);
     assert_eq!(code, 1, "{}", report["families"]["layer-order"]);
 }
+
+/// The faces a proved conflict is narrowed to are bought with search work, not time: the
+/// same on any machine and under any load (a clock once let a busy machine name 128
+/// faces of the waterbomb tube's strip where an idle one named 96, and fab's report.json
+/// differed from run to run). No work names the whole group found; the verdict's work
+/// names a proper subset of it, again with every core kept busy.
+#[test]
+fn a_conflict_is_narrowed_by_work_spent_never_by_the_clock() {
+    use crease::fab::{layer_order_naming_within, SHRINK_WORK};
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/flat-folder/unsatisfiable/002_kei_ Steam_Automobile.fold");
+    let mesh = crease::io::read(&path).unwrap();
+    let faces = |work: u64| match layer_order_naming_within(
+        &mesh,
+        &crease::fab::budget::Budget::default(),
+        work,
+    )
+    .unwrap()
+    {
+        LayerOrder::Conflict(c) => c.faces,
+        LayerOrder::Found(_) => panic!("Steam Automobile has no layer order"),
+    };
+    let whole = faces(0);
+    let named = faces(SHRINK_WORK);
+    assert!(
+        named.len() < whole.len(),
+        "{} of {}",
+        named.len(),
+        whole.len()
+    );
+    assert!(
+        named.iter().all(|f| whole.contains(f)),
+        "{named:?} within {whole:?}"
+    );
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let busy: Vec<_> = (0..4)
+        .map(|_| {
+            let stop = std::sync::Arc::clone(&stop);
+            std::thread::spawn(move || {
+                let mut x = 0u64;
+                while !stop.load(std::sync::atomic::Ordering::Relaxed) {
+                    x = std::hint::black_box(x.wrapping_mul(6364136223846793005).wrapping_add(1));
+                }
+            })
+        })
+        .collect();
+    let loaded = faces(SHRINK_WORK);
+    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    busy.into_iter().for_each(|t| t.join().unwrap());
+    assert_eq!(loaded, named);
+}

@@ -247,11 +247,15 @@ pub enum LayerError {
     OverBudget(#[from] OverBudget),
 }
 
-/// The most time a verdict spends naming fewer faces of a conflict already proved.
-pub const SHRINK_TIME: std::time::Duration = std::time::Duration::from_secs(4);
+/// The most search work ([`Budget::work`]) a verdict spends naming fewer faces of a
+/// conflict already proved: about 4 s on the machine the benchmarks run on (80 million
+/// units a second). Work, not time, so the faces named are the same on any machine and
+/// under any load.
+pub const SHRINK_WORK: u64 = 320_000_000;
 
-/// The most time a row that only advises (a 3D design's flat state) spends on it.
-pub const ADVISORY_SHRINK_TIME: std::time::Duration = std::time::Duration::from_millis(500);
+/// The most search work a row that only advises (a 3D design's flat state) spends on
+/// naming its conflict: about half a second.
+pub const ADVISORY_SHRINK_WORK: u64 = 40_000_000;
 
 /// Decisions the search may take before giving up (a bound on time, not a verdict).
 pub const SEARCH_BUDGET: usize = 2_000_000;
@@ -274,15 +278,16 @@ pub fn layer_order(mesh: &Mesh) -> Result<LayerOrder, LayerError> {
 /// deadline between steps, so a pattern with thousands of faces stacked on one point ends
 /// with [`LayerError::OverBudget`] instead of exhausting memory.
 pub fn layer_order_within(mesh: &Mesh, budget: &Budget) -> Result<LayerOrder, LayerError> {
-    decide(mesh, budget, Some(SHRINK_TIME))
+    decide(mesh, budget, Some(SHRINK_WORK))
 }
 
-/// [`layer_order_within`] with at most `naming` spent shrinking a conflict to fewer
-/// faces (for a row that only advises, where seconds spent naming are not worth it).
+/// [`layer_order_within`] with at most `naming` units of search work spent shrinking a
+/// conflict to fewer faces (for a row that only advises, where seconds spent naming are
+/// not worth it).
 pub fn layer_order_naming_within(
     mesh: &Mesh,
     budget: &Budget,
-    naming: std::time::Duration,
+    naming: u64,
 ) -> Result<LayerOrder, LayerError> {
     decide(mesh, budget, Some(naming))
 }
@@ -297,12 +302,9 @@ pub fn layer_conflict(mesh: &Mesh, budget: &Budget) -> Result<Option<LayerConfli
     })
 }
 
-/// The order, or a conflict (shrunk towards a smallest set of faces for at most `shrink`).
-fn decide(
-    mesh: &Mesh,
-    budget: &Budget,
-    shrink: Option<std::time::Duration>,
-) -> Result<LayerOrder, LayerError> {
+/// The order, or a conflict (shrunk towards a smallest set of faces with at most `shrink`
+/// units of search work).
+fn decide(mesh: &Mesh, budget: &Budget, shrink: Option<u64>) -> Result<LayerOrder, LayerError> {
     Ok(match solved(mesh, budget, shrink)? {
         Solved::Order(problem, values) => LayerOrder::Found(problem.face_orders(&values)),
         Solved::Conflict(c) => LayerOrder::Conflict(c),
@@ -317,7 +319,7 @@ pub fn assign_unassigned(
     mesh: &Mesh,
     budget: &Budget,
 ) -> Result<Result<Vec<(usize, Assignment)>, LayerConflict>, LayerError> {
-    Ok(match solved(mesh, budget, Some(SHRINK_TIME))? {
+    Ok(match solved(mesh, budget, Some(SHRINK_WORK))? {
         Solved::Order(problem, values) => Ok(problem.hinge_assignments(mesh, &values)),
         Solved::Conflict(c) => Err(c),
     })
@@ -375,11 +377,7 @@ fn prepared(mesh: &Mesh, budget: &Budget) -> Result<Prepared, LayerError> {
 }
 
 /// [`decide`]'s work, keeping the problem and its values.
-fn solved(
-    mesh: &Mesh,
-    budget: &Budget,
-    shrink: Option<std::time::Duration>,
-) -> Result<Solved, LayerError> {
+fn solved(mesh: &Mesh, budget: &Budget, shrink: Option<u64>) -> Result<Solved, LayerError> {
     let problem = match prepared(mesh, budget)? {
         Prepared::Problem(problem) => problem,
         Prepared::Conflict(c) => return Ok(Solved::Conflict(c)),
@@ -388,7 +386,7 @@ fn solved(
         Ok(values) => Ok(Solved::Order(problem, values)),
         Err(group) => {
             let pieces = match shrink {
-                Some(time) => problem.smallest_conflict(group, budget, time),
+                Some(work) => problem.smallest_conflict(group, budget, work),
                 None => group,
             };
             Ok(Solved::Conflict(problem.conflict(&pieces)))
@@ -886,22 +884,10 @@ impl Problem {
     /// single pieces, so a small conflict inside a large group costs a few solves per
     /// piece it keeps, not one per piece it drops; an unsolvable rest is narrowed at once
     /// to its own unsolvable group. The conflict is already proved: shrinking only names
-    /// fewer faces, so it stops after `time` (or at the budget's end) with the set it
-    /// has, never turning the verdict undecided.
-    fn smallest_conflict(
-        &self,
-        pieces: Vec<usize>,
-        budget: &Budget,
-        time: std::time::Duration,
-    ) -> Vec<usize> {
-        let now = std::time::Instant::now();
-        let shrink = Budget {
-            deadline: Some(match budget.deadline {
-                Some((at, given)) => (at.min(now + time), given),
-                None => (now + time, time),
-            }),
-            ..budget.clone()
-        };
+    /// fewer faces, so it stops after `work` units of search (or at the budget's end)
+    /// with the set it has, never turning the verdict undecided.
+    fn smallest_conflict(&self, pieces: Vec<usize>, budget: &Budget, work: u64) -> Vec<usize> {
+        let shrink = budget.with_work(work);
         let mut keep = vec![false; self.members.len()];
         for &p in &pieces {
             keep[p] = true;
@@ -915,7 +901,12 @@ impl Problem {
                 for &p in &candidates[i..end] {
                     keep[p] = false;
                 }
-                match self.solve(Some(&keep), &shrink) {
+                // Each solve sets up its watch lists over every constraint.
+                let solved = shrink
+                    .spend((self.constraints.len() + self.pairs.len()) as u64)
+                    .map_err(LayerError::from)
+                    .and_then(|()| self.solve(Some(&keep), &shrink));
+                match solved {
                     Ok(Err(group)) => {
                         // Still no order: the dropped pieces go, and so does whatever
                         // lies outside the group that has none.

@@ -61,6 +61,9 @@ pub(super) struct Search<'a> {
     /// allocated per group: a pattern may have thousands of groups).
     seen: Vec<bool>,
     decisions: usize,
+    /// Work done since the budget was last told ([`Budget::spend`]): the constraints,
+    /// triples and learnt clauses propagation visited.
+    unspent: u64,
     budget: &'a Budget,
     /// The rows of the two pieces of the pair whose triples were last propagated.
     rows: [SpreadRow; 2],
@@ -92,9 +95,16 @@ impl<'a> Search<'a> {
             phase: vec![true; n],
             seen: vec![false; n],
             decisions: 0,
+            unspent: 0,
             budget,
             rows: [0, 1].map(|_| SpreadRow::new(problem.members.len())),
         }
+    }
+
+    /// Tells the budget the work done since the last checkpoint, and checks it.
+    fn checkpoint(&mut self) -> Result<(), LayerError> {
+        let units = std::mem::take(&mut self.unspent);
+        Ok(self.budget.spend(units)?)
     }
 
     fn lit(&self, l: Lit) -> Option<bool> {
@@ -144,6 +154,10 @@ impl<'a> Search<'a> {
         while self.propagated < self.trail.len() {
             let x = self.trail[self.propagated];
             self.propagated += 1;
+            self.unspent += (1
+                + self.watching[x].len()
+                + self.problem.thirds[x].len()
+                + self.learnt_watch[x].len()) as u64;
             if let Some(conflict) = self
                 .transitive(x)
                 .or_else(|| self.constraints_of(x))
@@ -386,7 +400,7 @@ impl<'a> Search<'a> {
             } else {
                 self.decisions += 1;
                 if self.decisions.is_multiple_of(1024) {
-                    self.budget.check()?;
+                    self.checkpoint()?;
                 }
                 let mark = self.trail.len();
                 for (value, tried_both) in [(true, false), (false, true)] {
@@ -423,6 +437,17 @@ impl<'a> Search<'a> {
     /// when the group has no values, proved by a contradiction that no decision caused.
     /// What was set before stays set.
     pub(super) fn run(&mut self, order: &[usize]) -> Result<bool, LayerError> {
+        let decided = self.decide(order)?;
+        // Under a work budget every unit is told, so searches that share it stop at the
+        // same point on any machine.
+        if self.budget.work.is_some() {
+            self.checkpoint()?;
+        }
+        Ok(decided)
+    }
+
+    /// [`Search::run`]'s conflict-driven search.
+    fn decide(&mut self, order: &[usize]) -> Result<bool, LayerError> {
         self.level_starts.clear();
         let mut free: BinaryHeap<(Activity, usize)> = order
             .iter()
@@ -449,7 +474,7 @@ impl<'a> Search<'a> {
                 // A conflict can cost a long propagation: the deadline is watched here
                 // as well as between decisions.
                 if conflicts.is_multiple_of(64) {
-                    self.budget.check()?;
+                    self.checkpoint()?;
                 }
                 if conflicts >= next_restart {
                     restart += 1;
@@ -469,7 +494,7 @@ impl<'a> Search<'a> {
                 return Err(LayerError::GaveUp(SEARCH_BUDGET));
             }
             if self.decisions.is_multiple_of(1024) {
-                self.budget.check()?;
+                self.checkpoint()?;
             }
             self.level_starts.push(self.trail.len());
             self.set(var, self.phase[var], Reason::Decision);
