@@ -24,7 +24,8 @@ pub mod tolerance;
 #[cfg(test)]
 mod architecture {
     //! The import graph drawn from the files' own `crate::` and `super::` paths, in `use`
-    //! lines and written inline (tests and comments left out): no two files of the library
+    //! lines and written inline (comments and `#[cfg(test)]` items left out, wherever in
+    //! the file they sit): no two files of the library
     //! may import each other, directly or round a loop (ARCHITECTURE.md).
 
     use std::collections::{BTreeMap, BTreeSet};
@@ -53,10 +54,79 @@ mod architecture {
                 sources(&path, root, out);
             } else if path.extension().is_some_and(|e| e == "rs") {
                 let text = std::fs::read_to_string(&path).unwrap();
-                let body = text.split("#[cfg(test)]").next().unwrap_or("").to_string();
-                out.insert(module_of(path.strip_prefix(root).unwrap()), body);
+                out.insert(
+                    module_of(path.strip_prefix(root).unwrap()),
+                    without_test_items(&text),
+                );
             }
         }
+    }
+
+    /// `text` without its `#[cfg(test)]` items (a `mod tests;` line, or an item up to the
+    /// brace that closes it): the code before and after each is read, not just the
+    /// code before the first (a test module in mid-file once hid what followed it).
+    /// Braces inside string and character literals and comments are not counted.
+    fn without_test_items(text: &str) -> String {
+        let mut kept = String::new();
+        let mut rest = text;
+        while let Some(at) = rest.find("#[cfg(test)]") {
+            kept.push_str(&rest[..at]);
+            rest = &rest[at + "#[cfg(test)]".len()..];
+            rest = &rest[item_end(rest)..];
+        }
+        kept.push_str(rest);
+        kept
+    }
+
+    /// Where the item at the start of `code` ends: after its `;` when that comes before
+    /// any brace, else after the brace that closes its first one.
+    fn item_end(code: &str) -> usize {
+        let bytes = code.as_bytes();
+        let (mut depth, mut i) = (0usize, 0usize);
+        while i < bytes.len() {
+            match bytes[i] {
+                b'/' if bytes.get(i + 1) == Some(&b'/') => {
+                    i = code[i..].find('\n').map_or(bytes.len(), |k| i + k);
+                    continue;
+                }
+                b'"' => {
+                    i += 1;
+                    while i < bytes.len() && bytes[i] != b'"' {
+                        i += if bytes[i] == b'\\' { 2 } else { 1 };
+                    }
+                }
+                // A character literal ('{', '\''); a lifetime ('a) has no closing quote.
+                b'\'' if bytes.get(i + 2) == Some(&b'\'') => i += 2,
+                b'\'' if bytes.get(i + 1) == Some(&b'\\') => {
+                    i += code[i + 2..].find('\'').map_or(bytes.len(), |k| k + 2);
+                }
+                b';' if depth == 0 => return i + 1,
+                b'{' => depth += 1,
+                b'}' => {
+                    depth = depth.saturating_sub(1);
+                    if depth == 0 {
+                        return i + 1;
+                    }
+                }
+                _ => {}
+            }
+            i += 1;
+        }
+        bytes.len()
+    }
+
+    #[test]
+    fn test_items_are_left_out_and_the_code_after_them_is_read() {
+        let text = "use crate::a;\n#[cfg(test)]\nmod tests;\nuse crate::b;\n\
+                    #[cfg(test)]\nmod inline {\n    use crate::c;\n    fn f() -> char { '}' }\n    \
+                    const S: &str = \"}}\";\n    // }\n    fn g<'a>(x: &'a str) -> &'a str { x }\n}\n\
+                    fn h() { crate::d::run() }\n";
+        let kept = without_test_items(text);
+        for (path, read) in [("crate::a", true), ("crate::b", true), ("crate::c", false)] {
+            assert_eq!(kept.contains(path), read, "{path}: {kept}");
+        }
+        assert!(kept.contains("crate::d::run"), "{kept}");
+        assert!(!kept.contains("fn g"), "{kept}");
     }
 
     /// Every `crate::…` or `super::…` path on a line of code (in a `use` or written out
