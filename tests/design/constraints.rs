@@ -37,15 +37,20 @@ fn perturbed(kind: PatternKind, fold: Option<f64>, seed: u64) -> (Mesh, Vec<Vec3
 }
 
 /// Every family whose rows are smooth at generic points; inequality rows are checked
-/// where active (their max(g, 0) has a kink only at g = 0).
-fn check_family(kind: PatternKind, fold: Option<f64>, family: Family) {
-    for seed in 1..=3 {
-        let (m, x) = perturbed(kind, fold, seed);
-        check_jacobian(&m, &x, family, &format!("{kind:?} seed {seed}"));
-    }
+/// where active (their max(g, 0) has a kink only at g = 0). Returns how many Jacobian
+/// entries were compared with a finite difference.
+fn check_family(kind: PatternKind, fold: Option<f64>, family: Family) -> usize {
+    (1..=3)
+        .map(|seed| {
+            let (m, x) = perturbed(kind, fold, seed);
+            check_jacobian(&m, &x, family, &format!("{kind:?} seed {seed}"))
+        })
+        .sum()
 }
 
-fn check_jacobian(m: &Mesh, x: &[Vec3], family: Family, what: &str) {
+/// Compares `family`'s Jacobian at `x` with central differences; the number of entries
+/// compared (none when the family has no rows here).
+fn check_jacobian(m: &Mesh, x: &[Vec3], family: Family, what: &str) -> usize {
     let mut reference = Reference::new(m);
     if family == Family::LayerOrder {
         // The contacts of the generated (unjittered) state, held at the jittered one.
@@ -56,11 +61,12 @@ fn check_jacobian(m: &Mesh, x: &[Vec3], family: Family, what: &str) {
     };
     let rows = set.evaluate(m, &reference, x);
     if rows.residuals.is_empty() {
-        return;
+        return 0;
     }
     let jac = rows.jacobian(m.vertex_count()).to_dense();
     let h = 1e-6;
     let mut worst: f64 = 0.0;
+    let mut compared = 0;
     let scale = jac.iter().fold(0.0f64, |a, &b| a.max(b.abs())).max(1e-12);
     for v in 0..m.vertex_count() {
         for k in 0..3 {
@@ -77,6 +83,7 @@ fn check_jacobian(m: &Mesh, x: &[Vec3], family: Family, what: &str) {
                 }
                 let fd = (rp[r] - rm[r]) / (2.0 * h);
                 worst = worst.max((fd - jac[[r, 3 * v + k]]).abs() / scale);
+                compared += 1;
             }
         }
     }
@@ -84,6 +91,7 @@ fn check_jacobian(m: &Mesh, x: &[Vec3], family: Family, what: &str) {
         worst < 1e-6,
         "{what} {family:?}: relative Jacobian error {worst:e}"
     );
+    compared
 }
 
 #[test]
@@ -105,10 +113,15 @@ fn jacobians_match_finite_differences() {
         (PatternKind::WaterbombTube, None),
         (PatternKind::Kresling, Some(0.5)),
     ];
+    let mut compared = vec![0; Family::ALL.len()];
     for (kind, fold) in cases {
-        for family in Family::ALL {
-            check_family(kind, fold, family);
+        for (i, family) in Family::ALL.into_iter().enumerate() {
+            compared[i] += check_family(kind, fold, family);
         }
+    }
+    // A family with no rows on any case would have passed unchecked.
+    for (family, n) in Family::ALL.into_iter().zip(&compared) {
+        assert!(*n > 0, "{family:?}: no Jacobian entry was compared");
     }
 }
 
@@ -168,7 +181,11 @@ fn angular_inequalities_catch_a_bad_assignment_and_have_exact_gradients() {
         .iter()
         .map(|q| q + Vec3::new(rng.next(), rng.next(), rng.next()) * 0.5)
         .collect();
-    check_jacobian(&m, &x, Family::AngularInequality, "bad vertex");
+    let compared = check_jacobian(&m, &x, Family::AngularInequality, "bad vertex");
+    assert!(
+        compared > 0,
+        "the bad vertex's inequality rows were compared"
+    );
 }
 
 #[test]
@@ -371,7 +388,7 @@ fn smoothness_passes_a_circle_fails_a_jittered_crease_and_is_on_for_curved_creas
         "both rows active: {:?}",
         jittered.residuals
     );
-    check_jacobian(&m, &x, Family::Smoothness, "jittered arc");
+    assert!(check_jacobian(&m, &x, Family::Smoothness, "jittered arc") > 0);
     assert!(ConstraintSet::default_for(&reference)
         .families
         .contains(&Family::Smoothness));
@@ -421,7 +438,11 @@ fn layer_contact_rows_vanish_on_isometric_forms_and_have_exact_jacobians() {
         );
         for seed in 1..=2 {
             let (_, x) = perturbed(kind, None, seed);
-            check_jacobian(&m, &x, Family::LayerOrder, &format!("{kind:?} seed {seed}"));
+            let what = format!("{kind:?} seed {seed}");
+            assert!(
+                check_jacobian(&m, &x, Family::LayerOrder, &what) > 0,
+                "{what}"
+            );
         }
     }
 }
