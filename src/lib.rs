@@ -16,6 +16,7 @@ pub mod mesh;
 pub mod output;
 pub mod pipeline;
 pub mod plotter;
+pub mod random;
 pub mod solver;
 pub mod studio;
 pub mod surface;
@@ -218,7 +219,7 @@ mod architecture {
     /// a module may use only modules of lower layers; modules of one layer do not use
     /// each other.
     const LAYERS: [&[&str]; 12] = [
-        &["limits", "allocator", "tolerance"],
+        &["limits", "allocator", "tolerance", "random"],
         &["mesh"],
         &["geometry", "surface"],
         &["generate", "io"],

@@ -77,7 +77,7 @@ const OUTLINE_CHANGE_MM: f64 = 0.5;
 
 /// The flat crease pattern's width and height, mm.
 fn flat_size(mesh: &crease::mesh::Mesh) -> Option<crease::mesh::Vec2> {
-    mesh.flat().map(|f| {
+    mesh.crease_pattern().map(|f| {
         let (lo, hi) = crease::mesh::bounds(f);
         hi - lo
     })

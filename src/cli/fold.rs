@@ -134,7 +134,8 @@ fn fold_flat(
             return Ok(1);
         }
     };
-    mesh.flat().ok_or(format!("{name}: no crease pattern"))?;
+    mesh.crease_pattern()
+        .ok_or(format!("{name}: no crease pattern"))?;
     let positions = folded
         .vertex_images(mesh.faces(), mesh.vertex_count())
         .into_iter()

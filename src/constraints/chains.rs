@@ -63,7 +63,7 @@ pub fn has_curved_crease(mesh: &Mesh, chains: &[CreaseChain], flat: &[Vec3]) -> 
 /// on its crease pattern, or its 3D form when it has none): its unassigned edges are then
 /// the rulings of the developable surface between the creases.
 pub fn has_curved_creases(mesh: &Mesh) -> bool {
-    let reference: Vec<Vec3> = match mesh.flat() {
+    let reference: Vec<Vec3> = match mesh.crease_pattern() {
         Some(f) => f.iter().map(|p| Vec3::new(p.x, p.y, 0.0)).collect(),
         None => mesh.positions().to_vec(),
     };

@@ -74,7 +74,7 @@ pub struct Reference {
 impl Reference {
     /// Reference of a mesh: the crease pattern when known, else its current 3D form.
     pub fn new(mesh: &Mesh) -> Reference {
-        let reference: Vec<Vec3> = match mesh.flat() {
+        let reference: Vec<Vec3> = match mesh.crease_pattern() {
             Some(f) => f.iter().map(|p| Vec3::new(p.x, p.y, 0.0)).collect(),
             None => mesh.positions().to_vec(),
         };

@@ -187,7 +187,7 @@ pub enum NotFlatFoldable {
 /// # Performance
 /// O(faces): one breadth-first walk (a tube's unrolling first is O(faces) too).
 pub fn flat_folded(mesh: &Mesh, flat: Option<&[Vec2]>) -> Result<FlatFolded, NotFlatFoldable> {
-    let cp = flat.or_else(|| mesh.flat());
+    let cp = flat.or_else(|| mesh.crease_pattern());
     if cp.is_none() && !mesh.is_tube() {
         return Err(NotFlatFoldable::NoCreasePattern);
     }

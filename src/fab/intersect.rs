@@ -365,13 +365,8 @@ mod tests {
             };
             let mut mesh = generate(&p).unwrap();
             // Crumple it: every vertex moved up to 12 mm (seeded), faces through faces.
-            let mut seed = 0x2545_f491_4f6c_dd1du64;
-            let mut rand = || {
-                seed ^= seed << 13;
-                seed ^= seed >> 7;
-                seed ^= seed << 17;
-                (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-            };
+            let mut rng = crate::random::Rng::new(0x2545_f491_4f6c_dd1d);
+            let mut rand = || rng.range(-0.5, 0.5);
             let mut moved = mesh.positions().to_vec();
             for v in moved.iter_mut() {
                 *v += Vec3::new(rand(), rand(), rand()) * 24.0;
@@ -435,13 +430,8 @@ mod tests {
             boxes.push(Aabb::around([c, c + Vec3::repeat(0.7)].into_iter(), 0.0));
         }
         let bvh = Bvh::build(&boxes);
-        let mut seed = 7u64;
-        let mut rand = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 10.0
-        };
+        let mut rng = crate::random::Rng::new(7);
+        let mut rand = || rng.range(0.0, 10.0);
         for _ in 0..200 {
             let a = Vec3::new(rand(), rand(), rand());
             let q = Aabb::around(

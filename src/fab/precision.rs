@@ -42,7 +42,7 @@ pub struct DrawnPrecision {
 /// The drawing precision of a crease pattern, from its flat-folded state: `None` when
 /// it has no crease pattern or does not fold to a flat state to measure.
 pub fn drawing_precision(mesh: &Mesh) -> Option<DrawnPrecision> {
-    let cp = mesh.flat()?;
+    let cp = mesh.crease_pattern()?;
     let shortest = mesh
         .edges()
         .iter()

@@ -25,7 +25,7 @@ impl RoundingBounds {
             return None;
         }
         let x = mesh.positions();
-        let flat = mesh.flat();
+        let flat = mesh.crease_pattern();
         let edge: Vec<f64> = mesh
             .edges()
             .iter()

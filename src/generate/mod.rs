@@ -280,7 +280,7 @@ fn miura(p: &Params) -> Result<Mesh, GenerateError> {
     if !(gamma > 0.0 && gamma < PI / 2.0) {
         return Err(GenerateError::BadParameter(format!(
             "Miura angle must be strictly between 0 and 90 degrees (got {})",
-            p.angle_deg
+            crate::limits::short(p.angle_deg)
         )));
     }
     let (a, b) = (p.size, p.size);

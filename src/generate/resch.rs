@@ -92,8 +92,9 @@ pub fn resch(p: &Params) -> Result<Mesh, GenerateError> {
     if let Some(t) = p.fold {
         if t != 1.0 {
             return Err(GenerateError::BadParameter(format!(
-                "resch has a closed-form 3D state only fully folded (--fold 1), not {t}; \
-                 fold it part way with `crease fold`"
+                "resch has a closed-form 3D state only fully folded (--fold 1), not {}; \
+                 fold it part way with `crease fold`",
+                crate::limits::short(t)
             )));
         }
     }

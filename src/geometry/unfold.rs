@@ -161,7 +161,7 @@ pub fn unfold(mesh: &Mesh) -> Result<Vec<Vec2>, UnfoldError> {
         .into_iter()
         .map(|p| p.expect("every vertex is on a face"))
         .collect();
-    if let Some(old) = mesh.flat() {
+    if let Some(old) = mesh.crease_pattern() {
         align(&mut flat, old);
     }
     Ok(flat)
@@ -172,7 +172,7 @@ pub fn unfold(mesh: &Mesh) -> Result<Vec<Vec2>, UnfoldError> {
 pub fn unfold_tube(tube: &Mesh) -> Result<Strip, UnfoldError> {
     let mut strip = tube.cut_open()?;
     let flat = unfold(&strip.sheet)?;
-    strip.sheet.set_flat(flat);
+    strip.sheet.set_crease_pattern(flat);
     Ok(strip)
 }
 

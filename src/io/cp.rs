@@ -75,7 +75,7 @@ pub(super) fn mesh_of_lines(
 
 pub fn to_string(mesh: &Mesh) -> Result<String, String> {
     let flat = mesh
-        .flat()
+        .crease_pattern()
         .ok_or("an ORIPA file needs the flat crease pattern, and this design has none yet")?;
     let mut out = String::new();
     for e in mesh.edges().iter().filter(|e| !e.is_triangulation_line()) {

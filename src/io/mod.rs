@@ -180,7 +180,7 @@ pub(crate) fn rounding_of(mesh: &Mesh, quantum: f64) -> f64 {
     if quantum <= 0.0 {
         return 0.0;
     }
-    let length = |a: usize, b: usize| match mesh.flat() {
+    let length = |a: usize, b: usize| match mesh.crease_pattern() {
         Some(f) => (f[b] - f[a]).norm(),
         None => (mesh.positions()[b] - mesh.positions()[a]).norm(),
     };

@@ -12,7 +12,7 @@ pub fn to_string(mesh: &Mesh) -> String {
     for p in mesh.positions() {
         let _ = writeln!(out, "v {} {} {}", p.x, p.y, p.z);
     }
-    if let Some(flat) = mesh.flat() {
+    if let Some(flat) = mesh.crease_pattern() {
         let (lo, hi) = crate::mesh::bounds(flat);
         let side = (hi - lo).max().max(f64::MIN_POSITIVE);
         for p in flat {

@@ -22,7 +22,7 @@ const MARGIN_MM: f64 = 5.0;
 
 pub fn to_string(mesh: &Mesh) -> Result<String, String> {
     let flat = mesh
-        .flat()
+        .crease_pattern()
         .ok_or("an SVG crease pattern needs the flat layout, and this design has none yet")?;
     // SVG's y runs down: the top of the drawing is the pattern's largest y.
     let (lo, hi) = crate::mesh::bounds(flat);

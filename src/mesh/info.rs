@@ -36,7 +36,7 @@ impl Mesh {
     /// Summarises the mesh.
     pub fn info(&self) -> MeshInfo {
         let (lo, hi) = self.bounding_box();
-        let size_flat = self.flat().map(|f| {
+        let size_flat = self.crease_pattern().map(|f| {
             let (lo, hi) = super::bounds(f);
             [hi.x - lo.x, hi.y - lo.y]
         });
@@ -65,7 +65,7 @@ impl Mesh {
             added_edges: added,
             triangles: self.faces().len(),
             has_3d: self.has_3d(),
-            has_crease_pattern: self.flat().is_some(),
+            has_crease_pattern: self.crease_pattern().is_some(),
             size_3d: [hi.x - lo.x, hi.y - lo.y, hi.z - lo.z],
             size_flat,
             assignments,
@@ -157,7 +157,7 @@ impl Mesh {
                 }
             }
             let cp = self
-                .flat()
+                .crease_pattern()
                 .map(|f| format!("{:>9.3} {:>9.3}", f[v].x, f[v].y))
                 .unwrap_or_else(|| format!("{:>9} {:>9}", "-", "-"));
             let place = if topo.fans[v].boundary {

@@ -276,13 +276,14 @@ impl Mesh {
         self.has_3d = true;
     }
 
-    /// Flat crease-pattern positions (mm), when known.
-    pub fn flat(&self) -> Option<&[Vec2]> {
+    /// The crease pattern: the sheet's flat positions (mm), when known. ("Flat" alone
+    /// names other things too: the flat-folded state, a crease that does not fold.)
+    pub fn crease_pattern(&self) -> Option<&[Vec2]> {
         self.flat.as_deref()
     }
 
     /// Sets or replaces the crease pattern.
-    pub fn set_flat(&mut self, flat: Vec<Vec2>) {
+    pub fn set_crease_pattern(&mut self, flat: Vec<Vec2>) {
         assert_eq!(flat.len(), self.positions.len());
         self.flat = Some(flat);
     }

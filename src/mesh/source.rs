@@ -47,7 +47,7 @@ impl Fingerprint {
         Fingerprint {
             faces: mesh.faces().to_vec(),
             positions: mesh.positions().to_vec(),
-            flat: mesh.flat().map(<[Vec2]>::to_vec),
+            flat: mesh.crease_pattern().map(<[Vec2]>::to_vec),
         }
     }
 }

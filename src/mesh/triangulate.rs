@@ -311,17 +311,11 @@ mod tests {
 
     /// A star with `n` corners whose radii wobble (seeded), so many ears are blocked.
     fn star(n: usize, seed: u64) -> Vec<Vec2> {
-        let mut x = seed;
+        let mut rng = crate::random::Rng::new(seed);
         (0..n)
             .map(|k| {
-                x = x
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                let r = if k % 2 == 0 {
-                    100.0
-                } else {
-                    40.0 + (x >> 40) as f64 % 50.0
-                };
+                let wobble = rng.range(0.0, 50.0);
+                let r = if k % 2 == 0 { 100.0 } else { 40.0 + wobble };
                 let t = std::f64::consts::TAU * k as f64 / n as f64;
                 Vec2::new(r * t.cos(), r * t.sin())
             })

@@ -77,9 +77,9 @@ pub fn crease_pattern_first(mesh: Mesh) -> Result<String, ConvertError> {
 
 /// `mesh` with a crease pattern: its own, or, for a 3D-only design, its 3D form unfolded.
 pub fn with_crease_pattern(mut mesh: Mesh) -> Result<Mesh, UnfoldError> {
-    if mesh.flat().is_none() {
+    if mesh.crease_pattern().is_none() {
         let flat = crate::fab::unfold(&mesh)?;
-        mesh.set_flat(flat);
+        mesh.set_crease_pattern(flat);
     }
     Ok(mesh)
 }
@@ -119,7 +119,7 @@ pub fn convert(
                 .into(),
         );
     }
-    if flat_format && mesh.flat().is_none() {
+    if flat_format && mesh.crease_pattern().is_none() {
         mesh = with_crease_pattern(mesh).map_err(unfold_3d_only)?;
         notes.push("it has only a 3D form; its crease pattern is the form unfolded".into());
     }

@@ -524,7 +524,7 @@ fn flatten(mesh: &Mesh) -> Result<(Vec<crate::mesh::Vec2>, f64), FabError> {
     let flat = if mesh.has_3d() {
         unfold(mesh).map_err(|e| rejected(e.to_string()))?
     } else {
-        mesh.flat()
+        mesh.crease_pattern()
             .map(<[_]>::to_vec)
             .unwrap_or_else(|| mesh.positions().iter().map(|p| p.xy()).collect())
     };
@@ -705,7 +705,7 @@ fn preview_files(
 /// of a flat-folding pattern).
 fn pattern_files(mesh: &Mesh, sheet: &crate::fab::Sheet) -> Result<Files, FabError> {
     let mut placed = mesh.clone();
-    placed.set_flat(sheet.vertices.clone());
+    placed.set_crease_pattern(sheet.vertices.clone());
     let cp = crate::io::to_string(&placed, crate::io::Format::Svg).map_err(FabError::Input)?;
     let orders = layer_order_of(mesh, &placed);
     Ok(vec![

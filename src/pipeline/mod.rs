@@ -497,7 +497,7 @@ pub fn layer_order_of_step(solver: &Solver, time: std::time::Duration) -> StepOr
         let Ok(flat) = unfold(&now) else {
             return StepOrder::Kept;
         };
-        now.set_flat(flat);
+        now.set_crease_pattern(flat);
     }
     let budget = Budget {
         deadline: Some((std::time::Instant::now() + time, time)),
@@ -556,7 +556,7 @@ pub fn finish_design(mesh: &mut Mesh, relaid: bool) -> Result<(), PipelineError>
     // or cut (`fab::unfold_tube`).
     if relaid && !mesh.is_tube() {
         let flat = unfold(mesh)?;
-        mesh.set_flat(flat);
+        mesh.set_crease_pattern(flat);
     }
     Ok(())
 }
@@ -571,7 +571,7 @@ fn check_targets(
 ) -> Result<(), PipelineError> {
     let (lo, hi) = mesh.bounding_box();
     let size = (hi - lo).norm();
-    let paper = match mesh.flat() {
+    let paper = match mesh.crease_pattern() {
         Some(f) => {
             let (a, b) = crate::mesh::bounds(f);
             (b - a).norm()

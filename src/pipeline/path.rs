@@ -138,7 +138,7 @@ pub fn foldable_sheet(design: &Mesh) -> Result<std::borrow::Cow<'_, Mesh>, Pipel
         })?;
         return Ok(Cow::Owned(strip.sheet));
     }
-    if design.flat().is_some() {
+    if design.crease_pattern().is_some() {
         return Ok(Cow::Borrowed(design));
     }
     let sheet = super::convert::with_crease_pattern(design.clone()).map_err(|e| {
@@ -180,7 +180,7 @@ fn walk_with(
     frame: &mut dyn FnMut(f64, &[Vec3]),
 ) -> Result<PathReport, PipelineError> {
     let flat = design
-        .flat()
+        .crease_pattern()
         .map(<[_]>::to_vec)
         .expect("walk is given a design with its crease pattern (foldable_sheet)");
     let mut angles = design.clone();

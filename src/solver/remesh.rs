@@ -127,7 +127,7 @@ pub fn collapse_edge(
         .collect();
     let mut positions: Vec<Vec3> = (0..n).filter(|&w| w != v).map(|w| x[w]).collect();
     positions[old_to_new[u]] = (x[u] + x[v]) / 2.0;
-    let flat = mesh.flat().map(|f| {
+    let flat = mesh.crease_pattern().map(|f| {
         let mut out: Vec<_> = (0..n).filter(|&w| w != v).map(|w| f[w]).collect();
         out[old_to_new[u]] = (f[u] + f[v]) / 2.0;
         out
@@ -323,7 +323,7 @@ pub fn flip_edge(mesh: &Mesh, x: &[Vec3], e: usize) -> Result<Change, Refusal> {
     edges[e].vertices = [a, b];
     let mut new = Mesh::new(MeshParts {
         positions: Some(x.to_vec()),
-        flat: mesh.flat().map(<[_]>::to_vec),
+        flat: mesh.crease_pattern().map(<[_]>::to_vec),
         faces,
         edges,
     })

@@ -137,7 +137,7 @@ fn topology_value(mesh: &Mesh) -> Value {
 /// A tube's crease pattern: the strip it is cut open to (issue 31), with the strip's own
 /// faces and creases, since its seam's vertices are there twice.
 pub fn strip_pattern_json(strip: &Mesh) -> String {
-    let mut value = pattern_value(strip, strip.flat());
+    let mut value = pattern_value(strip, strip.crease_pattern());
     let topology = topology_value(strip);
     value["faces"] = topology["faces"].clone();
     value["edges"] = topology["edges"].clone();

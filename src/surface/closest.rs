@@ -214,21 +214,13 @@ impl ClosestPointTree {
 mod tests {
     use super::*;
 
-    /// A seeded xorshift in [0, 1).
-    fn uniform(state: &mut u64) -> f64 {
-        *state ^= *state << 13;
-        *state ^= *state >> 7;
-        *state ^= *state << 17;
-        (*state >> 11) as f64 / (1u64 << 53) as f64
-    }
-
     #[test]
     fn the_closest_point_of_a_triangle_is_nearer_than_every_sample_of_it() {
         // Brute force: the triangle sampled on a fine barycentric grid (and its corners
         // and edges exactly); no sample may be nearer than the answer, and the nearest
         // sample is within the grid's spacing of it.
-        let mut s = 0x9e37_79b9_7f4a_7c15u64;
-        let mut r = || 20.0 * uniform(&mut s) - 10.0;
+        let mut rng = crate::random::Rng::new(0x9e37_79b9_7f4a_7c15);
+        let mut r = || rng.range(-10.0, 10.0);
         for _ in 0..200 {
             let (a, b, c) = (
                 Vec3::new(r(), r(), r()),
@@ -274,12 +266,12 @@ mod tests {
             }
         }
         let tree = ClosestPointTree::build(&vertices, &triangles);
-        let mut s = 12345u64;
+        let mut rng = crate::random::Rng::new(12345);
         for _ in 0..500 {
             let p = Vec3::new(
-                40.0 * uniform(&mut s) - 5.0,
-                40.0 * uniform(&mut s) - 5.0,
-                20.0 * uniform(&mut s) - 10.0,
+                rng.range(-5.0, 35.0),
+                rng.range(-5.0, 35.0),
+                rng.range(-10.0, 10.0),
             );
             let found = tree.closest(&vertices, &triangles, p).unwrap();
             let brute = triangles

@@ -294,7 +294,7 @@ fn a_3d_only_design_converts_to_svg_as_its_unfolding() {
     let cp = crease::io::read(&out).unwrap();
     // Isometric: the written crease pattern has the 3D form's edge lengths (the SVG
     // numbers its vertices anew, so lengths are compared as sorted lists).
-    let flat = cp.flat().unwrap();
+    let flat = cp.crease_pattern().unwrap();
     let sorted = |mut v: Vec<f64>| {
         v.sort_by(f64::total_cmp);
         v
@@ -921,7 +921,7 @@ fn the_deform_help_recipes_run_as_printed_and_keep_their_outline() {
     );
     let flat = |path: &str| {
         let m = crease::io::read(std::path::Path::new(path)).unwrap();
-        let (lo, hi) = crease::mesh::bounds(m.flat().unwrap());
+        let (lo, hi) = crease::mesh::bounds(m.crease_pattern().unwrap());
         hi - lo
     };
     let start = flat(&at("m.fold"));

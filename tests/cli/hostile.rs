@@ -797,7 +797,7 @@ fn a_seeded_sweep_of_absurd_numbers_through_flags_and_profiles_ends_cleanly() {
         .ok()
         .and_then(|n| n.parse().ok())
         .map_or(40, |n: usize| n.max(1));
-    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let mut rng = Rng::new(0x9e37_79b9_7f4a_7c15);
     for case in 0..cases {
         let args = absurd_command(&mut rng, case);
         let args: Vec<&str> = args.iter().map(String::as_str).collect();

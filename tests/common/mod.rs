@@ -38,19 +38,6 @@ pub fn scratch_file(suite: &str, name: &str, content: &str) -> std::path::PathBu
     p
 }
 
-/// xorshift64*: a reproducible stream without a dependency.
-#[allow(dead_code)] // only the fuzzing tests draw from it
-pub struct Rng(pub u64);
-
-#[allow(dead_code)]
-impl Rng {
-    pub fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
-    }
-    pub fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-}
+/// The library's one seeded stream (xorshift64), for the fuzzing and noise tests.
+#[allow(unused_imports)] // only the fuzzing and noise tests draw from it
+pub use crease::random::Rng;

@@ -144,7 +144,7 @@ fn fold_round_trip_keeps_vertices_edges_and_assignments() {
         let back = io::fold::parse(&text).unwrap();
         // FOLD keeps vertex order, so positions must agree exactly.
         assert_eq!(m.positions(), back.positions(), "{}", p.display());
-        assert_eq!(m.flat(), back.flat(), "{}", p.display());
+        assert_eq!(m.crease_pattern(), back.crease_pattern(), "{}", p.display());
         same_graph(&m, &back).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
         for (x, y) in m.edges().iter().zip(back.edges()) {
             assert!(
@@ -157,7 +157,7 @@ fn fold_round_trip_keeps_vertices_edges_and_assignments() {
 /// The lines a drawing shows: crease's own triangulation lines are left out of SVG and
 /// `.cp` (reading the drawing back triangulates again, maybe along other diagonals).
 fn drawn_edges(m: &Mesh) -> Vec<(String, Assignment)> {
-    let f = m.flat().unwrap();
+    let f = m.crease_pattern().unwrap();
     let mut out: Vec<(String, Assignment)> = m
         .edges()
         .iter()
@@ -176,7 +176,7 @@ fn drawn_edges(m: &Mesh) -> Vec<(String, Assignment)> {
 fn svg_round_trip_keeps_the_crease_graph() {
     for p in anchor_files() {
         let m = io::read(&p).unwrap();
-        if m.flat().is_none() {
+        if m.crease_pattern().is_none() {
             continue; // folded-only files have no crease pattern to draw
         }
         let text = io::to_string(&m, Format::Svg).unwrap();

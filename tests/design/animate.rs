@@ -60,7 +60,7 @@ fn the_motion_starts_flat_ends_at_the_design_and_keeps_every_length() {
         assert_eq!(motion.frames.len(), 11, "{rel}");
         let sheet = &motion.sheet;
         let flat: Vec<Vec3> = sheet
-            .flat()
+            .crease_pattern()
             .unwrap()
             .iter()
             .map(|p| Vec3::new(p.x, p.y, 0.0))
@@ -211,7 +211,7 @@ fn the_multi_frame_fold_opens_in_rabbit_ear_crease_pattern_first() {
     let frames = node("read-fold-frames.cjs", &path);
     let frames = frames.as_array().unwrap();
     assert_eq!(frames.len(), motion.frames.len() + 1);
-    let flat = motion.sheet.flat().unwrap();
+    let flat = motion.sheet.crease_pattern().unwrap();
     let cp = &frames[0];
     assert_eq!(cp["classes"], serde_json::json!(["creasePattern"]), "{cp}");
     assert_eq!(cp["folded"], false);
@@ -250,7 +250,7 @@ fn the_multi_frame_fold_opens_in_rabbit_ear_crease_pattern_first() {
         .map(|(p, q)| (p - q).norm())
         .fold(0.0, f64::max);
     assert!(gap < 1e-9, "{gap}");
-    assert_eq!(back.flat().unwrap(), flat);
+    assert_eq!(back.crease_pattern().unwrap(), flat);
 }
 
 #[test]
@@ -265,7 +265,7 @@ fn a_design_written_crease_pattern_first_reads_back_the_same() {
     );
     let back = crease::io::fold::parse(&text).unwrap();
     assert_eq!(back.positions(), design.positions());
-    assert_eq!(back.flat(), design.flat());
+    assert_eq!(back.crease_pattern(), design.crease_pattern());
     assert_eq!(back.edges().len(), design.edges().len());
 }
 
@@ -738,7 +738,7 @@ fn on_to_flat_the_miura_ori_folds_flat_through_its_design_keeping_every_length()
     assert!(gap < 1e-6, "the design frame is {gap} mm off the design");
     // Every frame keeps every edge's length; the last lies in one plane (folded flat).
     let sheet = &motion.sheet;
-    let flat = sheet.flat().unwrap();
+    let flat = sheet.crease_pattern().unwrap();
     for (k, x) in motion.frames.iter().enumerate() {
         for e in sheet.edges() {
             let [a, b] = e.vertices;
@@ -748,7 +748,7 @@ fn on_to_flat_the_miura_ori_folds_flat_through_its_design_keeping_every_length()
     }
     let last = motion.frames.last().unwrap();
     let size = sheet
-        .flat()
+        .crease_pattern()
         .unwrap()
         .iter()
         .map(|p| p.norm())

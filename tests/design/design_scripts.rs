@@ -94,7 +94,7 @@ fn designs_rebuild_from_their_scripts_verify_and_differ_from_the_regular_pattern
             "{name} is only {rms:.2} mm RMS from the regular pattern"
         );
         // And its crease pattern is that of the 3D form (unfolded isometrically).
-        let flat = committed.flat().unwrap();
+        let flat = committed.crease_pattern().unwrap();
         for e in committed.edges() {
             let [a, b] = e.vertices;
             let l3 = (committed.positions()[a] - committed.positions()[b]).norm();
@@ -476,7 +476,7 @@ fn a_curved_crease_dragged_with_smoothness_stays_smooth_and_without_it_goes_jagg
     // No ruling crosses another: unfolded, every face keeps the turning sense it had in
     // the starting crease pattern (crossing rulings fold a face over).
     let flat = crease::fab::unfold(&smooth).unwrap();
-    let start_flat = start.flat().unwrap();
+    let start_flat = start.crease_pattern().unwrap();
     let orient =
         |p: &[crease::mesh::Vec2], f: [usize; 3]| (p[f[1]] - p[f[0]]).perp(&(p[f[2]] - p[f[0]]));
     for &f in smooth.faces() {

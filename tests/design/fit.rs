@@ -165,7 +165,7 @@ fn check_design_is_made(report: &FitReport, design: &Path, name: &str) {
     assert_eq!(code, 0, "{err}");
     assert!(std::fs::metadata(dir.join("sheet.hpgl")).unwrap().len() > 100);
     // The crease pattern written is the 3D form unfolded: every edge its length.
-    let flat: &[Vec2] = mesh.flat().unwrap();
+    let flat: &[Vec2] = mesh.crease_pattern().unwrap();
     for e in mesh.edges() {
         let [a, b] = e.vertices;
         let l3 = (mesh.positions()[a] - mesh.positions()[b]).norm();

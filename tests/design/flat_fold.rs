@@ -13,7 +13,7 @@ fn flat(kind: PatternKind) -> Mesh {
 }
 
 fn check_isometric(mesh: &Mesh, triangles: &[[Vec2; 3]]) {
-    let cp = mesh.flat().unwrap();
+    let cp = mesh.crease_pattern().unwrap();
     for (f, tri) in mesh.faces().iter().zip(triangles) {
         for k in 0..3 {
             let (a, b) = (f[k], f[(k + 1) % 3]);
@@ -53,7 +53,7 @@ fn flat_foldable_patterns_close_up_with_every_face_isometric() {
         }
         // The plain sheet has no folds: its flat-folded state is the sheet itself.
         if kind == PatternKind::Plane {
-            let cp = mesh.flat().unwrap();
+            let cp = mesh.crease_pattern().unwrap();
             for (f, tri) in mesh.faces().iter().zip(&state.triangles) {
                 for k in 0..3 {
                     assert!((tri[k] - cp[f[k]]).norm() < 1e-9);
@@ -66,7 +66,7 @@ fn flat_foldable_patterns_close_up_with_every_face_isometric() {
 #[test]
 fn a_pattern_that_breaks_kawasaki_does_not_close_and_the_vertex_is_named() {
     let mesh = flat(PatternKind::Miura);
-    let mut cp = mesh.flat().unwrap().to_vec();
+    let mut cp = mesh.crease_pattern().unwrap().to_vec();
     // Move one interior vertex 1 mm: its sector angles no longer alternate to zero.
     cp[40] += Vec2::new(1.0, 0.3);
     let state = flat_folded(&mesh, Some(&cp)).unwrap();

@@ -208,8 +208,8 @@ fn a_path_the_solver_cannot_follow_is_undecided_not_bad_input() {
 /// `noise` mm in x and y, at random (reproducibly).
 fn drawn_with_noise(text: &str, scale: f64, noise: f64, seed: u64) -> String {
     let mut fold: serde_json::Value = serde_json::from_str(text).unwrap();
-    let mut rng = common::Rng(seed);
-    let mut jitter = || (rng.next() as f64 / u64::MAX as f64 * 2.0 - 1.0) * noise;
+    let mut rng = common::Rng::new(seed);
+    let mut jitter = || (rng.next_u64() as f64 / u64::MAX as f64 * 2.0 - 1.0) * noise;
     for v in fold["vertices_coords"].as_array_mut().unwrap() {
         for c in v.as_array_mut().unwrap() {
             let x = c.as_f64().unwrap() * scale + jitter();
@@ -521,7 +521,7 @@ fn faces_that_cannot_be_triangulated_are_rebuilt_from_the_edges_with_a_note() {
     // Every face of the rebuilt crease pattern is a proper triangle, and together they
     // cover the square sheet exactly once.
     let mesh = &imported.mesh;
-    let flat = mesh.flat().expect("a crease pattern");
+    let flat = mesh.crease_pattern().expect("a crease pattern");
     let area: f64 = mesh
         .faces()
         .iter()

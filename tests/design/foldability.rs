@@ -160,7 +160,7 @@ fn a_vertex_moved_in_a_file_of_round_numbers_fails_however_other_numbers_are_wri
 /// direction enters two sectors.
 fn kawasaki_with_bounds(mesh: &crease::mesh::Mesh) -> Vec<(usize, f64, f64)> {
     use crease::mesh::Assignment;
-    let flat = mesh.flat().unwrap();
+    let flat = mesh.crease_pattern().unwrap();
     let p = mesh.coordinate_precision;
     let mut spokes: Vec<Vec<usize>> = vec![Vec::new(); mesh.vertex_count()];
     for (i, e) in mesh.edges().iter().enumerate() {

@@ -83,7 +83,7 @@ fn folded_states_are_isometric_to_the_crease_pattern() {
             let mut p = Params::defaults(kind);
             p.fold = Some(fold);
             let m = generate(&p).unwrap();
-            let flat = m.flat().unwrap();
+            let flat = m.crease_pattern().unwrap();
             let mut worst: f64 = 0.0;
             for e in m.edges() {
                 let [a, b] = e.vertices;
@@ -118,7 +118,7 @@ fn flat_foldable_patterns_satisfy_kawasaki_and_maekawa() {
         let mut p = Params::defaults(kind);
         p.fold = None;
         let m = generate(&p).unwrap();
-        let flat = m.flat().unwrap();
+        let flat = m.crease_pattern().unwrap();
         let mut creases: Vec<Vec<(f64, Assignment)>> = vec![Vec::new(); m.vertex_count()];
         for e in m.edges() {
             if !matches!(e.assignment, Assignment::Mountain | Assignment::Valley) {
@@ -169,7 +169,7 @@ fn resch_fully_folded_is_isometric_with_tiles_on_top_and_three_corners_per_verte
     p.fold = Some(1.0);
     let m = generate(&p).unwrap();
     assert!(m.lock_topology);
-    let (x, flat) = (m.positions(), m.flat().unwrap());
+    let (x, flat) = (m.positions(), m.crease_pattern().unwrap());
     let l = p.size;
     for e in m.edges() {
         let [a, b] = e.vertices;
@@ -274,7 +274,7 @@ fn the_arc_is_the_mirror_construction_to_1e_9() {
         let mut p = Params::defaults(PatternKind::Arc);
         p.fold = Some(fold);
         let m = generate(&p).unwrap();
-        let flat = m.flat().unwrap().to_vec();
+        let flat = m.crease_pattern().unwrap().to_vec();
         let crease = flat.iter().map(|q| q.norm()).fold(0.0, f64::max) - (p.ny / 2) as f64 * p.size;
         let x = m.positions();
         // β from a vertex inside the crease: z = r cos β.
@@ -338,7 +338,7 @@ fn concentric_rings_are_the_mirror_construction_repeated_to_1e_9() {
         let mut p = Params::defaults(PatternKind::Concentric);
         p.fold = Some(fold);
         let m = generate(&p).unwrap();
-        let flat = m.flat().unwrap().to_vec();
+        let flat = m.crease_pattern().unwrap().to_vec();
         let x = m.positions();
         let inner = flat.iter().map(|q| q.norm()).fold(f64::INFINITY, f64::min);
         let creases: Vec<f64> = (1..p.ny).map(|j| inner + j as f64 * p.size).collect();
@@ -426,7 +426,7 @@ fn the_pleat_is_a_ruled_strip_reflected_crease_by_crease_to_1e_9() {
         let mut p = Params::defaults(PatternKind::Pleat);
         p.fold = Some(fold);
         let m = generate(&p).unwrap();
-        let flat = m.flat().unwrap().to_vec();
+        let flat = m.crease_pattern().unwrap().to_vec();
         let x = m.positions();
         let (amplitude, k) = (p.size / 4.0, 2.0 * PI / (p.nx as f64 * p.size));
         let crease_of = |q: crease::mesh::Vec2| {

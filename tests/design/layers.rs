@@ -44,7 +44,7 @@ fn two_flaps_that_cover_each_others_hinge_have_no_order() {
     let centre_x = |f: usize| {
         mesh.faces()[f]
             .iter()
-            .map(|&v| mesh.flat().unwrap()[v].x)
+            .map(|&v| mesh.crease_pattern().unwrap()[v].x)
             .sum::<f64>()
             / 3.0
     };
@@ -188,7 +188,7 @@ fn fold_flat_writes_the_flat_folded_state_with_its_order_or_names_the_conflict()
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let folded = crease::io::read(&out).unwrap();
     assert!(folded.positions().iter().all(|p| p.z == 0.0));
-    let cp = folded.flat().unwrap();
+    let cp = folded.crease_pattern().unwrap();
     for f in folded.faces() {
         for k in 0..3 {
             let (a, b) = (f[k], f[(k + 1) % 3]);
@@ -312,7 +312,7 @@ fn the_bird_base_folds_to_its_known_shape() {
         crease::io::read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/bird-base.fold"))
             .unwrap();
     let flat = crease::fab::flat_folded(&mesh, None).unwrap();
-    let cp = mesh.flat().unwrap();
+    let cp = mesh.crease_pattern().unwrap();
     let place = |v: usize| {
         let f = mesh.faces().iter().position(|f| f.contains(&v)).unwrap();
         flat.motions[f].apply(cp[v])
@@ -962,7 +962,7 @@ moves = [{{ vertex = 80, to = [80.0, 80.0, -30.0] }}]
         "--conditions",
         "developability,flat-foldability,layer-order",
     ];
-    let start = crease::io::read(&base).unwrap().flat().unwrap()[80];
+    let start = crease::io::read(&base).unwrap().crease_pattern().unwrap()[80];
     let mut reached = Vec::new();
     for (name, extra, keeps) in [
         ("kept.toml", r#", "layer-order""#, true),
@@ -1080,9 +1080,9 @@ fn a_conflict_is_narrowed_by_work_spent_never_by_the_clock() {
         .map(|_| {
             let stop = std::sync::Arc::clone(&stop);
             std::thread::spawn(move || {
-                let mut x = 0u64;
+                let mut spins = 0u64;
                 while !stop.load(std::sync::atomic::Ordering::Relaxed) {
-                    x = std::hint::black_box(x.wrapping_mul(6364136223846793005).wrapping_add(1));
+                    spins = std::hint::black_box(spins + 1);
                 }
             })
         })

@@ -25,7 +25,7 @@ fn bundled_starting_patterns_match_the_generators_byte_for_byte() {
         // And it reads back to the same mesh.
         let back = crease::io::read(&path).unwrap();
         assert_eq!(back.positions(), mesh.positions());
-        assert_eq!(back.flat(), mesh.flat());
+        assert_eq!(back.crease_pattern(), mesh.crease_pattern());
         assert_eq!(back.edges(), mesh.edges());
         assert_eq!(back.faces(), mesh.faces());
     }

@@ -211,13 +211,8 @@ fn long_random_drags_with_remeshing_never_break_the_mesh() {
         let set = ConstraintSet::default_for(&Reference::new(&m));
         let fixed = Solver::default_fixed(&m, &[]);
         let mut solver = Solver::new(m, set, &fixed, Options::default()).unwrap();
-        let mut state = seed;
-        let mut rand = || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crease::random::Rng::new(seed);
+        let mut rand = || rng.uniform();
         let mut changes = 0;
         // Episodes: pull a random vertex toward a random neighbour, so edges degenerate.
         for _ in 0..25 {

@@ -403,7 +403,7 @@ fn a_tube_folds_flat_only_where_its_creases_close_round_it_and_stack() {
     // round the tube, with an order (either way round: outside out, or turned inside out).
     for side in [M, V] {
         let tube = square_tube([Some(side), None, Some(side), None]);
-        assert!(tube.is_tube() && tube.flat().is_none());
+        assert!(tube.is_tube() && tube.crease_pattern().is_none());
         let folded = flat_folded(&tube, None).unwrap();
         assert!(
             folded.layers_close() && !folded.open_seam,

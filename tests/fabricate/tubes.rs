@@ -62,7 +62,7 @@ fn glued_back(tube: &Mesh) {
     // The strip as laid out, read back from the file fab wrote: one piece, a disk.
     let strip = crease::io::fold::parse(output_text(&out, "crease-pattern.fold")).unwrap();
     assert!(strip.shape().is_disk, "{:?}", strip.shape());
-    let at = strip.flat().unwrap();
+    let at = strip.crease_pattern().unwrap();
     // Glue: each edge of the glued side onto its partner on the tab's side.
     let mut glue = UnionFind::new(at.len());
     for pair in &seam.pairs {

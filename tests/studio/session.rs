@@ -101,7 +101,7 @@ fn dragging_moves_the_vertex_keeps_every_condition_and_saves_a_file_that_verifie
     // The saved 3D form is the one on screen, and its crease pattern was laid out anew
     // (design mode changes lengths): isometric to the 3D form.
     assert!(distance(mesh.positions()[40].into(), position(&after, 40)) < 1e-6);
-    let flat = mesh.flat().unwrap();
+    let flat = mesh.crease_pattern().unwrap();
     for e in mesh.edges() {
         let [a, b] = e.vertices;
         let l3 = (mesh.positions()[a] - mesh.positions()[b]).norm();

@@ -59,7 +59,7 @@ pub(super) fn first_unstackable_vertex(
     mesh: &Mesh,
     folds: impl Fn(usize) -> bool,
 ) -> Option<(usize, Vec<usize>)> {
-    let cp = mesh.flat()?;
+    let cp = mesh.crease_pattern()?;
     let topo = mesh.topology();
     for (v, fan) in topo.fans.iter().enumerate() {
         if fan.boundary || fan.faces.is_empty() {

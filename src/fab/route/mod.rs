@@ -407,13 +407,8 @@ mod tests {
         // Seeded scatters of strokes: the improved tour is no longer than the greedy one
         // on every seed, and on six strokes (every order and direction tried) it is within
         // 10% of the best tour.
-        let mut seed = 12345u64;
-        let mut rand = move || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 100.0
-        };
+        let mut rng = crate::random::Rng::new(12345);
+        let mut rand = move || rng.range(0.0, 100.0);
         for case in 0..20 {
             let n = if case < 10 { 6 } else { 200 };
             let strokes: Vec<Stroke> = (0..n)

@@ -369,13 +369,8 @@ pub(super) fn improve(
         0
     };
     let mut best = tour.length();
-    let mut seed = 0x9e3779b97f4a7c15u64;
-    let mut random = |below: usize| {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed % below as u64) as usize
-    };
+    let mut rng = crate::random::Rng::new(0x9e3779b97f4a7c15);
+    let mut random = |below: usize| rng.below(below);
     for _ in 0..kicks {
         let saved = (tour.strokes.clone(), tour.id.clone());
         let span = 30.min(n / 4).max(1);

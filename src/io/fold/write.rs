@@ -57,7 +57,7 @@ pub fn to_string_with_orders(mesh: &Mesh, orders: Option<&[[i64; 3]]>) -> String
 /// pattern, the 3D form in the frame after it. crease reads both orders. A design without
 /// a crease pattern is written as [`to_string`] writes it.
 pub fn to_string_crease_pattern_first(mesh: &Mesh) -> String {
-    if mesh.flat().is_none() || !mesh.has_3d() {
+    if mesh.crease_pattern().is_none() || !mesh.has_3d() {
         return to_string(mesh);
     }
     match super::seam::strip_for_writing(mesh) {
@@ -130,7 +130,7 @@ fn write(
             w.field(name, serde_json::to_string(value).expect("JSON value"));
         }
     }
-    let frames = match (states, mesh.has_3d(), mesh.flat()) {
+    let frames = match (states, mesh.has_3d(), mesh.crease_pattern()) {
         (Some(states), _, _) => {
             let frames: Vec<String> = states.iter().map(|x| state_frame(x, scale)).collect();
             format!("[\n    {}\n  ]", frames.join(",\n    "))
@@ -254,7 +254,7 @@ fn write_frame(
     let coords: Vec<String> = if as_3d {
         coords_3d(mesh.positions(), scale)
     } else {
-        mesh.flat()
+        mesh.crease_pattern()
             .expect("a mesh without 3D data has a crease pattern")
             .iter()
             .map(|p| format!("[{}, {}]", num(p.x / scale), num(p.y / scale)))
@@ -326,7 +326,7 @@ fn write_edges(w: &mut Fields, mesh: &Mesh, faces: &Faces) {
     // FOLD has no curved edges (fold#15): a curved crease stays its chords, and which
     // edges form one curve, in order along it, is said here (derived on every write, so
     // never stale).
-    if let Some(flat) = mesh.flat() {
+    if let Some(flat) = mesh.crease_pattern() {
         let index: std::collections::HashMap<usize, usize> =
             edges.iter().enumerate().map(|(i, &e)| (e, i)).collect();
         let curves: Vec<String> = crate::mesh::curve_runs(mesh, flat)

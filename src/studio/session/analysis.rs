@@ -75,7 +75,7 @@ fn analyse(job: Job, cancel: Arc<AtomicBool>) -> Analysis {
                 return frame::strip_pattern_json(&strip.sheet);
             }
         }
-        let pattern = match (relaid, mesh.flat()) {
+        let pattern = match (relaid, mesh.crease_pattern()) {
             (false, Some(f)) => Some(f.to_vec()),
             _ => fab::unfold(&mesh).ok(),
         };
