@@ -133,6 +133,34 @@ pub const CELLS: Range = Range {
     max: 2_000.0,
 };
 
+/// Cells along one side of a pattern generated in the studio: 200 × 200 cells is over
+/// 40k vertices, already past interactive speed (the command line takes [`CELLS`]).
+pub const STUDIO_CELLS: Range = Range {
+    what: "cells along one side in the studio",
+    unit: "",
+    min: 1.0,
+    max: 200.0,
+};
+
+/// How far a wished position may lie from where it pulls, in sizes of the design (its
+/// bounding box's diagonal): a studio drag's target from its vertex, a script's design-
+/// mode target from the fixed vertices. Farther is a slip or a hostile request.
+pub const DRAG_REACH_IN_SIZES: f64 = 10.0;
+
+/// How far a fit target may be offset along its normals, as a fraction of its extent
+/// (its bounding box's diagonal): more turns the surface inside out.
+pub const TARGET_OFFSET_OF_EXTENT: f64 = 0.5;
+
+/// A tolerance given to `verify --tol`, used as given for every condition (radians for
+/// angles, mm or a relative error for lengths): positive, and no looser than 1000, past
+/// which every condition passes and the verdict says nothing.
+pub const VERIFY_TOL: Range = Range {
+    what: "a tolerance",
+    unit: "",
+    min: 1e-15,
+    max: 1e3,
+};
+
 /// Cells of a generated pattern in all (nx × ny): what its memory and time grow with.
 pub const CELLS_IN_ALL: Range = Range {
     what: "the number of cells (nx × ny)",

@@ -77,9 +77,9 @@ pub fn verify(args: VerifyArgs) -> Result<u8, String> {
         .transpose()?;
     let mut tolerances = fab::Tolerances::default();
     if let Some(t) = args.tol {
-        if !(t.is_finite() && t > 0.0) {
-            return Err(format!("--tol must be a positive number (got {t})"));
-        }
+        crease::limits::VERIFY_TOL
+            .check("--tol", t)
+            .map_err(|e| e.to_string())?;
         tolerances = fab::Tolerances::exactly(t);
     }
     let seconds = crease::limits::SEARCH_TIME

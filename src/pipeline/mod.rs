@@ -616,7 +616,7 @@ fn check_targets(
             }
             let reach = match mode {
                 Mode::Simulation => paper,
-                Mode::Design => 10.0 * size,
+                Mode::Design => crate::limits::DRAG_REACH_IN_SIZES * size,
             };
             for &f in fixed {
                 let d = (t - mesh.positions()[f]).norm();

@@ -152,6 +152,15 @@ fn a_vertex_moved_in_a_file_of_round_numbers_fails_however_other_numbers_are_wri
         out.contains("verdict: UNDECIDED — layer-order: folded flat, the faces around vertex"),
         "{out}"
     );
+    // Absurd tolerances are refused by limits::VERIFY_TOL, naming the flag and the range.
+    for tol in ["0", "-1", "nan", "1e9"] {
+        let (code, _, err) = run_crease(&["verify", path.to_str().unwrap(), "--tol", tol]);
+        assert_eq!(code, 2, "--tol {tol}: {err}");
+        assert!(
+            err.contains("--tol = ") && err.contains("from 1e-15 to 1000"),
+            "{err}"
+        );
+    }
 }
 
 /// Kawasaki's alternating sum at every interior vertex whose creases are all mountain or

@@ -93,9 +93,10 @@ impl Session {
         }
         let (lo, hi) = self.design.mesh.bounding_box();
         let size = (hi - lo).norm().max(1.0);
-        if (t - self.positions()[vertex]).norm() > 10.0 * size {
+        let reach = crate::limits::DRAG_REACH_IN_SIZES;
+        if (t - self.positions()[vertex]).norm() > reach * size {
             return Err(Refusal::bad(format!(
-                "the drag target is {:.0} mm away, more than ten times the design's size",
+                "the drag target is {:.0} mm away, more than {reach} times the design's size",
                 (t - self.positions()[vertex]).norm()
             )));
         }

@@ -11,9 +11,6 @@ use crate::pipeline::{self, FabOptions};
 use crate::solver::{FoldReport, Mode};
 use std::path::Path;
 
-/// Largest grid a request may generate (cells per side): 200 × 200 cells is over 40k
-/// vertices, already past interactive speed.
-const MAX_CELLS: usize = 200;
 impl Session {
     pub(super) fn settings(&mut self, s: Settings) -> Result<Reply, Refusal> {
         let mode = s
@@ -154,11 +151,10 @@ impl Session {
             fold: g.fold.or(d.fold),
             alpha: d.alpha,
         };
-        if p.nx > MAX_CELLS || p.ny > MAX_CELLS {
-            return Err(Refusal::bad(format!(
-                "at most {MAX_CELLS} cells a side (asked for {} × {})",
-                p.nx, p.ny
-            )));
+        for (name, cells) in [("nx", p.nx), ("ny", p.ny)] {
+            crate::limits::STUDIO_CELLS
+                .check_count(name, cells as u64)
+                .map_err(|e| Refusal::bad(e.to_string()))?;
         }
         let mesh = generate::generate(&p).map_err(|e| Refusal::bad(e.to_string()))?;
         let title = format!("{} {}x{}", kind.name(), p.nx, p.ny);

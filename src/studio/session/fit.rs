@@ -107,12 +107,12 @@ impl Session {
             ));
         };
         let (lo, hi) = target.loaded.bounding_box();
-        let extent = (hi - lo).norm();
-        if !(offset.is_finite() && offset.abs() <= 0.5 * extent) {
+        let most = limits::TARGET_OFFSET_OF_EXTENT * (hi - lo).norm();
+        if !(offset.is_finite() && offset.abs() <= most) {
             return Err(Refusal::bad(format!(
                 "offset = {}: an offset must be within half the target's extent ({} mm)",
                 limits::short(offset),
-                limits::short(0.5 * extent)
+                limits::short(most)
             )));
         }
         let r = turn.map(f64::to_radians);
