@@ -1,6 +1,7 @@
 //! `crease plot` and `crease emulate`.
 
 use super::out;
+use crease::pipeline::plot_job::{self, JobLine};
 use crease::plotter::Language;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
@@ -75,189 +76,15 @@ pub struct EmulateArgs {
     pub no_marks: bool,
 }
 
-/// The line a job is streamed over, and where those settings came from.
-struct LineSettings {
-    source: String,
-    language: Language,
-    /// A USB device node written as a file (connection "usb"), not a serial port.
-    device: bool,
-    baud: u32,
-    flow: crease::machine::FlowMode,
-    buffer: usize,
-}
-
-impl LineSettings {
-    fn from_profile(name: &str, source: &str) -> Result<LineSettings, String> {
-        let m = crease::machine::Machine::load(name).map_err(|e| e.to_string())?;
-        let line = m.serial_line().ok_or_else(|| {
-            format!(
-                "{name} ({}) takes its job as a file (connection = \"{}\"), not over a serial port: send it with the machine's own software",
-                m.name, m.connection
-            )
-        })?;
-        let language = Language::from_protocol(m.protocol).ok_or_else(|| {
-            format!(
-                "{name} ({}) speaks {}, which is a file for its own software, not a stream",
-                m.name, m.protocol
-            )
-        })?;
-        Ok(LineSettings {
-            source: format!("{source} {name} ({})", m.name),
-            language,
-            device: line.device,
-            baud: line.baud,
-            flow: line.flow_control,
-            buffer: line.buffer_bytes,
-        })
-    }
-
-    /// The machine a `crease fab` folder was made for, from its report.json: `None` when
-    /// there is no report or it predates reports naming their line settings.
-    fn from_report(folder: &Path) -> Result<Option<LineSettings>, String> {
-        let path = folder.join("report.json");
-        let Ok(text) = std::fs::read_to_string(&path) else {
-            return Ok(None);
-        };
-        let bad = |why: &str| format!("{}: {why}; name the machine with --machine", path.display());
-        let json: serde_json::Value =
-            serde_json::from_str(&text).map_err(|e| bad(&format!("not JSON ({e})")))?;
-        // A report of another shape was made before reports named their line.
-        let Ok(report) = serde_json::from_value::<crease::pipeline::FabReport>(json) else {
-            return Ok(None);
-        };
-        let sheet = &report.sheet;
-        let machine = sheet.machine.as_str();
-        let Some(plotter) = &sheet.plotter else {
-            return match &sheet.job_files {
-                // Made before reports named their line.
-                None => Ok(None),
-                Some(files) if files.is_empty() => Err(format!(
-                    "{}: made for {machine}, which takes sheet.dxf or sheet.svg in its own software; there is no cutter job to stream",
-                    folder.display()
-                )),
-                Some(files) => Err(format!(
-                    "{}: made for {machine}, which takes {} as a file (it is not on a serial port); send it with the cutter's software",
-                    folder.display(),
-                    files.join(" and ")
-                )),
-            };
-        };
-        let protocol = plotter.protocol;
-        let language = Language::from_protocol(protocol).ok_or_else(|| {
-            bad(&format!(
-                "made for {machine}, whose protocol \"{protocol}\" is not streamed"
-            ))
-        })?;
-        Ok(Some(LineSettings {
-            source: format!("the job's machine ({machine}, from report.json)"),
-            language,
-            device: plotter.connection == crease::machine::Connection::Usb,
-            baud: plotter.baud,
-            flow: plotter.flow_control,
-            buffer: plotter.buffer_bytes,
-        }))
-    }
-}
-
-/// The job file, its text, and the line it goes over: `--machine` if given, else the
-/// machine the job was made for, else generic-hpgl.
-fn open_job(
-    job: PathBuf,
-    machine: Option<&str>,
-) -> Result<(PathBuf, String, LineSettings), String> {
-    let folder = if job.is_dir() {
-        job.clone()
-    } else {
-        job.parent().unwrap_or(Path::new(".")).to_path_buf()
-    };
-    // The machine first: a folder made for a GP-GL cutter or a laser has no sheet.hpgl,
-    // and saying so beats "file not found".
-    let settings = match machine {
-        Some(name) => LineSettings::from_profile(name, "--machine")?,
-        None => match LineSettings::from_report(&folder)? {
-            Some(s) => s,
-            None if job.extension().is_some_and(|e| e == "gpgl") => {
-                LineSettings::from_profile("graphtec-ce", "the default GP-GL machine")?
-            }
-            None => LineSettings::from_profile("generic-hpgl", "the default machine")?,
-        },
-    };
-    let (name, extension) = match settings.language {
-        Language::Hpgl => ("HP-GL", "hpgl"),
-        Language::Gpgl => ("GP-GL", "gpgl"),
-    };
-    let job_path = if job.is_dir() {
-        job.join(format!("sheet.{extension}"))
-    } else {
-        job
-    };
-    let other = if extension == "hpgl" { "gpgl" } else { "hpgl" };
-    let made_for_other = job_path
-        .file_name()
-        .is_some_and(|f| f == format!("sheet.{extension}").as_str())
-        && !job_path.exists()
-        && folder.join(format!("sheet.{other}")).exists();
-    if made_for_other {
-        return Err(format!(
-            "{}: the folder holds sheet.{other}, a job for a machine that does not speak {name} as {} does; name that machine with --machine, or make a job for this one with `crease fab --machine`",
-            folder.display(),
-            settings.source
-        ));
-    }
-    if job_path.extension().is_some_and(|e| e == other) {
-        return Err(format!(
-            "{}: a .{other} job, but {} speaks {name}; name a machine that speaks it with --machine",
-            job_path.display(),
-            settings.source
-        ));
-    }
-    let bytes = crease::io::read_file_bytes(&job_path, crease::limits::MAX_FILE_BYTES)
-        .map_err(|e| e.to_string())?;
-    let text = String::from_utf8(bytes)
-        .map_err(|_| format!("{}: not an {name} text file", job_path.display()))?;
-    Ok((job_path, text, settings))
-}
-
-/// What the job draws, read back as the machine will: a file the reader cannot read is
-/// named with one short line of what it met, and a job that draws nothing is refused.
-fn pen_path(
-    text: &str,
-    language: Language,
-    job_path: &Path,
-) -> Result<crease::output::hpgl::PenPath, String> {
-    let path = match language {
-        Language::Hpgl => crease::output::hpgl::interpret(text),
-        Language::Gpgl => crease::output::gpgl::interpret(text),
-    }
-    .map_err(|e| {
-        // The reader quotes what it could not read: one line of it, cut short.
-        let first: String = e
-            .to_string()
-            .lines()
-            .next()
-            .unwrap_or("")
-            .chars()
-            .take(100)
-            .collect();
-        format!(
-            "{}: not a job this machine reads: {first}",
-            job_path.display()
-        )
-    })?;
-    if path.segments.is_empty() {
-        return Err(format!(
-            "{}: an empty job (no pen-down stroke): nothing to plot; make one with `crease fab`",
-            job_path.display()
-        ));
-    }
-    Ok(path)
-}
-
 /// `crease plot`: stream an HP-GL or GP-GL job to a port.
 pub fn plot(args: PlotArgs) -> Result<u8, String> {
     use crease::plotter::{stream, FlowMode, StreamOptions};
-    let (job_path, text, line) = open_job(args.job, args.machine.as_deref())?;
-    let path = pen_path(&text, line.language, &job_path)?;
+    let plot_job::PlotJob {
+        path: job_path,
+        text,
+        line,
+    } = plot_job::open_job(args.job, args.machine.as_deref())?;
+    let path = plot_job::pen_path(&text, line.language, &job_path)?;
     let baud = args.baud.unwrap_or(line.baud);
     if line.device && (args.baud.is_some() || args.flow.is_some()) {
         return Err(format!(
@@ -346,7 +173,7 @@ struct Plan<'a> {
 }
 
 /// What `--dry-run` says: the job's size and how it would go to the port.
-fn dry_run_summary(plan: &Plan, line: &LineSettings) -> String {
+fn dry_run_summary(plan: &Plan, line: &JobLine) -> String {
     let verb = if plan.resume { "resume" } else { "send" };
     if line.device {
         format!(
@@ -363,7 +190,7 @@ fn dry_run_summary(plan: &Plan, line: &LineSettings) -> String {
             plan.job.display(),
             plan.bytes,
             plan.segments,
-            plan.bytes as f64 / crease::machine::line_bytes_per_second(false, plan.baud),
+            line.seconds_for(plan.bytes, plan.baud),
             plan.baud,
             plan.port.display(),
             plan.flow,
@@ -376,22 +203,12 @@ fn dry_run_summary(plan: &Plan, line: &LineSettings) -> String {
 /// After the front job of a two-sided `fab` folder, what the maker does next: turn the
 /// sheet and plot the back job (whose first strokes re-cut the registration crosses).
 fn back_side_next(job_path: &Path, port: &Path) -> Option<String> {
-    let name = job_path.file_name()?.to_str()?;
-    let extension = name.strip_prefix("sheet.")?;
-    let folder = job_path.parent()?;
-    let text = std::fs::read_to_string(folder.join("report.json")).ok()?;
-    crease::pipeline::FabReport::from_text(&text)
-        .ok()?
-        .sheet
-        .two_sided?;
-    let back = folder.join(format!("sheet-back.{extension}"));
-    back.is_file().then(|| {
-        format!(
-            "two-sided job, front done: turn the sheet over left to right (the top stays at the top), load it against the same corner, then run `crease plot {} --port {}`; its first strokes cut the registration crosses again and must run in the front's slits",
-            back.display(),
-            port.display()
-        )
-    })
+    let back = plot_job::back_side_job(job_path)?;
+    Some(format!(
+        "two-sided job, front done: turn the sheet over left to right (the top stays at the top), load it against the same corner, then run `crease plot {} --port {}`; its first strokes cut the registration crosses again and must run in the front's slits",
+        back.display(),
+        port.display()
+    ))
 }
 
 /// Streams the job with a progress bar of confirmed bytes; exit 1 (journal kept) when the

@@ -10,6 +10,7 @@ mod fit;
 mod guide;
 mod motion;
 mod path;
+pub mod plot_job;
 mod report_json;
 mod script;
 mod tube;
