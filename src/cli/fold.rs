@@ -2,10 +2,9 @@
 //! or (`--flat`) its flat-folded state with the layer order.
 
 use super::{design_failure, progress_bar, Remedy};
-use crease::fab::{flat_folded, layer_order, LayerOrder};
 use crease::io;
-use crease::mesh::{Mesh, Vec3};
-use crease::pipeline::{run_design, DesignJob};
+use crease::mesh::Mesh;
+use crease::pipeline::{run_design, DesignJob, FoldRefusal};
 use crease::solver::Mode;
 use std::path::PathBuf;
 
@@ -65,31 +64,18 @@ pub fn fold(args: FoldArgs) -> Result<u8, String> {
             return design_failure(e, &file, &remedies);
         }
     };
-    // A fold that reached almost none of what was asked is a failure, not a file: a
-    // pattern without folded creases, or one held flat by its --fix vertices.
-    if let Some(f) = outcome
-        .fold
-        .as_ref()
-        .filter(|f| amount > 0.0 && f.mean_fraction < 0.01 * amount)
-    {
-        eprintln!(
-            "error: the fold got nowhere: {:.1}% of the target angles where {:.0}% was asked (no crease with a target to fold, or --fix holds it flat); nothing was written",
-            100.0 * f.mean_fraction,
-            100.0 * amount
-        );
-        return Ok(1);
-    }
-    // Rigid panels keep neighbours from swinging through each other (§2.4), not a sheet
-    // rolled far enough to close through itself elsewhere: that state cannot be folded.
-    let crossings = crease::fab::self_intersections(&outcome.mesh);
-    if let (Some(first), false) = (crossings.first(), force) {
-        eprintln!(
-            "error: at this amount the sheet passes through itself: {} pairs of faces cross (faces {} and {} first); fold less, or --force to write it anyway; nothing was written",
-            crossings.len(),
-            first.faces.0,
-            first.faces.1
-        );
-        return Ok(1);
+    match crease::pipeline::fold_refusal(&outcome, amount) {
+        Some(why @ FoldRefusal::GotNowhere { .. }) => {
+            eprintln!("error: {why} (no crease with a target to fold, or --fix holds it flat); nothing was written");
+            return Ok(1);
+        }
+        Some(why @ FoldRefusal::PassesThrough { .. }) if !force => {
+            eprintln!(
+                "error: {why}; fold less, or --force to write it anyway; nothing was written"
+            );
+            return Ok(1);
+        }
+        _ => {}
     }
     io::write(&outcome.mesh, &output).map_err(|e| e.to_string())?;
     if let Some(f) = outcome.fold {
@@ -105,56 +91,26 @@ pub fn fold(args: FoldArgs) -> Result<u8, String> {
 }
 
 /// The flat-folded state as a FOLD folded form (z = 0, layers in `faceOrders`) beside
-/// the crease pattern.
-fn fold_flat(
-    mut mesh: Mesh,
-    file: &std::path::Path,
-    output: &std::path::Path,
-) -> Result<u8, String> {
+/// the crease pattern ([`crease::pipeline::flat_folded_file`]).
+fn fold_flat(mesh: Mesh, file: &std::path::Path, output: &std::path::Path) -> Result<u8, String> {
     let name = file.display();
-    // A pattern of unassigned creases folds flat with the sides a layer order gives them.
     let budget = crease::fab::Budget::search(crease::limits::DEFAULT_SEARCH_TIME);
-    match crease::pipeline::with_sides_found(mesh, &budget) {
-        Ok((assigned, note)) => {
-            if let Some(note) = note {
-                eprintln!("note: {name}: {note}");
-            }
-            mesh = assigned;
-        }
+    let flat = match crease::pipeline::flat_folded_file(mesh, &budget) {
+        Ok(flat) => flat,
         Err(e) => {
             eprintln!("error: {name}: {e}; nothing was written");
             return Ok(e.exit_code());
         }
-    }
-    let folded = flat_folded(&mesh, None).map_err(|e| format!("{name}: {e}"))?;
-    let orders = match layer_order(&mesh).map_err(|e| format!("{name}: {e}"))? {
-        LayerOrder::Found(orders) => orders,
-        LayerOrder::Conflict(c) => {
-            eprintln!("error: {name} has no layer order: {c}; nothing was written");
-            return Ok(1);
-        }
     };
-    mesh.crease_pattern()
-        .ok_or(format!("{name}: no crease pattern"))?;
-    let positions = folded
-        .vertex_images(mesh.faces(), mesh.vertex_count())
-        .into_iter()
-        .map(|p| Vec3::new(p.x, p.y, 0.0))
-        .collect();
-    mesh.set_positions(positions);
-    // Folded flat, each crease that reaches ±π is at it and every other line is flat:
-    // the file's angles describe the state it draws, not the design it came from.
-    for edge in mesh.edges_mut() {
-        let folded = crease::fab::layers::folds_completely(edge);
-        edge.fold_angle = if folded { edge.target } else { 0.0 };
+    if let Some(note) = &flat.note {
+        eprintln!("note: {name}: {note}");
     }
-    mesh.source = None;
-    let text = io::fold::to_string_with_orders(&mesh, Some(&orders));
+    let text = io::fold::to_string_with_orders(&flat.mesh, Some(&flat.orders));
     io::write_atomic(output, text.as_bytes()).map_err(|e| e.to_string())?;
     eprintln!(
         "folded flat: {} faces, {} overlapping pairs ordered; wrote {}",
-        mesh.faces().len(),
-        orders.len(),
+        flat.mesh.faces().len(),
+        flat.orders.len(),
         output.display()
     );
     Ok(0)

@@ -7,6 +7,7 @@ mod fab_options;
 mod fab_report;
 mod fabricate;
 mod fit;
+mod fold_job;
 mod guide;
 mod motion;
 mod path;
@@ -25,6 +26,9 @@ pub use fabricate::{
     OUTPUT_FILES,
 };
 pub use fit::{BlockedBy, ConditionResidual, Distances, FitReport, FitStage, PlacementRecord};
+pub use fold_job::{
+    flat_folded_file, fold_refusal, FlatFoldError, FlatFoldedFile, FoldRefusal, GOT_NOWHERE,
+};
 pub use motion::{
     fold_motion, fold_motion_on, motion_files, out_of_plane, panels, Motion, MotionFormat,
     PanelBending, MAX_FRAME_VERTICES, RIGID_PANEL_MM,
