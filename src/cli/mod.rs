@@ -63,17 +63,7 @@ pub struct GenerateArgs {
 
 impl GenerateArgs {
     pub fn params(&self) -> Result<generate::Params, String> {
-        let kind = generate::PatternKind::from_name(&self.pattern).ok_or_else(|| {
-            let names: Vec<&str> = generate::PatternKind::ALL
-                .iter()
-                .map(|k| k.name())
-                .collect();
-            format!(
-                "unknown pattern \"{}\" (choose one of: {})",
-                self.pattern,
-                names.join(", ")
-            )
-        })?;
+        let kind = generate::PatternKind::parse(&self.pattern)?;
         if self.flat && kind.is_tube() {
             return Err(format!(
                 "{} is a tube: it is generated closed and has no flat state of its own (`crease fab` lays out its strip); drop --flat",

@@ -217,6 +217,16 @@ impl Report {
         self.families.iter().find(|f| f.gating && !f.pass())
     }
 
+    /// The judged family furthest from holding, measured against its own tolerance, with
+    /// the element where it is worst: what a picture of the design marks first.
+    pub fn worst_family(&self) -> Option<(&FamilyReport, Element)> {
+        self.families
+            .iter()
+            .filter(|f| f.gating && f.max > 0.0)
+            .max_by(|a, b| (a.max / a.tolerance).total_cmp(&(b.max / b.tolerance)))
+            .and_then(|f| f.worst_element.map(|e| (f, e)))
+    }
+
     /// `{"pass": bool, "families": {NAME: {"max", "rms", "worst", "violations"}}}`.
     pub fn to_json(&self) -> Value {
         let families: serde_json::Map<String, Value> = self

@@ -89,6 +89,18 @@ impl PatternKind {
         PatternKind::ALL.into_iter().find(|k| k.name() == name)
     }
 
+    /// Looks a kind up by name; the refusal names every pattern there is.
+    pub fn parse(name: &str) -> Result<PatternKind, String> {
+        PatternKind::from_name(name).ok_or_else(|| {
+            let names: Vec<&str> = PatternKind::ALL.iter().map(|k| k.name()).collect();
+            format!(
+                "unknown pattern \"{}\" (choose one of: {})",
+                crate::limits::short_text(name),
+                names.join(", ")
+            )
+        })
+    }
+
     /// Whether the generator has a closed-form 3D state that a fold amount chooses.
     pub fn has_closed_form_3d(self) -> bool {
         !matches!(

@@ -321,17 +321,10 @@ pub fn live_json(l: &Live) -> String {
                            "pass": f.pass(), "judged": f.gating, "worst": f.worst})
                 })
                 .collect();
-            let worst = r
-                .families
-                .iter()
-                .filter(|f| f.gating && f.max > 0.0)
-                .max_by(|a, b| (a.max / a.tolerance).total_cmp(&(b.max / b.tolerance)))
-                .and_then(|f| {
-                    f.worst_element.map(|e| {
-                        json!({"family": f.name, "element": element_json(e),
-                               "max": f.max, "pass": f.pass()})
-                    })
-                });
+            let worst = r.worst_family().map(|(f, e)| {
+                json!({"family": f.name, "element": element_json(e),
+                       "max": f.max, "pass": f.pass()})
+            });
             let verdict = r.verdict();
             (
                 Value::Array(families),

@@ -142,6 +142,18 @@ impl TriSurface {
         (sum / area, area)
     }
 
+    /// The surface placed as a person turns it: `offset` mm along its normals, turned by
+    /// `turn_degrees` about x, then y, then z (each about the fixed axes), shifted by
+    /// `shift` ([`TriSurface::moved`]).
+    pub fn placed(&self, offset: f64, turn_degrees: [f64; 3], shift: Vec3) -> TriSurface {
+        use nalgebra::Rotation3;
+        let r = turn_degrees.map(f64::to_radians);
+        let rotation = Rotation3::from_axis_angle(&Vec3::z_axis(), r[2])
+            * Rotation3::from_axis_angle(&Vec3::y_axis(), r[1])
+            * Rotation3::from_axis_angle(&Vec3::x_axis(), r[0]);
+        self.moved(offset, rotation.matrix(), shift)
+    }
+
     /// The surface moved: each vertex first `offset` mm along its normal (the area-weighted
     /// mean of its triangles'), then turned by `rotation` about the area centroid and
     /// shifted by `shift`. The studio places a loaded target with it.
@@ -184,5 +196,38 @@ impl TriSurface {
             let _ = writeln!(s, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
         }
         s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{TriSurface, Vec3};
+
+    #[test]
+    fn a_placed_surface_turns_about_x_then_y_then_z_around_its_centroid() {
+        // A flat square centred on the origin. Corner (1, 0, 0): 90° about x keeps it,
+        // 90° about y sends it to (0, 0, -1), 90° about z leaves it there. Corner
+        // (0, 1, 0): about x to (0, 0, 1), about y to (1, 0, 0), about z to (0, 1, 0).
+        // The shift moves every vertex by itself.
+        let square = TriSurface::new(
+            vec![
+                Vec3::new(1.0, 0.0, 0.0),
+                Vec3::new(0.0, 1.0, 0.0),
+                Vec3::new(-1.0, 0.0, 0.0),
+                Vec3::new(0.0, -1.0, 0.0),
+            ],
+            vec![[0, 1, 2], [0, 2, 3]],
+        )
+        .unwrap();
+        let shift = Vec3::new(5.0, -2.0, 7.0);
+        let placed = square.placed(0.0, [90.0, 90.0, 90.0], shift);
+        let expect = [Vec3::new(0.0, 0.0, -1.0), Vec3::new(0.0, 1.0, 0.0)];
+        for (v, want) in expect.iter().enumerate() {
+            let got = placed.vertices()[v] - shift;
+            assert!((got - want).norm() < 1e-12, "vertex {v}: {got:?}");
+        }
+        // Lengths are kept: a placement is rigid.
+        let side = |s: &TriSurface| (s.vertices()[0] - s.vertices()[1]).norm();
+        assert!((side(&placed) - side(&square)).abs() < 1e-12);
     }
 }

@@ -967,3 +967,16 @@ fn the_deform_help_recipes_run_as_printed_and_keep_their_outline() {
     );
     let _ = std::fs::remove_dir_all(dir);
 }
+
+#[test]
+fn an_unknown_pattern_is_refused_naming_every_pattern_there_is() {
+    // One refusal for the command line and the studio (PatternKind::parse).
+    let out = std::env::temp_dir().join("crease-unknown-pattern.fold");
+    let (code, _, err) = run_crease(&["generate", "origami", "-o", out.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("unknown pattern \"origami\""), "{err}");
+    for kind in crease::generate::PatternKind::ALL {
+        assert!(err.contains(kind.name()), "{}: {err}", kind.name());
+    }
+    assert!(!out.exists());
+}

@@ -133,14 +133,7 @@ impl Session {
     }
 
     pub(super) fn generate(&mut self, g: GenerateRequest) -> Result<Reply, Refusal> {
-        let kind = PatternKind::from_name(&g.pattern).ok_or_else(|| {
-            let names: Vec<&str> = PatternKind::ALL.iter().map(|k| k.name()).collect();
-            Refusal::bad(format!(
-                "unknown pattern \"{}\" (choose one of: {})",
-                g.pattern,
-                names.join(", ")
-            ))
-        })?;
+        let kind = PatternKind::parse(&g.pattern).map_err(Refusal::bad)?;
         let d = Params::defaults(kind);
         let p = Params {
             kind,

@@ -14,7 +14,6 @@ use crate::mesh::Vec3;
 use crate::pipeline;
 use crate::solver::{Options, Solver};
 use crate::surface::TriSurface;
-use nalgebra::Rotation3;
 use std::sync::Arc;
 
 /// A target surface as loaded and as placed.
@@ -115,13 +114,9 @@ impl Session {
                 limits::short(most)
             )));
         }
-        let r = turn.map(f64::to_radians);
-        let rotation = Rotation3::from_axis_angle(&Vec3::z_axis(), r[2])
-            * Rotation3::from_axis_angle(&Vec3::y_axis(), r[1])
-            * Rotation3::from_axis_angle(&Vec3::x_axis(), r[0]);
-        target.placed = Arc::new(target.loaded.moved(
+        target.placed = Arc::new(target.loaded.placed(
             offset,
-            rotation.matrix(),
+            turn,
             Vec3::new(shift[0], shift[1], shift[2]),
         ));
         target.placement = p;
