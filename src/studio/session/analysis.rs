@@ -104,8 +104,21 @@ impl Analyst {
         std::thread::Builder::new()
             .name("studio-analysis".into())
             .spawn(move || {
+                // The analysis's parallel parts (the layer order's triples) get every core
+                // but one, which stays with the session thread: the page is answered while
+                // a large design is judged.
+                let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(cores.saturating_sub(1).max(1))
+                    .thread_name(|i| format!("studio-analysis-{i}"))
+                    .build()
+                    .ok();
                 for (job, cancel) in inbox {
-                    if outbox.send(analyse(job, cancel)).is_err() {
+                    let analysis = match &pool {
+                        Some(pool) => pool.install(|| analyse(job, cancel)),
+                        None => analyse(job, cancel),
+                    };
+                    if outbox.send(analysis).is_err() {
                         return;
                     }
                 }
