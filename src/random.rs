@@ -1,5 +1,5 @@
 //! One seeded pseudo-random stream (Marsaglia's xorshift64, shifts 13, 7, 17) for
-//! reproducible choices: the routing's kicks ([`crate::fab::route`]) and the brute-force
+//! reproducible choices: the routing's kicks ([`mod@crate::fab::route`]) and the brute-force
 //! and property tests draw from it, so a failing case is replayed by its seed and no
 //! module carries a generator of its own.
 
