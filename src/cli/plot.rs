@@ -78,30 +78,14 @@ pub struct EmulateArgs {
 
 /// `crease plot`: stream an HP-GL or GP-GL job to a port.
 pub fn plot(args: PlotArgs) -> Result<u8, String> {
-    use crease::plotter::{stream, FlowMode, StreamOptions};
+    use crease::plotter::{stream, StreamOptions};
     let plot_job::PlotJob {
         path: job_path,
         text,
         line,
     } = plot_job::open_job(args.job, args.machine.as_deref())?;
     let path = plot_job::pen_path(&text, line.language, &job_path)?;
-    let baud = args.baud.unwrap_or(line.baud);
-    if line.device && (args.baud.is_some() || args.flow.is_some()) {
-        return Err(format!(
-            "--baud and --flow are for serial ports; {} is a USB device node ({}), which has neither",
-            args.port.display(),
-            line.source
-        ));
-    }
-    if !line.device {
-        crease::limits::BAUD
-            .check_count("--baud", baud as u64)
-            .map_err(|e| e.to_string())?;
-    }
-    let flow = match args.flow.as_deref() {
-        Some(name) => FlowMode::parse(name)?,
-        None => line.flow,
-    };
+    let (baud, flow) = line_speed_and_flow(args.baud, args.flow.as_deref(), &args.port, &line)?;
     let unfinished = stream::unfinished(text.as_bytes(), &job_path);
     if let (Some(j), false, false) = (&unfinished, args.resume, args.restart) {
         return Err(format!(
@@ -159,6 +143,34 @@ pub fn plot(args: PlotArgs) -> Result<u8, String> {
         }
     }
     Ok(code)
+}
+
+/// The line's speed and flow control: `--baud` and `--flow` where given (a serial port
+/// only), else the machine's.
+fn line_speed_and_flow(
+    given_baud: Option<u32>,
+    given_flow: Option<&str>,
+    port: &Path,
+    line: &JobLine,
+) -> Result<(u32, crease::plotter::FlowMode), String> {
+    let baud = given_baud.unwrap_or(line.baud);
+    if line.device && (given_baud.is_some() || given_flow.is_some()) {
+        return Err(format!(
+            "--baud and --flow are for serial ports; {} is a USB device node ({}), which has neither",
+            port.display(),
+            line.source
+        ));
+    }
+    if !line.device {
+        crease::limits::BAUD
+            .check_count("--baud", baud as u64)
+            .map_err(|e| e.to_string())?;
+    }
+    let flow = match given_flow {
+        Some(name) => crease::plotter::FlowMode::parse(name)?,
+        None => line.flow,
+    };
+    Ok((baud, flow))
 }
 
 /// The job `plot` is about to send, as `--dry-run` describes it.

@@ -373,11 +373,6 @@ impl Machine {
         Ok(())
     }
 
-    /// The print-and-cut marks the machine finds, if its profile names them.
-    pub fn mark_family(&self) -> Option<MarkFamily> {
-        self.print_and_cut
-    }
-
     /// Silhouette marks are found by a GP-GL job; Cricut's by Design Space, from SVG.
     fn check_print_and_cut(&self) -> Result<(), String> {
         let Some(family) = self.print_and_cut else {

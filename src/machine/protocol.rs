@@ -90,17 +90,23 @@ pub enum FlowMode {
 }
 
 impl FlowMode {
-    /// Parses xonxoff, rtscts, query, none.
+    /// Every mode, in the order messages list them.
+    pub const ALL: [FlowMode; 4] = [
+        FlowMode::XonXoff,
+        FlowMode::RtsCts,
+        FlowMode::Query,
+        FlowMode::None,
+    ];
+
+    /// Parses a mode by its [`FlowMode::name`] (`--flow`), naming them all if it is none.
     pub fn parse(s: &str) -> Result<FlowMode, String> {
-        match s {
-            "xonxoff" => Ok(FlowMode::XonXoff),
-            "rtscts" => Ok(FlowMode::RtsCts),
-            "query" => Ok(FlowMode::Query),
-            "none" => Ok(FlowMode::None),
-            _ => Err(format!(
-                "unknown flow control \"{s}\" (xonxoff, rtscts, query, none)"
-            )),
-        }
+        FlowMode::ALL
+            .into_iter()
+            .find(|f| f.name() == s)
+            .ok_or_else(|| {
+                let names: Vec<&str> = FlowMode::ALL.iter().map(|f| f.name()).collect();
+                format!("unknown flow control \"{s}\" ({})", names.join(", "))
+            })
     }
 
     /// The name a profile writes.

@@ -592,7 +592,7 @@ fn print_layout(
     if !options.print_and_cut {
         return Ok(None);
     }
-    let family = machine.mark_family().ok_or_else(|| {
+    let family = machine.print_and_cut.ok_or_else(|| {
         FabError::Input(format!(
             "{} finds no print-and-cut marks (its profile has no print_and_cut key): use --machine silhouette-cameo or cricut-maker",
             machine.name
