@@ -1,5 +1,6 @@
-//! Fabrication: verify a design before anything is cut, unfold it, lay it out on the media,
-//! score it with dash codes and order the cuts.
+//! Fabrication: verify a design before anything is cut (its crease pattern comes from
+//! [`crate::geometry::unfold`]), lay it out on the media, score it with dash codes and
+//! order the cuts.
 
 pub mod assign;
 pub mod budget;
@@ -37,7 +38,6 @@ pub use layout::{layout, LayoutError, Media, Sheet, SheetLabel, Sizing};
 pub use lines::{crease_lines, smooth_creases, CreaseLine, LineKind, SmoothCrease};
 pub use route::{route, route_with, RouteSearch};
 
-pub use crate::geometry::unfold::{check_overlap, unfold, unfold_tube, UnfoldError};
 pub use score::{score, score_lines};
 pub use toolpath::{dashes, DashCode, ScoreSettings, ShortFolds, Stroke, ToolSetting, Toolpath};
 pub use verify::{

@@ -4,6 +4,7 @@
 //! turned and moved onto the previous crease pattern when one is known.
 
 use crate::mesh::{Mesh, SeamError, Strip, Vec2};
+use std::borrow::Cow;
 use std::collections::VecDeque;
 
 /// Why a design cannot be unfolded.
@@ -21,6 +22,9 @@ pub enum UnfoldError {
     /// A tube cannot be cut open along its seam.
     #[error(transparent)]
     Seam(#[from] SeamError),
+    /// A tube has no crease pattern of its own: its strip, cut open along the seam, has.
+    #[error("a tube has no crease pattern of its own: cut it open along its seam into its strip")]
+    Tube,
 }
 
 /// Checks that no two faces of a flat layout cover the same paper (interiors overlapping by
@@ -176,6 +180,47 @@ pub fn unfold_tube(tube: &Mesh) -> Result<Strip, UnfoldError> {
     Ok(strip)
 }
 
+/// Which of a design's two forms its crease pattern is taken from when it has both.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PatternFrom {
+    /// The stored crease pattern: simulation mode keeps every length, so it still
+    /// describes the 3D form, and it is the file's own drawing.
+    Stored,
+    /// The 3D form unfolded (and moved onto the stored pattern): design mode changed
+    /// lengths, or the sheet must fold into exactly this form (what `fab` cuts).
+    Form,
+}
+
+/// The crease pattern of a design (mm), decided here and nowhere else: a design with no
+/// 3D form is its crease pattern; otherwise the stored one or the 3D form unfolded, as
+/// `from` says (the form when nothing is stored). A tube has none of its own: its strip
+/// ([`sheet_of`]) has.
+pub fn crease_pattern_of(mesh: &Mesh, from: PatternFrom) -> Result<Cow<'_, [Vec2]>, UnfoldError> {
+    if mesh.is_tube() {
+        return Err(UnfoldError::Tube);
+    }
+    match mesh.crease_pattern() {
+        Some(stored) if !mesh.has_3d() || from == PatternFrom::Stored => Ok(Cow::Borrowed(stored)),
+        _ => Ok(Cow::Owned(unfold(mesh)?)),
+    }
+}
+
+/// The sheet a design is made from, with its crease pattern ([`crease_pattern_of`]): the
+/// design itself, or for a tube the strip it is cut open to along its seam.
+pub fn sheet_of(design: &Mesh, from: PatternFrom) -> Result<Cow<'_, Mesh>, UnfoldError> {
+    if design.is_tube() {
+        return Ok(Cow::Owned(unfold_tube(design)?.sheet));
+    }
+    match crease_pattern_of(design, from)? {
+        Cow::Borrowed(_) => Ok(Cow::Borrowed(design)),
+        Cow::Owned(pattern) => {
+            let mut sheet = design.clone();
+            sheet.set_crease_pattern(pattern);
+            Ok(Cow::Owned(sheet))
+        }
+    }
+}
+
 /// The third corner of a counter-clockwise triangle on base p→q with sides |pr|, |qr|.
 fn apex(p: Vec2, q: Vec2, pr: f64, qr: f64) -> Vec2 {
     let base = q - p;
@@ -202,5 +247,80 @@ fn align(flat: &mut [Vec2], target: &[Vec2]) {
     for p in flat.iter_mut() {
         let u = *p - ca;
         *p = cb + Vec2::new(cs * u.x - sn * u.y, sn * u.x + cs * u.y);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::Vec3;
+
+    fn design(file: &str) -> Mesh {
+        crate::io::fold::parse(file).expect("a bundled pattern parses")
+    }
+
+    /// The longest difference between a layout's edge lengths and the 3D form's, mm.
+    fn length_error(mesh: &Mesh, pattern: &[Vec2]) -> f64 {
+        mesh.edges()
+            .iter()
+            .map(|e| {
+                let [a, b] = e.vertices;
+                let l3 = (mesh.positions()[a] - mesh.positions()[b]).norm();
+                ((pattern[a] - pattern[b]).norm() - l3).abs()
+            })
+            .fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn a_crease_pattern_alone_is_the_pattern_whichever_form_is_asked() {
+        let cp = design(include_str!("../../patterns/bird-base.fold"));
+        assert!(!cp.has_3d());
+        for from in [PatternFrom::Stored, PatternFrom::Form] {
+            let got = crease_pattern_of(&cp, from).unwrap();
+            assert!(
+                matches!(got, Cow::Borrowed(_)),
+                "{from:?} unfolded a flat file"
+            );
+            assert_eq!(&*got, cp.crease_pattern().unwrap());
+        }
+    }
+
+    #[test]
+    fn a_stale_stored_pattern_is_kept_only_when_asked_for() {
+        // A folded design whose 3D form is then scaled by 10% (still developable): the
+        // stored pattern no longer has the form's lengths.
+        let mut folded = design(include_str!("../../patterns/miura-bent.fold"));
+        assert!(folded.has_3d() && folded.crease_pattern().is_some());
+        let stretched: Vec<Vec3> = folded.positions().iter().map(|p| 1.1 * p).collect();
+        folded.set_positions(stretched);
+        let stored = crease_pattern_of(&folded, PatternFrom::Stored).unwrap();
+        assert_eq!(&*stored, folded.crease_pattern().unwrap());
+        assert!(
+            length_error(&folded, &stored) > 0.5,
+            "the stretch changed no length"
+        );
+        let form = crease_pattern_of(&folded, PatternFrom::Form).unwrap();
+        assert!(matches!(form, Cow::Owned(_)));
+        let error = length_error(&folded, &form);
+        assert!(
+            error < 1e-9,
+            "the unfolded form is off its lengths by {error:e} mm"
+        );
+    }
+
+    #[test]
+    fn a_tube_has_no_pattern_of_its_own_and_its_sheet_is_its_strip() {
+        let tube = design(include_str!("../../patterns/waterbomb-tube.fold"));
+        assert!(tube.is_tube());
+        assert!(matches!(
+            crease_pattern_of(&tube, PatternFrom::Stored),
+            Err(UnfoldError::Tube)
+        ));
+        let sheet = sheet_of(&tube, PatternFrom::Stored).unwrap();
+        assert!(!sheet.is_tube());
+        let pattern = sheet.crease_pattern().expect("the strip has its pattern");
+        // Cut open along the seam: more vertices, every edge at its 3D length.
+        assert!(sheet.vertex_count() > tube.vertex_count());
+        assert!(length_error(&sheet, pattern) < 1e-9);
     }
 }

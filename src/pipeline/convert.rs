@@ -4,9 +4,11 @@
 //! with `assign`, a pattern of unassigned creases is written with the sides a layer
 //! order gives them.
 
-use crate::fab::{Budget, LayerConflict, LayerError, LayerOrder, SideSearch, UnfoldError};
+use crate::fab::{Budget, LayerConflict, LayerError, LayerOrder, SideSearch};
+use crate::geometry::unfold::{sheet_of, PatternFrom, UnfoldError};
 use crate::io::Format;
 use crate::mesh::Mesh;
+use std::borrow::Cow;
 
 /// What to write, and what changed on the way.
 #[derive(Debug)]
@@ -70,18 +72,20 @@ pub fn crease_pattern_first(mesh: Mesh) -> Result<String, ConvertError> {
     let mesh = if mesh.is_tube() {
         mesh
     } else {
-        with_crease_pattern(mesh).map_err(unfold_3d_only)?
+        into_sheet(mesh).map_err(unfold_3d_only)?
     };
     Ok(crate::io::fold::to_string_crease_pattern_first(&mesh))
 }
 
-/// `mesh` with a crease pattern: its own, or, for a 3D-only design, its 3D form unfolded.
-pub fn with_crease_pattern(mut mesh: Mesh) -> Result<Mesh, UnfoldError> {
-    if mesh.crease_pattern().is_none() {
-        let flat = crate::fab::unfold(&mesh)?;
-        mesh.set_crease_pattern(flat);
-    }
-    Ok(mesh)
+/// `mesh` as the sheet it is made from ([`sheet_of`], the stored crease pattern kept):
+/// itself when it has a crease pattern, a 3D-only design with its form unfolded, a tube
+/// its strip.
+pub fn into_sheet(mesh: Mesh) -> Result<Mesh, UnfoldError> {
+    let made = match sheet_of(&mesh, PatternFrom::Stored)? {
+        Cow::Owned(sheet) => Some(sheet),
+        Cow::Borrowed(_) => None,
+    };
+    Ok(made.unwrap_or(mesh))
 }
 
 /// Why a 3D-only design could not be written with a crease pattern.
@@ -107,21 +111,15 @@ pub fn convert(
         mesh = assigned;
     }
     let flat_format = matches!(format, Format::Svg | Format::Cp);
-    if flat_format && mesh.is_tube() {
-        // A flat format draws a sheet: the tube's strip, its seam's sides cut lines.
-        let strip = crate::fab::unfold_tube(&mesh).map_err(|cause| ConvertError::Unfold {
-            what: "a tube",
-            cause,
-        })?;
-        mesh = strip.sheet;
-        notes.push(
-            "it is a tube; the file draws the strip it is cut from (its seam's two sides are cut lines)"
-                .into(),
-        );
-    }
-    if flat_format && mesh.crease_pattern().is_none() {
-        mesh = with_crease_pattern(mesh).map_err(unfold_3d_only)?;
-        notes.push("it has only a 3D form; its crease pattern is the form unfolded".into());
+    if flat_format {
+        // A flat format draws a sheet: a tube's strip, its seam's sides cut lines.
+        let (what, note) = match (mesh.is_tube(), mesh.crease_pattern()) {
+            (true, _) => ("a tube", Some("it is a tube; the file draws the strip it is cut from (its seam's two sides are cut lines)")),
+            (false, None) => ("a 3D-only design with no crease pattern", Some("it has only a 3D form; its crease pattern is the form unfolded")),
+            (false, Some(_)) => ("", None),
+        };
+        mesh = into_sheet(mesh).map_err(|cause| ConvertError::Unfold { what, cause })?;
+        notes.extend(note.map(String::from));
     }
     let claims_flat = crate::fab::layers::partial_crease(&mesh).is_none();
     let face_orders = if format == Format::Fold && !mesh.has_3d() && claims_flat {

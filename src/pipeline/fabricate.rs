@@ -3,7 +3,7 @@
 use super::fab_options::{FabOptions, TILE_OVERLAP_MM};
 use super::fab_report::Run;
 use super::tube::TubeStrip;
-use crate::fab::unfold;
+use crate::geometry::unfold::{crease_pattern_of, PatternFrom};
 use crate::mesh::Mesh;
 use std::collections::BTreeMap;
 
@@ -112,7 +112,7 @@ pub fn fabricate_verified(
     let (sheet, tiled) = sheet_of(mesh, &flat, tube.as_ref(), &placing)?;
     // After the layout, whose refusal (media too small) is cheap: on a face of thousands
     // of corners this check is the slow part.
-    crate::fab::check_overlap(mesh.faces(), &flat)
+    crate::geometry::unfold::check_overlap(mesh.faces(), &flat)
         .map_err(|e| FabError::Rejected(Rejected(e.to_string())))?;
     let seam = tube.as_ref().map(|t| t.report(&sheet.vertices));
     check_cuttable(&sheet, machine)?;
@@ -520,14 +520,10 @@ fn sizing_of(options: &FabOptions) -> Result<crate::fab::Sizing, FabError> {
 /// edge-length difference between it and the design; a sheet that overlaps itself is
 /// refused.
 fn flatten(mesh: &Mesh) -> Result<(Vec<crate::mesh::Vec2>, f64), FabError> {
-    let rejected = |e: String| FabError::Rejected(Rejected(e));
-    let flat = if mesh.has_3d() {
-        unfold(mesh).map_err(|e| rejected(e.to_string()))?
-    } else {
-        mesh.crease_pattern()
-            .map(<[_]>::to_vec)
-            .unwrap_or_else(|| mesh.positions().iter().map(|p| p.xy()).collect())
-    };
+    // The sheet must fold into exactly the 3D form that was verified.
+    let flat = crease_pattern_of(mesh, PatternFrom::Form)
+        .map_err(|e| FabError::Rejected(Rejected(e.to_string())))?
+        .into_owned();
     let isometry_error = mesh
         .edges()
         .iter()

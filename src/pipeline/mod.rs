@@ -43,12 +43,13 @@ pub use report_json::{
 pub use script::{Script, ScriptFit};
 
 use crate::constraints::{tracked_fold_angle, ConstraintSet, Family, Reference};
-use crate::fab::{unfold, UnfoldError};
+use crate::geometry::unfold::{crease_pattern_of, PatternFrom, UnfoldError};
 use crate::mesh::{Assignment, Mesh, Vec3};
 use crate::solver::{
     fold_toward, run_stage, DragReport, FoldReport, Mode, Options, Solver, SolverError, Stage,
     Stats,
 };
+use std::borrow::Cow;
 use std::path::Path;
 
 /// Why a job failed. `is_input_error` separates bad arguments (exit 2) from solves that
@@ -498,12 +499,11 @@ pub fn layer_order_of_step(solver: &Solver, time: std::time::Duration) -> StepOr
                 .into(),
         );
     }
-    if now.has_3d() {
-        let Ok(flat) = unfold(&now) else {
-            return StepOrder::Kept;
-        };
-        now.set_crease_pattern(flat);
-    }
+    // A design-mode step changes lengths: the pattern is the step's form unfolded.
+    let Ok(pattern) = crease_pattern_of(&now, PatternFrom::Form).map(Cow::into_owned) else {
+        return StepOrder::Kept;
+    };
+    now.set_crease_pattern(pattern);
     let budget = Budget {
         deadline: Some((std::time::Instant::now() + time, time)),
         ..Budget::default()
@@ -558,10 +558,10 @@ pub fn set_alpha(mesh: &mut Mesh, alpha: f64) -> Result<(), PipelineError> {
 pub fn finish_design(mesh: &mut Mesh, relaid: bool) -> Result<(), PipelineError> {
     record_fold_angles(mesh);
     // A tube has no crease pattern of its own: its strip is unfolded when it is written
-    // or cut (`fab::unfold_tube`).
+    // or cut (`geometry::unfold::sheet_of`).
     if relaid && !mesh.is_tube() {
-        let flat = unfold(mesh)?;
-        mesh.set_crease_pattern(flat);
+        let pattern = crease_pattern_of(mesh, PatternFrom::Form)?.into_owned();
+        mesh.set_crease_pattern(pattern);
     }
     Ok(())
 }

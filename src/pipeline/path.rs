@@ -131,22 +131,14 @@ pub fn folding_path(design: &Mesh, progress: Progress) -> Result<PathReport, Pip
 /// has its crease pattern, a 3D-only form with its unfolding, a tube cut open along its
 /// seam into its strip (the seam closes as the strip folds; face numbers are the tube's).
 pub fn foldable_sheet(design: &Mesh) -> Result<std::borrow::Cow<'_, Mesh>, PipelineError> {
-    use std::borrow::Cow;
-    if design.is_tube() {
-        let strip = crate::fab::unfold_tube(design).map_err(|e| {
-            PipelineError::Input(format!("the tube cannot be cut open into its strip: {e}"))
-        })?;
-        return Ok(Cow::Owned(strip.sheet));
-    }
-    if design.crease_pattern().is_some() {
-        return Ok(Cow::Borrowed(design));
-    }
-    let sheet = super::convert::with_crease_pattern(design.clone()).map_err(|e| {
-        PipelineError::Input(format!(
-            "the design has only a 3D form and it cannot be unfolded into a crease pattern: {e}"
-        ))
-    })?;
-    Ok(Cow::Owned(sheet))
+    use crate::geometry::unfold::{sheet_of, PatternFrom};
+    sheet_of(design, PatternFrom::Stored).map_err(|e| {
+        PipelineError::Input(if design.is_tube() {
+            format!("the tube cannot be cut open into its strip: {e}")
+        } else {
+            format!("the design has only a 3D form and it cannot be unfolded into a crease pattern: {e}")
+        })
+    })
 }
 
 /// The path from flat of a design with its crease pattern ([`foldable_sheet`]) in `steps` even steps, calling `frame` with each state the path

@@ -21,7 +21,7 @@ pub(super) fn tube_strip(mesh: &Mesh, tab_mm: f64) -> Result<Option<TubeStrip>, 
     if !mesh.is_tube() {
         return Ok(None);
     }
-    let strip = crate::fab::unfold_tube(mesh).map_err(|e| e.to_string())?;
+    let strip = crate::geometry::unfold::unfold_tube(mesh).map_err(|e| e.to_string())?;
     Ok(Some(TubeStrip { strip, tab_mm }))
 }
 

@@ -475,7 +475,7 @@ fn a_curved_crease_dragged_with_smoothness_stays_smooth_and_without_it_goes_jagg
     assert!(report.pass(), "{report}");
     // No ruling crosses another: unfolded, every face keeps the turning sense it had in
     // the starting crease pattern (crossing rulings fold a face over).
-    let flat = crease::fab::unfold(&smooth).unwrap();
+    let flat = crease::geometry::unfold::unfold(&smooth).unwrap();
     let start_flat = start.crease_pattern().unwrap();
     let orient =
         |p: &[crease::mesh::Vec2], f: [usize; 3]| (p[f[1]] - p[f[0]]).perp(&(p[f[2]] - p[f[0]]));

@@ -45,7 +45,11 @@ fn every_design_fabricates_isometric_clear_of_junctions_and_hpgl_faithful() {
         // A tube is laid out as the strip it is cut open to (tests/fabricate/tubes.rs
         // glues it back): the sheet's vertices are the strip's.
         let mesh = match design.is_tube() {
-            true => crease::fab::unfold_tube(&design).unwrap().sheet,
+            true => {
+                crease::geometry::unfold::unfold_tube(&design)
+                    .unwrap()
+                    .sheet
+            }
             false => design,
         };
         assert!(

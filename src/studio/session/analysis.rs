@@ -7,6 +7,7 @@
 use super::super::frame;
 use crate::constraints::ConstraintSet;
 use crate::fab::{self, Budget, Report, Tolerances};
+use crate::geometry::unfold::{sheet_of, PatternFrom};
 use crate::mesh::Mesh;
 use crate::pipeline;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -70,16 +71,17 @@ fn analyse(job: Job, cancel: Arc<AtomicBool>) -> Analysis {
     let budget = Budget::live(LIVE_BUDGET, cancel, LIVE_ADVICE);
     let report = fab::verify_within(&mesh, Some(&set), Tolerances::default(), &budget);
     let pattern_json = with_pattern.then(|| {
-        if mesh.is_tube() {
-            if let Ok(strip) = fab::unfold_tube(&mesh) {
-                return frame::strip_pattern_json(&strip.sheet);
-            }
-        }
-        let pattern = match (relaid, mesh.crease_pattern()) {
-            (false, Some(f)) => Some(f.to_vec()),
-            _ => fab::unfold(&mesh).ok(),
+        // Design mode changed lengths: the stored crease pattern no longer describes it.
+        let from = if relaid {
+            PatternFrom::Form
+        } else {
+            PatternFrom::Stored
         };
-        frame::pattern_json(&mesh, pattern.as_deref())
+        match sheet_of(&mesh, from) {
+            Ok(strip) if mesh.is_tube() => frame::strip_pattern_json(&strip),
+            Ok(sheet) => frame::pattern_json(&mesh, sheet.crease_pattern()),
+            Err(_) => frame::pattern_json(&mesh, None),
+        }
     });
     Analysis {
         report,

@@ -4,7 +4,7 @@
 //!
 //! It turns requests into library calls and holds no geometry of its own: dragging is the
 //! solver's null-space step and Newton correction (§3), the crease pattern is
-//! [`crate::fab::unfold`], the x-ray is [`crate::fab::flat_folded`], the verdict is
+//! [`crate::geometry::unfold::sheet_of`], the x-ray is [`crate::fab::flat_folded`], the verdict is
 //! [`crate::fab::verify()`], saving is [`crate::pipeline::finish_design`] as `deform` does.
 
 mod analysis;
