@@ -71,18 +71,6 @@ pub struct DeformArgs {
 /// Euler steps of the --drag moves unless `--steps` says.
 const DEFAULT_STEPS: usize = 20;
 
-/// A change of the flat sheet's width or height past which `deform` says the sheet
-/// changed size, mm.
-const OUTLINE_CHANGE_MM: f64 = 0.5;
-
-/// The flat crease pattern's width and height, mm.
-fn flat_size(mesh: &crease::mesh::Mesh) -> Option<crease::mesh::Vec2> {
-    mesh.crease_pattern().map(|f| {
-        let (lo, hi) = crease::mesh::bounds(f);
-        hi - lo
-    })
-}
-
 pub fn deform(args: DeformArgs) -> Result<u8, String> {
     let DeformArgs {
         file,
@@ -133,7 +121,6 @@ pub fn deform(args: DeformArgs) -> Result<u8, String> {
     let asked_fold = job.fold.is_some();
     job.keep_partial = keep_partial;
     job.keep_outline = keep_outline;
-    let flat_before = flat_size(&job.mesh);
     let source = script.as_deref().or(file.as_deref()).unwrap_or(&output);
     let remedies = remedies(&job, steps);
     let outcome = match run_design(job, &mut progress_bar()) {
@@ -142,7 +129,8 @@ pub fn deform(args: DeformArgs) -> Result<u8, String> {
     };
     io::write(&outcome.mesh, &output).map_err(|e| e.to_string())?;
     print_summary(&outcome, &output, asked_fold, job_remesh);
-    say_if_the_sheet_changed(flat_before, &outcome.mesh, keep_outline);
+    let hint = " (--keep-outline holds the outline's angles and lengths)";
+    super::say_if_the_sheet_changed(outcome.resized, if keep_outline { "" } else { hint });
     if let Some((stage, drag)) = outcome.stalled() {
         eprintln!(
             "error: stage {} did not finish ({}); {} holds the last state that held every condition",
@@ -190,32 +178,6 @@ fn remedies(job: &DesignJob, steps: Option<usize>) -> [Remedy; 4] {
             false,
         ),
     ]
-}
-
-/// A note when design mode changed the flat sheet's size (`before`, mm) by more than
-/// [`OUTLINE_CHANGE_MM`], naming --keep-outline unless it was given.
-fn say_if_the_sheet_changed(
-    before: Option<crease::mesh::Vec2>,
-    after: &crease::mesh::Mesh,
-    keep_outline: bool,
-) {
-    let (Some(a), Some(b)) = (before, flat_size(after)) else {
-        return;
-    };
-    if (a - b).abs().max() > OUTLINE_CHANGE_MM {
-        eprintln!(
-            "note: the sheet is {:.1} × {:.1} mm flat, where it was {:.1} × {:.1} mm: design mode frees lengths{}",
-            b.x,
-            b.y,
-            a.x,
-            a.y,
-            if keep_outline {
-                ""
-            } else {
-                " (--keep-outline holds the outline's angles and lengths)"
-            }
-        );
-    }
 }
 
 /// What the run did, on stderr: solver counters, a flat start, remeshing, and how close

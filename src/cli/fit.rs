@@ -121,6 +121,7 @@ pub fn fit(args: FitArgs) -> Result<u8, String> {
         super::out(&format!("{json}\n"));
     }
     eprintln!("{}", report.summary());
+    super::say_if_the_sheet_changed(outcome.resized, "");
     eprintln!(
         "wrote {} and {}",
         args.output.display(),

@@ -335,3 +335,14 @@ pub fn machines() -> Result<u8, String> {
     out(&table);
     Ok(0)
 }
+
+/// A note when design mode changed the sheet's size, `hint` after it (the flag that
+/// would have held it, or nothing).
+fn say_if_the_sheet_changed(resized: Option<crease::pipeline::SheetResize>, hint: &str) {
+    if let Some(crease::pipeline::SheetResize { before, after }) = resized {
+        eprintln!(
+            "note: the sheet is {:.1} × {:.1} mm flat, where it was {:.1} × {:.1} mm: design mode frees lengths{hint}",
+            after.x, after.y, before.x, before.y
+        );
+    }
+}

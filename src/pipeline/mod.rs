@@ -140,6 +140,39 @@ pub struct DesignOutcome {
     pub fold: Option<FoldReport>,
     /// The fit, if any: how close the design came to its target.
     pub fit: Option<FitReport>,
+    /// The crease pattern's size before and after, when design mode changed it.
+    pub resized: Option<SheetResize>,
+}
+
+/// A change of the crease pattern's width or height (mm) past which a design job says
+/// the sheet changed size: design mode frees lengths, and a maker cuts the sheet.
+pub const SHEET_RESIZE_MM: f64 = 0.5;
+
+/// The crease pattern's width and height (mm) before and after a design job that changed
+/// either by more than [`SHEET_RESIZE_MM`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SheetResize {
+    /// Width and height before.
+    pub before: crate::mesh::Vec2,
+    /// Width and height after.
+    pub after: crate::mesh::Vec2,
+}
+
+impl SheetResize {
+    /// The change from `before` (a design's crease-pattern size) to `after`'s, when past
+    /// [`SHEET_RESIZE_MM`].
+    fn between(before: Option<crate::mesh::Vec2>, after: &Mesh) -> Option<SheetResize> {
+        let (before, after) = (before?, crease_pattern_size(after)?);
+        ((before - after).abs().max() > SHEET_RESIZE_MM).then_some(SheetResize { before, after })
+    }
+}
+
+/// The stored crease pattern's width and height, mm.
+fn crease_pattern_size(mesh: &Mesh) -> Option<crate::mesh::Vec2> {
+    mesh.crease_pattern().map(|f| {
+        let (lo, hi) = crate::mesh::bounds(f);
+        hi - lo
+    })
 }
 
 impl DesignJob {
@@ -227,6 +260,7 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
     if let Some(a) = alpha {
         set_alpha(&mut mesh, a)?;
     }
+    let size_before = crease_pattern_size(&mesh);
     let dragged: Vec<usize> = stages
         .iter()
         .flat_map(|s| s.moves.iter().map(|m| m.vertex))
@@ -280,6 +314,7 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
         .zip(fit.as_ref())
         .map(|(phase, stage)| fit::report(phase, &mesh, &stage.target, &set, &stats));
     Ok(DesignOutcome {
+        resized: SheetResize::between(size_before, &mesh),
         mesh,
         stats,
         drags,
@@ -649,5 +684,38 @@ pub fn record_fold_angles(mesh: &mut Mesh) {
         if let (Some(r), true) = (rho, has_3d) {
             e.fold_angle = r;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::Vec2;
+
+    #[test]
+    fn a_sheet_resize_is_reported_past_its_threshold_and_not_below() {
+        let mut mesh = crate::io::fold::parse(include_str!("../../patterns/bird-base.fold"))
+            .expect("a bundled pattern parses");
+        let size = crease_pattern_size(&mesh).unwrap();
+        let stretched = |by: f64| {
+            let pattern: Vec<Vec2> = mesh
+                .crease_pattern()
+                .unwrap()
+                .iter()
+                .map(|p| Vec2::new(p.x + by * p.x / size.x, p.y))
+                .collect();
+            pattern
+        };
+        let (under, over) = (
+            stretched(0.9 * SHEET_RESIZE_MM),
+            stretched(1.1 * SHEET_RESIZE_MM),
+        );
+        mesh.set_crease_pattern(under);
+        assert_eq!(SheetResize::between(Some(size), &mesh), None);
+        mesh.set_crease_pattern(over);
+        let resize = SheetResize::between(Some(size), &mesh).expect("past the threshold");
+        assert_eq!(resize.before, size);
+        assert!((resize.after.x - size.x - 1.1 * SHEET_RESIZE_MM).abs() < 1e-9);
+        assert_eq!(SheetResize::between(None, &mesh), None);
     }
 }
