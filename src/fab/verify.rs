@@ -646,19 +646,9 @@ fn self_intersection(mesh: &Mesh) -> FamilyReport {
 /// file's rounding explains: then it is a flat state of the crease pattern (folded flat,
 /// or not folded), and the pattern's layer order is the design's.
 fn lies_in_a_plane(mesh: &Mesh) -> bool {
-    let x = mesh.positions();
-    let n = x.len().max(1) as f64;
-    let c = x.iter().sum::<crate::mesh::Vec3>() / n;
-    let mut cov = nalgebra::Matrix3::zeros();
-    for p in x {
-        cov += (p - c) * (p - c).transpose();
-    }
-    let eig = nalgebra::SymmetricEigen::new(cov);
-    let k = eig.eigenvalues.imin();
-    let normal = eig.eigenvectors.column(k).into_owned();
     let (lo, hi) = mesh.bounding_box();
     let tolerance = crate::tolerance::closure_mm((hi - lo).norm(), mesh.coordinate_precision);
-    x.iter().all(|p| (p - c).dot(&normal).abs() <= tolerance)
+    crate::geometry::out_of_plane(mesh.positions().iter().copied()) <= tolerance
 }
 
 /// The name under which the paper's empirical inequalities (7, 8) are reported.

@@ -6,9 +6,10 @@
 //! the least-squares rigid motion of Kabsch's method, repeat), and the one with the
 //! smallest RMS distance wins.
 
+use crate::geometry::principal_frame;
 use crate::mesh::Vec3;
 use crate::surface::TriSurface;
-use nalgebra::{Matrix3, SymmetricEigen};
+use nalgebra::Matrix3;
 
 /// A rigid motion x ↦ R x + t.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -106,31 +107,12 @@ pub fn icp(
     (placement, rms)
 }
 
-/// The eigenvectors of the points' covariance, largest spread first, as the columns of
-/// a right-handed frame, and the centroid.
-fn principal_frame(points: &[Vec3]) -> (Matrix3<f64>, Vec3) {
-    let n = points.len().max(1) as f64;
-    let c = points.iter().sum::<Vec3>() / n;
-    let mut cov = Matrix3::zeros();
-    for p in points {
-        cov += (p - c) * (p - c).transpose();
-    }
-    let eig = SymmetricEigen::new(cov);
-    let mut order = [0usize, 1, 2];
-    order.sort_by(|&a, &b| eig.eigenvalues[b].total_cmp(&eig.eigenvalues[a]));
-    let mut frame = Matrix3::from_columns(&order.map(|k| eig.eigenvectors.column(k).into_owned()));
-    if frame.determinant() < 0.0 {
-        frame.column_mut(1).neg_mut();
-    }
-    (frame, c)
-}
-
 /// The best rigid placement of the surface `points` on `surface` (see the module's doc).
 /// `front` is the design's front side (its mean face normal): the first candidates
 /// turn it along the target's normal, and a candidate only wins against an earlier one
 /// by a clear margin, so a symmetric case keeps the design's front facing the target's.
 pub fn place(points: &[Vec3], front: Vec3, surface: &TriSurface, scale: f64) -> (Placement, f64) {
-    let (mut design, c) = principal_frame(points);
+    let (mut design, c) = principal_frame(points.iter().copied());
     if design.column(2).dot(&front) < 0.0 {
         design.column_mut(2).neg_mut();
         design.column_mut(1).neg_mut();
@@ -138,7 +120,7 @@ pub fn place(points: &[Vec3], front: Vec3, surface: &TriSurface, scale: f64) -> 
     let (target_centre, _) = surface.centroid();
     let anchor = surface.closest(target_centre);
     let normal = surface.normal(anchor.triangle);
-    let (target_frame, _) = principal_frame(surface.vertices());
+    let (target_frame, _) = principal_frame(surface.vertices().iter().copied());
     // The target's widest direction, in its tangent plane at the anchor.
     let mut u = target_frame.column(0).into_owned();
     u -= normal * normal.dot(&u);

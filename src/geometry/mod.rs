@@ -3,9 +3,11 @@
 //! configuration without building a mesh.
 
 mod gradients;
+mod plane;
 pub mod unfold;
 
 pub use gradients::{fold_angle_gradient, sector_angle_gradient};
+pub use plane::{out_of_plane, principal_frame};
 
 use crate::mesh::{Mesh, Topology, Vec2, Vec3};
 use std::f64::consts::PI;
@@ -24,6 +26,18 @@ pub fn face_normal(positions: &[Vec3], face: [usize; 3]) -> Vec3 {
     (positions[j] - positions[i])
         .cross(&(positions[k] - positions[i]))
         .normalize()
+}
+
+/// The vector area of a surface: the sum of its faces' areas along their normals. It
+/// points to the front of a surface that is roughly flat; its length is the area of the
+/// surface's projection across it.
+pub fn vector_area(positions: &[Vec3], faces: &[[usize; 3]]) -> Vec3 {
+    let x = positions;
+    faces
+        .iter()
+        .map(|f| (x[f[1]] - x[f[0]]).cross(&(x[f[2]] - x[f[0]])))
+        .sum::<Vec3>()
+        * 0.5
 }
 
 /// Fold angle ρ of edge `e` (paper §2.4: |ρ| = π − dihedral angle; mountain positive),

@@ -524,15 +524,7 @@ fn flatten(mesh: &Mesh) -> Result<(Vec<crate::mesh::Vec2>, f64), FabError> {
     let flat = crease_pattern_of(mesh, PatternFrom::Form)
         .map_err(|e| FabError::Rejected(Rejected(e.to_string())))?
         .into_owned();
-    let isometry_error = mesh
-        .edges()
-        .iter()
-        .map(|e| {
-            let [a, b] = e.vertices;
-            let l3 = (mesh.positions()[a] - mesh.positions()[b]).norm();
-            ((flat[a] - flat[b]).norm() - l3).abs() / l3
-        })
-        .fold(0.0, f64::max);
+    let isometry_error = crate::geometry::unfold::isometry_error(mesh, &flat);
     Ok((flat, isometry_error))
 }
 

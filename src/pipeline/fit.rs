@@ -234,11 +234,7 @@ fn placed(mesh: Mesh, stage: &FitStage) -> (Mesh, Placement) {
     let groups = crate::fit::surface_groups(&mesh, stage.options.surface);
     let m = measure(mesh.positions(), &groups, &stage.target);
     let x = mesh.positions();
-    let front = mesh
-        .faces()
-        .iter()
-        .map(|f| (x[f[1]] - x[f[0]]).cross(&(x[f[2]] - x[f[0]])))
-        .sum::<Vec3>();
+    let front = crate::geometry::vector_area(x, mesh.faces());
     let (lo, hi) = mesh.bounding_box();
     let (placement, _) = place(&m.points, front, &stage.target, (hi - lo).norm());
     let moved: Vec<Vec3> = x.iter().map(|&p| placement.apply(p)).collect();

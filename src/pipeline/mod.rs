@@ -30,8 +30,8 @@ pub use fold_job::{
     flat_folded_file, fold_refusal, FlatFoldError, FlatFoldedFile, FoldRefusal, GOT_NOWHERE,
 };
 pub use motion::{
-    fold_motion, fold_motion_on, motion_files, out_of_plane, panels, Motion, MotionFormat,
-    PanelBending, MAX_FRAME_VERTICES, RIGID_PANEL_MM,
+    fold_motion, fold_motion_on, motion_files, panels, Motion, MotionFormat, PanelBending,
+    MAX_FRAME_VERTICES, RIGID_PANEL_MM,
 };
 pub use path::{
     foldable_sheet, folding_path, PathCollision, PathReport, PathShort, PATH_STEPS, REACHED_RADIANS,

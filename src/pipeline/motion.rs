@@ -8,10 +8,10 @@
 use super::path::{foldable_sheet, on_to_flat, walk, PathReport};
 use super::{PipelineError, Progress};
 use crate::fit::kabsch;
+use crate::geometry::out_of_plane;
 use crate::mesh::{Assignment, Mesh, UnionFind, Vec3};
 use crate::output::gltf::{self, MotionFrames};
 use crate::output::png;
-use nalgebra::{Matrix3, SymmetricEigen};
 use std::path::{Path, PathBuf};
 
 /// How many states a motion may keep: frames × vertices (24 bytes each), 480 MB at most.
@@ -304,22 +304,4 @@ fn panel_bending(mesh: &Mesh, frames: &[Vec<Vec3>]) -> PanelBending {
         }
     }
     worst
-}
-
-/// The largest distance of `points` from their least-squares plane (the plane through
-/// their centroid normal to the covariance's least eigenvector).
-pub fn out_of_plane(points: impl Iterator<Item = Vec3> + Clone) -> f64 {
-    let n = points.clone().count().max(1) as f64;
-    let centroid = points.clone().sum::<Vec3>() / n;
-    let mut covariance = Matrix3::zeros();
-    for p in points.clone() {
-        let d = p - centroid;
-        covariance += d * d.transpose();
-    }
-    let eigen = SymmetricEigen::new(covariance);
-    let least = eigen.eigenvalues.imin();
-    let normal: Vec3 = eigen.eigenvectors.column(least).into_owned();
-    points
-        .map(|p| (p - centroid).dot(&normal).abs())
-        .fold(0.0, f64::max)
 }

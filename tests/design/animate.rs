@@ -357,7 +357,7 @@ fn the_square_twist_bends_its_panels_and_the_miura_ori_folds_rigidly() {
         .find(|(face, _)| *face == twist.bending.face)
         .unwrap();
     let x = &twist.frames[twist.bending.frame];
-    let d = crease::pipeline::out_of_plane(panel.1.iter().map(|&v| x[v]));
+    let d = crease::geometry::out_of_plane(panel.1.iter().map(|&v| x[v]));
     assert!((d - twist.bending.deviation_mm).abs() < 1e-9);
 
     let (_, miura) = motion_of("patterns/miura.fold", 10);
@@ -385,7 +385,7 @@ fn out_of_plane_is_the_distance_from_the_least_squares_plane() {
             Vec3::new(10.0, 10.0, h),
             Vec3::new(0.0, 10.0, -h),
         ];
-        let d = crease::pipeline::out_of_plane(corners.iter().map(|&p| turn * p + shift));
+        let d = crease::geometry::out_of_plane(corners.iter().map(|&p| turn * p + shift));
         assert!((d - h).abs() < 1e-12, "h {h}: {d}");
     }
 }
@@ -753,13 +753,13 @@ fn on_to_flat_the_miura_ori_folds_flat_through_its_design_keeping_every_length()
         .iter()
         .map(|p| p.norm())
         .fold(0.0, f64::max);
-    let thickness = crease::pipeline::out_of_plane(last.iter().copied());
+    let thickness = crease::geometry::out_of_plane(last.iter().copied());
     assert!(
         thickness < 1e-3 * size,
         "folded flat: {thickness} mm out of one plane"
     );
     // It was not flat at the design.
-    let at_design = crease::pipeline::out_of_plane(motion.frames[10].iter().copied());
+    let at_design = crease::geometry::out_of_plane(motion.frames[10].iter().copied());
     assert!(
         at_design > 1e3 * thickness.max(1e-9),
         "{at_design} mm at the design"
