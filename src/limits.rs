@@ -19,7 +19,7 @@ pub struct Range {
 
 /// A value outside its [`Range`], or not a number.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{input} = {value}: {what} must be {range}", value = short(*.value), range = .range.span())]
+#[error("{input}{}", self.after_input())]
 pub struct OutOfRange {
     /// The input that gave it: a flag (`--size`), a key (`machines/x.toml: clearance_mm`).
     pub input: String,
@@ -29,6 +29,18 @@ pub struct OutOfRange {
     pub value: f64,
     /// Its range.
     pub range: Range,
+}
+
+impl OutOfRange {
+    /// The message after the input's name: " = VALUE: WHAT must be RANGE".
+    pub fn after_input(&self) -> String {
+        format!(
+            " = {}: {} must be {}",
+            short(self.value),
+            self.what,
+            self.range.span()
+        )
+    }
 }
 
 impl Range {

@@ -89,9 +89,9 @@ pub fn fab(args: FabArgs) -> Result<u8, String> {
     let mesh = io::read(&args.design).map_err(|e| e.to_string())?;
     let result = match crease::pipeline::fabricate(&mesh, &machine, &options) {
         Ok(r) => r,
-        Err(e) if e.is_input() => return Err(e.to_string()),
+        Err(e) if e.is_input() => return Err(e.naming(&flag)),
         Err(rejected) => {
-            eprintln!("error: {rejected}");
+            eprintln!("error: {}", rejected.naming(&flag));
             eprintln!("nothing was written");
             return Ok(1);
         }
@@ -220,4 +220,10 @@ fn say_what_was_made(dir: &std::path::Path, result: &crease::pipeline::FabOutput
             result.verification.verdict()
         );
     }
+}
+
+/// The flag of a fabrication option a message asks to change: `fab`'s flags are the
+/// options' words (a test reads `fab --help` for every one).
+pub(crate) fn flag(option: crease::fab::FabOption) -> String {
+    format!("--{}", option.word())
 }

@@ -4,6 +4,7 @@
 //! side), its outline cut, its ends chamfered ([`END_LEAN`]) so the tabs of folds meeting
 //! at the rims do not collide.
 
+use super::advice::{Advice, FabOption};
 use super::lines::{CreaseLine, LineKind};
 use crate::mesh::{distance_to_segment, Vec2};
 
@@ -23,7 +24,7 @@ pub struct GlueTab {
 /// `width` wide everywhere. Each end leans in over the tab by up to [`END_LEAN`], less
 /// where the hinge's end segment itself leans out: an end stays at least 45° off the
 /// hinge, whose dashes would otherwise fall within the cut's clearance.
-pub fn glue_tab(hinge: Vec<Vec2>, width: f64) -> Result<GlueTab, String> {
+pub fn glue_tab(hinge: Vec<Vec2>, width: f64) -> Result<GlueTab, Advice> {
     let n = hinge.len();
     let (first, last) = (hinge[0], hinge[n - 1]);
     let chord = last - first;
@@ -46,9 +47,10 @@ pub fn glue_tab(hinge: Vec<Vec2>, width: f64) -> Result<GlueTab, String> {
     let q0 = corner(first, hinge[1] - first, u);
     let q1 = corner(last, hinge[n - 2] - last, -u);
     if (q1 - q0).dot(&u) <= 0.0 {
-        return Err(format!(
-            "a glue tab {width} mm wide does not fit along a seam {length:.1} mm long; give a narrower --tab"
-        ));
+        return Err(Advice::text(format!(
+            "a glue tab {width} mm wide does not fit along a seam {length:.1} mm long; give a narrower "
+        ))
+        .option(FabOption::Tab));
     }
     Ok(GlueTab {
         outline: [first, q0, q1, last],

@@ -2,6 +2,7 @@
 //! asked for), turn to the orientation of least bounding area that fits, centre within
 //! the margins.
 
+use super::advice::{Advice, FabOption};
 use super::lines::CreaseLine;
 use crate::mesh::{bounds, Vec2};
 
@@ -135,7 +136,7 @@ impl Sheet {
 #[derive(Debug, thiserror::Error)]
 pub enum LayoutError {
     /// Too big for the media.
-    #[error("the pattern needs {need_w:.1} × {need_h:.1} mm with margins, but {media} is {media_w:.1} × {media_h:.1} mm; use a larger --media, a smaller --width, or --tile")]
+    #[error("{}", self.advice())]
     TooLarge {
         /// Needed width.
         need_w: f64,
@@ -148,12 +149,32 @@ pub enum LayoutError {
         /// Media height.
         media_h: f64,
     },
-    /// An option outside its range ([`crate::limits`]).
-    #[error(transparent)]
-    Range(#[from] crate::limits::OutOfRange),
-    /// Options that do not make a layout together.
+    /// Options that do not make a layout together, or one outside its range.
     #[error("{0}")]
-    Bad(String),
+    Bad(Advice),
+}
+
+impl LayoutError {
+    /// What is wrong and which options would change it, for a face to name.
+    pub fn advice(&self) -> Advice {
+        match self {
+            LayoutError::TooLarge {
+                need_w,
+                need_h,
+                media,
+                media_w,
+                media_h,
+            } => Advice::text(format!(
+                "the pattern needs {need_w:.1} × {need_h:.1} mm with margins, but {media} is {media_w:.1} × {media_h:.1} mm; use a larger "
+            ))
+            .option(FabOption::Media)
+            .then(", a smaller ")
+            .option(FabOption::Width)
+            .then(", or ")
+            .option(FabOption::Tile),
+            LayoutError::Bad(advice) => advice.clone(),
+        }
+    }
 }
 
 fn rotate(p: Vec2, angle: f64) -> Vec2 {
@@ -216,10 +237,10 @@ pub fn layout(
     check_sizes(sizing, margin)?;
     let usable = Vec2::new(media.width - 2.0 * margin, media.height - 2.0 * margin);
     if usable.x <= 0.0 || usable.y <= 0.0 {
-        return Err(LayoutError::Bad(format!(
+        return Err(LayoutError::Bad(Advice::text(format!(
             "the margin of {margin} mm leaves no room on {} ({} × {} mm)",
             media.name, media.width, media.height
-        )));
+        ))));
     }
     let options = turns(vertices, sizing, usable);
     let fits = |s: Vec2| s.x <= usable.x + 1e-9 && s.y <= usable.y + 1e-9;
@@ -264,10 +285,17 @@ pub fn layout(
 /// Refuses a width or margin that is not a length.
 fn check_sizes(sizing: Sizing, margin: f64) -> Result<(), LayoutError> {
     use crate::limits::{MARGIN, SHEET_WIDTH};
+    let refused = |option: FabOption| {
+        move |e: crate::limits::OutOfRange| LayoutError::Bad(Advice::out_of_range(option, &e))
+    };
     if let Sizing::Width(w) = sizing {
-        SHEET_WIDTH.check("--width", w)?;
+        SHEET_WIDTH
+            .check("width", w)
+            .map_err(refused(FabOption::Width))?;
     }
-    MARGIN.check("--margin", margin)?;
+    MARGIN
+        .check("margin", margin)
+        .map_err(refused(FabOption::Margin))?;
     Ok(())
 }
 
@@ -360,10 +388,14 @@ pub fn layout_tiled(
     check_sizes(sizing, margin)?;
     let usable = Vec2::new(page.width - 2.0 * margin, page.height - 2.0 * margin);
     if usable.x <= overlap || usable.y <= overlap {
-        return Err(LayoutError::Bad(format!(
-            "tiled pages of {} keep a margin of {margin} mm (room for each page's label, scale bar and legend) and overlap by {overlap} mm: that leaves no room for the sheet; tile over larger pages (--media a4)",
-            page.name
-        )));
+        return Err(LayoutError::Bad(
+            Advice::text(format!(
+                "tiled pages of {} keep a margin of {margin} mm (room for each page's label, scale bar and legend) and overlap by {overlap} mm: that leaves no room for the sheet; tile over larger pages (",
+                page.name
+            ))
+            .option(FabOption::Media)
+            .then(" a4)"),
+        ));
     }
     let pages = |s: Vec2| {
         let (c, r) = tile_grid(
@@ -385,15 +417,24 @@ pub fn layout_tiled(
     // Each page is drawn in full: their count bounds the PDF's size and the work.
     let needed = pages(best.2);
     if crate::limits::PAGES
-        .check_count("--tile", needed as u64)
+        .check_count("tile", needed as u64)
         .is_err()
     {
-        return Err(LayoutError::Bad(format!(
-            "--tile: the sheet would need {} pages of {}, more than {}: use larger --media, a smaller --width or a smaller --margin",
-            crate::limits::short(needed as f64),
-            page.name,
-            crate::limits::PAGES.max
-        )));
+        return Err(LayoutError::Bad(
+            Advice::text("")
+                .option(FabOption::Tile)
+                .then(format!(
+                    ": the sheet would need {} pages of {}, more than {}: use larger ",
+                    crate::limits::short(needed as f64),
+                    page.name,
+                    crate::limits::PAGES.max
+                ))
+                .option(FabOption::Media)
+                .then(", a smaller ")
+                .option(FabOption::Width)
+                .then(" or a smaller ")
+                .option(FabOption::Margin),
+        ));
     }
     let size = best.2;
     let sheet_media = Media {

@@ -2,6 +2,7 @@
 //! [`crate::geometry::unfold`]), lay it out on the media, score it with dash codes and
 //! order the cuts.
 
+pub mod advice;
 pub mod assign;
 pub mod budget;
 pub mod clearance;
@@ -23,6 +24,7 @@ pub mod score;
 pub mod toolpath;
 pub mod verify;
 
+pub use advice::{Advice, FabOption};
 pub use assign::{assign_sides, SideSearch};
 pub use budget::{Budget, OverBudget};
 pub use curve::{Cubic, SmoothCurve};

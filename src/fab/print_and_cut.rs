@@ -16,6 +16,7 @@
 //! finds it itself; its geometry is not published and is not drawn here. The image
 //! Design Space takes is at most 6.75 × 9.25 in, so the sheet is laid out within that.
 
+use super::advice::{Advice, FabOption};
 use super::layout::{layout, LayoutError, Media, Sheet, Sizing};
 use super::lines::CreaseLine;
 use crate::mesh::Vec2;
@@ -352,7 +353,7 @@ impl PrintLayout {
         flat: &[Vec2],
         lines: &[CreaseLine],
         sizing: Sizing,
-    ) -> Result<Sheet, String> {
+    ) -> Result<Sheet, Advice> {
         let mut placed: Vec<Sheet> = Vec::new();
         for r in &self.regions {
             let size = r.size();
@@ -364,7 +365,7 @@ impl PrintLayout {
             match layout(flat, lines, &region, 0.0, sizing) {
                 Ok(sheet) => placed.push(sheet.moved(self.page.clone(), r.lo)),
                 Err(LayoutError::TooLarge { .. }) => {}
-                Err(e) => return Err(e.to_string()),
+                Err(e) => return Err(e.advice()),
             }
         }
         let best = match sizing {
@@ -385,11 +386,14 @@ impl PrintLayout {
                     )
                 })
                 .collect();
-            format!(
-                "the pattern does not fit the print-and-cut area of {}: there is room for {}; use --fit or a smaller --width",
+            Advice::text(format!(
+                "the pattern does not fit the print-and-cut area of {}: there is room for {}; use ",
                 self.page.name,
                 rooms.join(" or ")
-            )
+            ))
+            .option(FabOption::Fit)
+            .then(" or a smaller ")
+            .option(FabOption::Width)
         })
     }
 }

@@ -3,6 +3,7 @@
 use super::fab_options::{FabOptions, TILE_OVERLAP_MM};
 use super::fab_report::Run;
 use super::tube::TubeStrip;
+use crate::fab::{Advice, FabOption};
 use crate::geometry::unfold::{crease_pattern_of, PatternFrom};
 use crate::mesh::Mesh;
 use std::collections::BTreeMap;
@@ -57,7 +58,7 @@ pub type Files = Vec<(String, Vec<u8>)>;
 /// Why fabrication stopped: the design fails verification, does not fit, overlaps itself.
 #[derive(Debug, thiserror::Error)]
 #[error("{0}")]
-pub struct Rejected(pub String);
+pub struct Rejected(pub Advice);
 
 /// Verify → unfold → lay out → score → route → SVG, PDF, HP-GL and a report (§ the
 /// fabrication half of the brief). Nothing is written here; see [`crate::io::write_all_atomic`].
@@ -88,9 +89,11 @@ pub fn fabricate_verified(
         } else {
             "the design fails verification"
         };
-        return Err(FabError::Rejected(Rejected(format!(
-            "{what} (use --force to cut it anyway):\n{verification}"
-        ))));
+        return Err(FabError::Rejected(Rejected(
+            Advice::text(format!("{what} (use "))
+                .option(FabOption::Force)
+                .then(format!(" to cut it anyway):\n{verification}")),
+        )));
     }
     // A tube is made from the strip it is cut open to, with a glue tab (issue 31).
     let tube = tube_of(mesh, options)?;
@@ -98,7 +101,7 @@ pub fn fabricate_verified(
     let (flat, isometry_error) = flatten(mesh)?;
     let page = match &options.media {
         Some(m) => m.clone(),
-        None => Media::parse(&machine.media).map_err(FabError::Input)?,
+        None => Media::parse(&machine.media).map_err(FabError::input)?,
     };
     let margin = options.margin.unwrap_or(machine.margin_mm);
     let print = print_layout(machine, options)?;
@@ -113,7 +116,7 @@ pub fn fabricate_verified(
     // After the layout, whose refusal (media too small) is cheap: on a face of thousands
     // of corners this check is the slow part.
     crate::geometry::unfold::check_overlap(mesh.faces(), &flat)
-        .map_err(|e| FabError::Rejected(Rejected(e.to_string())))?;
+        .map_err(|e| FabError::rejected(e.to_string()))?;
     let seam = tube.as_ref().map(|t| t.report(&sheet.vertices));
     check_cuttable(&sheet, machine)?;
     let settings = machine.score_settings();
@@ -236,17 +239,21 @@ pub fn fabricate_verified(
 
 /// A tube's strip with its glue tab `--tab` wide (range-checked here), `None` for a sheet.
 fn tube_of(mesh: &Mesh, options: &FabOptions) -> Result<Option<TubeStrip>, FabError> {
-    let tab_mm = crate::limits::LENGTH.check(
-        "--tab",
-        options.tab.unwrap_or(super::fab_options::GLUE_TAB_MM),
-    )?;
-    let strip =
-        super::tube::tube_strip(mesh, tab_mm).map_err(|e| FabError::Rejected(Rejected(e)))?;
+    let tab_mm = crate::limits::LENGTH
+        .check(
+            "tab",
+            options.tab.unwrap_or(super::fab_options::GLUE_TAB_MM),
+        )
+        .map_err(|e| FabError::Input(Advice::out_of_range(FabOption::Tab, &e)))?;
+    let strip = super::tube::tube_strip(mesh, tab_mm).map_err(FabError::rejected)?;
     // A tab asked for on a sheet would be silently dropped: say so instead.
     if strip.is_none() && options.tab.is_some() {
         return Err(FabError::Input(
-            "--tab: the design is a sheet, not a tube, so it has no seam to glue; leave --tab out"
-                .into(),
+            Advice::text("")
+                .option(FabOption::Tab)
+                .then(": the design is a sheet, not a tube, so it has no seam to glue; leave ")
+                .option(FabOption::Tab)
+                .then(" out"),
         ));
     }
     Ok(strip)
@@ -269,7 +276,6 @@ fn sheet_of(
     tube: Option<&TubeStrip>,
     at: &Placing,
 ) -> Result<(crate::fab::Sheet, bool), FabError> {
-    let rejected = |e: String| FabError::Rejected(Rejected(e));
     let mut lines = crate::fab::crease_lines(mesh, flat);
     // The layout places the points it is given: the tab's corners reach past the strip,
     // and a curved outline bulges past the vertices it runs through (its cubics' control
@@ -283,13 +289,14 @@ fn sheet_of(
             .flat_map(|c| c.pieces().iter().flat_map(|p| [p.c1, p.c2])),
     );
     if let Some(t) = tube {
-        let (tab, with) = t.tab(flat, lines).map_err(rejected)?;
+        let (tab, with) = t.tab(flat, lines).map_err(FabError::rejected)?;
         lines = with;
         extent.extend(tab.outline);
     }
     let (mut sheet, tiled) = match at.print {
         Some(p) => (
-            p.place(&extent, &lines, at.sizing).map_err(rejected)?,
+            p.place(&extent, &lines, at.sizing)
+                .map_err(FabError::rejected)?,
             false,
         ),
         None => lay_out(&extent, &lines, at.page, at.margin, at.sizing, at.options)?,
@@ -308,11 +315,17 @@ fn check_stroke_count(count: usize) -> Result<(), FabError> {
         .check_count("strokes", count as u64)
         .is_err()
     {
-        return Err(FabError::Input(format!(
-            "the sheet would need {} strokes, more than {} a job may have: use a smaller --width or --media, or a longer dash in the machine's profile",
-            crate::limits::short(count as f64),
-            crate::limits::STROKES.max
-        )));
+        return Err(FabError::Input(
+            Advice::text(format!(
+                "the sheet would need {} strokes, more than {} a job may have: use a smaller ",
+                crate::limits::short(count as f64),
+                crate::limits::STROKES.max
+            ))
+            .option(FabOption::Width)
+            .then(" or ")
+            .option(FabOption::Media)
+            .then(", or a longer dash in the machine's profile"),
+        ));
     }
     Ok(())
 }
@@ -338,7 +351,7 @@ fn hinge_of(
     match machine.hinge_thickness_mm {
         Some(h) if !tiled => crate::fab::hinge::hinge_gaps(mesh, sheet, h)
             .map(Some)
-            .map_err(|e| FabError::Rejected(Rejected(e))),
+            .map_err(FabError::rejected),
         _ => Ok(None),
     }
 }
@@ -486,11 +499,16 @@ fn check_cuttable(
     let step = 1.0 / machine.units_per_mm;
     // NaN (a degenerate sheet) is refused too.
     if across.is_nan() || across < MIN_STEPS_ACROSS * step {
-        return Err(FabError::Input(format!(
-            "the design is {} mm across, under {MIN_STEPS_ACROSS} of the machine's {} mm steps: nothing on it could be cut; scale it with --width or --fit",
-            crate::limits::short(across),
-            crate::limits::short(step)
-        )));
+        return Err(FabError::Input(
+            Advice::text(format!(
+                "the design is {} mm across, under {MIN_STEPS_ACROSS} of the machine's {} mm steps: nothing on it could be cut; scale it with ",
+                crate::limits::short(across),
+                crate::limits::short(step)
+            ))
+            .option(FabOption::Width)
+            .then(" or ")
+            .option(FabOption::Fit),
+        ));
     }
     Ok(())
 }
@@ -504,11 +522,17 @@ fn sizing_of(options: &FabOptions) -> Result<crate::fab::Sizing, FabError> {
     use crate::fab::Sizing;
     if let Some(w) = options.width {
         // Below the range's 5 mm every stroke is shorter than a blade's dash.
-        crate::limits::SHEET_WIDTH.check("--width", w)?;
+        crate::limits::SHEET_WIDTH
+            .check("width", w)
+            .map_err(|e| FabError::Input(Advice::out_of_range(FabOption::Width, &e)))?;
     }
     match (options.fit, options.width) {
         (true, Some(_)) => Err(FabError::Input(
-            "--fit and --width both size the sheet: give one".into(),
+            Advice::text("")
+                .option(FabOption::Fit)
+                .then(" and ")
+                .option(FabOption::Width)
+                .then(" both size the sheet: give one"),
         )),
         (true, None) => Ok(Sizing::Fit),
         (false, Some(w)) => Ok(Sizing::Width(w)),
@@ -522,7 +546,7 @@ fn sizing_of(options: &FabOptions) -> Result<crate::fab::Sizing, FabError> {
 fn flatten(mesh: &Mesh) -> Result<(Vec<crate::mesh::Vec2>, f64), FabError> {
     // The sheet must fold into exactly the 3D form that was verified.
     let flat = crease_pattern_of(mesh, PatternFrom::Form)
-        .map_err(|e| FabError::Rejected(Rejected(e.to_string())))?
+        .map_err(|e| FabError::rejected(e.to_string()))?
         .into_owned();
     let isometry_error = crate::geometry::unfold::isometry_error(mesh, &flat);
     Ok((flat, isometry_error))
@@ -563,7 +587,7 @@ fn lay_out(
             } else {
                 String::new()
             };
-            Err(FabError::Rejected(Rejected(format!("{e}{why}"))))
+            Err(FabError::Rejected(Rejected(e.advice().then(why))))
         }
         Err(e) => Err(FabError::Layout(e)),
     }
@@ -581,14 +605,23 @@ fn print_layout(
         return Ok(None);
     }
     let family = machine.print_and_cut.ok_or_else(|| {
-        FabError::Input(format!(
-            "{} finds no print-and-cut marks (its profile has no print_and_cut key): use --machine silhouette-cameo or cricut-maker",
-            machine.name
-        ))
+        FabError::Input(
+            Advice::text(format!(
+                "{} finds no print-and-cut marks (its profile has no print_and_cut key): use ",
+                machine.name
+            ))
+            .option(FabOption::Machine)
+            .then(" silhouette-cameo or cricut-maker"),
+        )
     })?;
     if options.mountains_from_back || options.tile {
         return Err(FabError::Input(
-            "--print-and-cut cuts one printed side in one piece: leave out --mountains-from-back and --tile".into(),
+            Advice::text("")
+                .option(FabOption::PrintAndCut)
+                .then(" cuts one printed side in one piece: leave out ")
+                .option(FabOption::MountainsFromBack)
+                .then(" and ")
+                .option(FabOption::Tile),
         ));
     }
     let page = match &options.media {
@@ -597,11 +630,11 @@ fn print_layout(
             MarkFamily::Silhouette => "a4",
             MarkFamily::Cricut => "letter",
         })
-        .map_err(FabError::Input)?,
+        .map_err(FabError::input)?,
     };
     PrintLayout::new(family, &page)
         .map(Some)
-        .map_err(FabError::Input)
+        .map_err(FabError::input)
 }
 
 /// A two-sided job's steps for the maker (see [`crate::fab::registration::steps`]),
@@ -653,9 +686,9 @@ fn preview_files(
     front: &crate::fab::Toolpath,
 ) -> Result<(Files, super::PreviewsReport), FabError> {
     use crate::output::png;
-    let sheet = png::sheet(front).map_err(FabError::Input)?;
-    let design = png::design(mesh).map_err(FabError::Input)?;
-    let side = png::design_side(mesh).map_err(FabError::Input)?;
+    let sheet = png::sheet(front).map_err(FabError::input)?;
+    let design = png::design(mesh).map_err(FabError::input)?;
+    let side = png::design_side(mesh).map_err(FabError::input)?;
     let camera = png::DesignCamera::framing(mesh.positions());
     let side_view = png::design_side_view(mesh);
     let side_camera = png::DesignCamera::framing_from(mesh.positions(), side_view);
@@ -694,7 +727,7 @@ fn preview_files(
 fn pattern_files(mesh: &Mesh, sheet: &crate::fab::Sheet) -> Result<Files, FabError> {
     let mut placed = mesh.clone();
     placed.set_crease_pattern(sheet.vertices.clone());
-    let cp = crate::io::to_string(&placed, crate::io::Format::Svg).map_err(FabError::Input)?;
+    let cp = crate::io::to_string(&placed, crate::io::Format::Svg).map_err(FabError::input)?;
     let orders = layer_order_of(mesh, &placed);
     Ok(vec![
         ("crease-pattern.svg".to_string(), cp.into_bytes()),
@@ -711,7 +744,7 @@ fn pattern_files(mesh: &Mesh, sheet: &crate::fab::Sheet) -> Result<Files, FabErr
 pub enum FabError {
     /// Bad option or profile.
     #[error("{0}")]
-    Input(String),
+    Input(Advice),
     /// An option outside its range ([`crate::limits`]).
     #[error(transparent)]
     Range(#[from] crate::limits::OutOfRange),
@@ -724,6 +757,26 @@ pub enum FabError {
 }
 
 impl FabError {
+    /// Bad input in words (`Input`).
+    pub fn input(words: impl Into<Advice>) -> FabError {
+        FabError::Input(words.into())
+    }
+
+    /// A design refused in words (`Rejected`).
+    pub fn rejected(words: impl Into<Advice>) -> FabError {
+        FabError::Rejected(Rejected(words.into()))
+    }
+
+    /// The message with each option named by `name`: the face's word for it (a flag,
+    /// a control on the page).
+    pub fn naming(&self, name: &dyn Fn(FabOption) -> String) -> String {
+        match self {
+            FabError::Input(advice) | FabError::Rejected(Rejected(advice)) => advice.naming(name),
+            FabError::Layout(e) => e.advice().naming(name),
+            FabError::Range(e) => e.to_string(),
+        }
+    }
+
     /// Bad input (exit 2, the studio's 400) rather than a design refused (exit 1).
     pub fn is_input(&self) -> bool {
         !matches!(self, FabError::Rejected(_))
@@ -808,7 +861,7 @@ fn cutter_jobs(
             crate::machine::Protocol::Gpgl => crate::output::gpgl::to_string(path, &gpgl),
             _ => crate::output::hpgl::to_string(path, &machine.hpgl_settings()),
         }
-        .map_err(FabError::Input)?;
+        .map_err(FabError::input)?;
         files.push((name, text.into_bytes()));
     }
     Ok(files)

@@ -46,7 +46,7 @@ pub(super) fn run_motion(mesh: &Mesh, options: &FabOptions) -> Result<RunMotion,
     }
     let motion = match fold_motion(mesh, MOTION_PREVIEW_FRAMES, &mut |_, _, _| {}) {
         Ok(m) => m,
-        Err(e) if options.motion => return Err(FabError::Input(format!("motion.png: {e}"))),
+        Err(e) if options.motion => return Err(FabError::input(format!("motion.png: {e}"))),
         Err(e) => {
             run.guide_line = Some(format!("sheet.pdf has no folding guide: {e}"));
             return Ok(run);
@@ -85,7 +85,7 @@ pub(super) fn motion_png(
     let Some(m) = run.motion.as_ref().filter(|_| options.motion) else {
         return Ok(None);
     };
-    let picture = crate::output::png::motion(&m.sheet, &m.frames).map_err(FabError::Input)?;
+    let picture = crate::output::png::motion(&m.sheet, &m.frames).map_err(FabError::input)?;
     previews.motion = Some(m.summary());
     Ok(Some(("motion.png".to_string(), picture)))
 }

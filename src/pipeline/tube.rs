@@ -31,7 +31,7 @@ impl TubeStrip {
         &self,
         flat: &[Vec2],
         lines: Vec<CreaseLine>,
-    ) -> Result<(GlueTab, Vec<CreaseLine>), String> {
+    ) -> Result<(GlueTab, Vec<CreaseLine>), crate::fab::Advice> {
         let mut hinge = vec![flat[self.strip.sides[0][0][0]]];
         hinge.extend(self.strip.sides.iter().map(|[[_, b], _]| flat[*b]));
         let tab = glue_tab(hinge, self.tab_mm)?;

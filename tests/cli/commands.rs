@@ -980,3 +980,30 @@ fn an_unknown_pattern_is_refused_naming_every_pattern_there_is() {
     }
     assert!(!out.exists());
 }
+
+#[test]
+fn every_option_a_fab_message_names_is_a_flag_of_fab() {
+    // The library keeps the options in its messages; the command line names each
+    // `--word` (cli::fab::flag), so each must be one of fab's flags.
+    let (code, help, err) = run_crease(&["fab", "--help"]);
+    assert_eq!(code, 0, "{err}");
+    for option in crease::fab::FabOption::ALL {
+        let flag = format!("--{} ", option.word());
+        let flag_with_value = format!("--{} <", option.word());
+        assert!(
+            help.contains(&flag) || help.contains(&flag_with_value),
+            "{flag} is not in `crease fab --help`:\n{help}"
+        );
+    }
+    // And a message names them so: a width out of range, by its flag.
+    let (code, _, err) = run_crease(&[
+        "fab",
+        "patterns/miura.fold",
+        "--width",
+        "1e9",
+        "--out",
+        "/nonexistent/never",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--width = 1e9: "), "{err}");
+}

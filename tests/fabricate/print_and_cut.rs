@@ -418,7 +418,8 @@ fn print_and_cut_is_refused_clearly_where_it_cannot_work() {
         let m = Machine::load(machine).unwrap();
         match fabricate(&mesh, &m, &options) {
             Ok(_) => panic!("{machine}: accepted"),
-            Err(e) => e.to_string(),
+            // Named as the command line names the options.
+            Err(e) => e.naming(&|o| format!("--{}", o.word())),
         }
     };
     let pc = || FabOptions {

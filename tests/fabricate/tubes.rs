@@ -204,12 +204,13 @@ fn the_tab_width_is_the_makers_and_a_tab_too_wide_is_refused() {
     let Err(e) = wide(100.0) else {
         panic!("a 100 mm tab cannot fit")
     };
-    let e = e.to_string();
+    let flag = |o: crease::fab::FabOption| format!("--{}", o.word());
+    let e = e.naming(&flag);
     assert!(e.contains("glue tab") && e.contains("--tab"), "{e}");
     let Err(e) = wide(0.0) else {
         panic!("no tab at all is refused")
     };
-    let e = e.to_string();
+    let e = e.naming(&flag);
     assert!(e.contains("--tab"), "{e}");
 }
 

@@ -262,7 +262,7 @@ fn a_two_sided_sheet_that_leaves_no_room_for_the_crosses_says_so() {
             ..width
         },
     ) {
-        Err(FabError::Rejected(r)) => assert!(r.0.contains("registration"), "{}", r.0),
+        Err(FabError::Rejected(r)) => assert!(r.0.to_string().contains("registration"), "{}", r.0),
         other => panic!("expected a refusal, got {:?}", other.map(|o| o.job_line)),
     }
 }

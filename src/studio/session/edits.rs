@@ -4,7 +4,7 @@
 use super::requests::{FabRequest, GenerateRequest, Refusal, Reply, Settings};
 use super::{ok, Session};
 use crate::constraints::ConstraintSet;
-use crate::fab;
+use crate::fab::{self, FabOption};
 use crate::generate::{self, Params, PatternKind};
 use crate::mesh::Mesh;
 use crate::pipeline::{self, FabOptions};
@@ -227,10 +227,10 @@ impl Session {
                 self.message = format!("fabricated for {}", machine.name);
                 Ok(Reply::Json(reply))
             }
-            Err(e) if e.is_input() => Err(Refusal::bad(in_page_words(&e.to_string()))),
+            Err(e) if e.is_input() => Err(Refusal::bad(e.naming(&page_control))),
             // Only a failed verification is what "cut anyway" overrides, and its message
             // says so (in the page's words); a sheet too large for the media is not.
-            Err(rejected) => Err(Refusal::failed(in_page_words(&rejected.to_string()))),
+            Err(rejected) => Err(Refusal::failed(rejected.naming(&page_control))),
         }
     }
 }
@@ -257,33 +257,35 @@ pub(super) fn file_stem(name: &str) -> String {
     }
 }
 
-/// A `fab` message with its option names turned into the page's controls: the maker in
-/// the studio has boxes and ticks, not flags.
-fn in_page_words(message: &str) -> String {
-    [
-        (
-            "use --force to cut it anyway",
-            "tick \"cut anyway\" to cut it regardless",
-        ),
-        ("--media", "media"),
-        ("--width", "width"),
-        ("--margin", "margin"),
-        ("--tile", "tile (tick it)"),
-        ("--fit", "fit (tick it)"),
-    ]
-    .iter()
-    .fold(message.to_string(), |m, (flag, words)| {
-        m.replace(flag, words)
-    })
+/// The page's name for a fabrication option a message asks to change.
+fn page_control(option: FabOption) -> String {
+    match option {
+        FabOption::Force => "the \"cut anyway\" box".into(),
+        FabOption::Tile | FabOption::Fit => format!("{} (tick it)", option.word()),
+        FabOption::Media | FabOption::Width | FabOption::Margin | FabOption::Machine => {
+            option.word().into()
+        }
+        // Not on the page (the studio never sets them): the command line's.
+        FabOption::PrintAndCut | FabOption::MountainsFromBack | FabOption::Tab => {
+            format!("`crease fab --{}`", option.word())
+        }
+    }
 }
 
 #[cfg(test)]
 mod tests {
+    use super::*;
+
     #[test]
     fn fab_messages_name_the_page_controls() {
-        let m = super::in_page_words(
-            "the pattern needs 300 × 400 mm with margins, but a4 is 210 × 297 mm; use a larger --media, a smaller --width, or --tile",
-        );
+        let too_large = crate::fab::LayoutError::TooLarge {
+            need_w: 300.0,
+            need_h: 400.0,
+            media: "a4".into(),
+            media_w: 210.0,
+            media_h: 297.0,
+        };
+        let m = too_large.advice().naming(&page_control);
         assert!(!m.contains("--"), "{m}");
         assert!(
             m.contains("a larger media, a smaller width, or tile (tick it)"),
