@@ -257,9 +257,9 @@ pub(crate) fn assign_by_fold(
     for (edge, (probe_edge, rho)) in parts.edges.iter_mut().zip(probe.edges().iter().zip(angles)) {
         debug_assert_eq!(edge.vertices, probe_edge.vertices);
         if edge.assignment == Assignment::Unassigned {
-            let a = if rho > 1e-9 {
+            let a = if rho > crate::tolerance::SAME_ANGLE_RADIANS {
                 Assignment::Mountain
-            } else if rho < -1e-9 {
+            } else if rho < -crate::tolerance::SAME_ANGLE_RADIANS {
                 Assignment::Valley
             } else {
                 Assignment::Flat

@@ -276,22 +276,14 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
     let fixed = fixed.unwrap_or_else(|| Solver::default_fixed(&mesh, &dragged));
     let fold_report;
     (mesh, fold_report) = first_fold(mesh, fold, moves, &fold_anchor, &options, progress)?;
-    let set = match mode {
-        Mode::Simulation => Mode::simulation_set(),
-        Mode::Design => {
-            let mut set = conditions
-                .clone()
-                .unwrap_or_else(|| ConstraintSet::default_for(&Reference::new(&mesh)));
-            if keep_outline {
-                for f in [Family::BoundaryAngle, Family::BoundaryLength] {
-                    if !set.families.contains(&f) {
-                        set.families.push(f);
-                    }
-                }
+    let mut set = mode.conditions(conditions.as_ref(), &mesh);
+    if keep_outline && mode == Mode::Design {
+        for f in [Family::BoundaryAngle, Family::BoundaryLength] {
+            if !set.families.contains(&f) {
+                set.families.push(f);
             }
-            set
         }
-    };
+    }
     let mut stats = Stats::default();
     let mut drags = Vec::new();
     if !stages.is_empty() {

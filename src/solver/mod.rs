@@ -241,6 +241,23 @@ impl Solver {
             .unwrap_or_default()
     }
 
+    /// The vertices held while `dragged` is pulled by a user who pins as they go (the
+    /// studio): the pins, plus the [`default_fixed`](Solver::default_fixed) face while
+    /// fewer than three are pinned (fewer cannot hold the rigid motions), never the
+    /// dragged vertex itself. A command line's `--fix` is held exactly as given instead.
+    pub fn anchor_with_pins(
+        mesh: &Mesh,
+        pins: &std::collections::BTreeSet<usize>,
+        dragged: usize,
+    ) -> Vec<usize> {
+        let mut anchor = pins.clone();
+        if anchor.len() < 3 {
+            anchor.extend(Self::default_fixed(mesh, &[dragged]));
+        }
+        anchor.remove(&dragged);
+        anchor.into_iter().collect()
+    }
+
     /// The mesh being solved (positions as of the last accepted step are in [`Solver::positions`]).
     pub fn mesh(&self) -> &Mesh {
         &self.mesh
@@ -544,5 +561,31 @@ impl Solver {
             tolerance: self.options.tolerance,
             blocker: self.blocker_at(&euler),
         })
+    }
+}
+
+#[cfg(test)]
+mod anchor_tests {
+    use super::*;
+    use std::collections::BTreeSet;
+
+    #[test]
+    fn pins_are_topped_up_with_the_far_face_until_three_and_never_hold_the_dragged_vertex() {
+        let mesh = crate::io::fold::parse(include_str!("../../patterns/bird-base.fold"))
+            .expect("a bundled pattern parses");
+        let dragged = 0;
+        let mut face = Solver::default_fixed(&mesh, &[dragged]);
+        face.sort_unstable();
+        assert_eq!(face.len(), 3);
+        let none = BTreeSet::new();
+        assert_eq!(Solver::anchor_with_pins(&mesh, &none, dragged), face);
+        // Three pins hold the rigid motions: they are the anchor, exactly.
+        let three: BTreeSet<usize> = [1, 2, 3].into();
+        assert_eq!(Solver::anchor_with_pins(&mesh, &three, dragged), [1, 2, 3]);
+        // One pin is topped up; a pinned vertex that is dragged is let go.
+        let one: BTreeSet<usize> = [dragged].into();
+        let anchor = Solver::anchor_with_pins(&mesh, &one, dragged);
+        assert!(!anchor.contains(&dragged));
+        assert_eq!(anchor, face);
     }
 }

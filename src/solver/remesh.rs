@@ -17,6 +17,7 @@
 use super::{free_columns, NormalSolver, Solver};
 use crate::constraints::Reference;
 use crate::mesh::{edge_key, Assignment, Edge, Mesh, MeshParts, Vec3};
+use crate::tolerance::SAME_ANGLE_RADIANS;
 use std::collections::{BTreeSet, HashMap};
 use std::f64::consts::PI;
 
@@ -80,7 +81,7 @@ fn target_sum(mesh: &Mesh, v: usize) -> f64 {
 }
 
 fn is_pm(x: f64, value: f64) -> bool {
-    (x.abs() - value).abs() < 1e-9
+    (x.abs() - value).abs() < SAME_ANGLE_RADIANS
 }
 
 fn neighbours(mesh: &Mesh, v: usize) -> BTreeSet<usize> {
@@ -92,9 +93,9 @@ fn neighbours(mesh: &Mesh, v: usize) -> BTreeSet<usize> {
 }
 
 fn assignment_for(target: f64, old: Assignment) -> Assignment {
-    if target > 1e-9 {
+    if target > SAME_ANGLE_RADIANS {
         Assignment::Mountain
-    } else if target < -1e-9 {
+    } else if target < -SAME_ANGLE_RADIANS {
         Assignment::Valley
     } else if old.is_folded() {
         Assignment::Flat
@@ -218,7 +219,10 @@ fn collapsible(mesh: &Mesh, e: usize, protected: &[usize]) -> Result<[usize; 2],
             *at_w.entry(n).or_default() += mesh.edges()[ed].target;
         }
     }
-    let creases = at_w.values().filter(|t| t.abs() > 1e-9).count();
+    let creases = at_w
+        .values()
+        .filter(|t| t.abs() > SAME_ANGLE_RADIANS)
+        .count();
     if creases < 4 {
         return Err(Refusal::TooFewCreases(creases));
     }

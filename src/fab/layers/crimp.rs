@@ -68,9 +68,10 @@ pub(super) fn first_unstackable_vertex(
         let creased: Vec<usize> = (0..fan.spokes.len())
             .filter(|&k| folds(fan.spokes[k]))
             .collect();
-        let merged = creased
-            .iter()
-            .any(|&k| mesh.edges()[fan.spokes[k]].target.abs() > std::f64::consts::PI + 1e-9);
+        let merged = creased.iter().any(|&k| {
+            mesh.edges()[fan.spokes[k]].target.abs()
+                > std::f64::consts::PI + crate::tolerance::SAME_ANGLE_RADIANS
+        });
         // A vertex with a crease whose side is open (unassigned) is the pair search's.
         let open = creased
             .iter()

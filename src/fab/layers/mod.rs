@@ -263,9 +263,10 @@ pub const SEARCH_BUDGET: usize = 2_000_000;
 /// The first mountain or valley crease drawn at a fold other than its target: a pattern
 /// drawn at partial folds (Origami Simulator's 90°) does not claim to fold flat.
 pub fn partial_crease(mesh: &Mesh) -> Option<usize> {
-    mesh.edges()
-        .iter()
-        .position(|e| e.assignment.is_folded() && (e.fold_angle - e.target).abs() > 1e-6)
+    mesh.edges().iter().position(|e| {
+        e.assignment.is_folded()
+            && (e.fold_angle - e.target).abs() > crate::tolerance::VERIFIED_RESIDUAL
+    })
 }
 
 /// Finds a layer order of `mesh`'s flat-folded state, or a smallest set of faces that

@@ -13,7 +13,6 @@ use crate::solver::{pointer_release, pointer_step, Mode, Options, PointerStep, S
 /// the conditions) before it is let through and left to the analysis: long enough for a
 /// few hundred faces, short enough to keep the drag live.
 pub(super) const LIVE_ORDER_TIME: std::time::Duration = std::time::Duration::from_millis(250);
-use std::collections::BTreeSet;
 use std::time::Instant;
 
 pub(super) struct DragState {
@@ -36,16 +35,9 @@ pub(super) struct DragState {
 }
 
 impl Session {
-    /// The anchor for dragging `vertex`: the pins, plus the face farthest from the dragged
-    /// vertex while fewer than three are pinned (fewer cannot hold the rigid motions).
+    /// The anchor for dragging `vertex` ([`Solver::anchor_with_pins`]).
     fn anchor_for(&self, vertex: usize) -> Vec<usize> {
-        let mut anchor: BTreeSet<usize> = self.design.pinned.clone();
-        if anchor.len() < 3 {
-            let avoid: Vec<usize> = std::iter::once(vertex).collect();
-            anchor.extend(Solver::default_fixed(&self.design.mesh, &avoid));
-        }
-        anchor.remove(&vertex);
-        anchor.into_iter().collect()
+        Solver::anchor_with_pins(&self.design.mesh, &self.design.pinned, vertex)
     }
 
     pub(super) fn ensure_solver(&mut self, vertex: usize) -> Result<(), String> {

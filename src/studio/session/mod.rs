@@ -20,7 +20,7 @@ pub use requests::{
 };
 
 use super::frame::{self, Frame, Meter};
-use crate::constraints::{ConstraintSet, Family, Reference};
+use crate::constraints::{ConstraintSet, Family};
 use crate::fab::Report;
 use crate::generate::{self, Params, PatternKind};
 use crate::mesh::{Mesh, Vec3};
@@ -243,13 +243,14 @@ impl Session {
     /// own assignment calls for.
     fn condition_set(&mut self) -> ConstraintSet {
         if self.in_force.is_none() {
-            self.in_force = Some(match (self.design.mode, &self.design.conditions) {
-                (Mode::Simulation, _) => Mode::simulation_set(),
-                (Mode::Design, Some(f)) if !f.is_empty() => ConstraintSet {
-                    families: f.clone(),
-                },
-                (Mode::Design, _) => ConstraintSet::default_for(&Reference::new(&self.design.mesh)),
+            let chosen = self.design.conditions.as_ref().map(|f| ConstraintSet {
+                families: f.clone(),
             });
+            self.in_force = Some(
+                self.design
+                    .mode
+                    .conditions(chosen.as_ref(), &self.design.mesh),
+            );
         }
         self.in_force.clone().expect("just computed")
     }
