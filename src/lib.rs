@@ -258,6 +258,116 @@ mod architecture {
         );
     }
 
+    /// `fab`'s two halves (ARCHITECTURE.md): what judges a design and what lays it out
+    /// and cuts it. They share the module but not code: the pipeline composes them.
+    const FAB_VERIFICATION: [&str; 8] = [
+        "verify",
+        "assign",
+        "budget",
+        "flat_fold",
+        "intersect",
+        "layers",
+        "precision",
+        "rounding",
+    ];
+    const FAB_FABRICATION: [&str; 13] = [
+        "advice",
+        "clearance",
+        "curve",
+        "glue_tab",
+        "hinge",
+        "labels",
+        "layout",
+        "lines",
+        "print_and_cut",
+        "registration",
+        "route",
+        "score",
+        "toolpath",
+    ];
+
+    /// Which half of `fab` a submodule is in: 0 verification, 1 fabrication.
+    fn fab_half(module: &str) -> usize {
+        if FAB_VERIFICATION.contains(&module) {
+            0
+        } else if FAB_FABRICATION.contains(&module) {
+            1
+        } else {
+            panic!("fab::{module} is in neither half (FAB_VERIFICATION, FAB_FABRICATION)")
+        }
+    }
+
+    #[test]
+    fn fabs_verification_and_fabrication_halves_do_not_use_each_other() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+        let mut files = BTreeMap::new();
+        sources(&root, &root, &mut files);
+        // What fab/mod.rs re-exports, by item: `crate::fab::Budget` is budget's.
+        let mod_rs = &files[&vec!["fab".to_string()]];
+        let mut owner: BTreeMap<&str, &str> = BTreeMap::new();
+        for statement in mod_rs.split(';') {
+            let Some(rest) = statement.trim().strip_prefix("pub use ") else {
+                continue;
+            };
+            let (module, items) = rest.split_once("::").expect("pub use module::items");
+            for item in items.split(|c: char| !(c.is_alphanumeric() || c == '_')) {
+                if !item.is_empty() {
+                    owner.insert(item, module);
+                }
+            }
+        }
+        let mut crossings = Vec::new();
+        let mut checked = 0;
+        for (file, deps) in graph() {
+            if file.len() < 2 || file[0] != "fab" {
+                continue;
+            }
+            let half = fab_half(&file[1]);
+            checked += 1;
+            let mut used: Vec<String> = deps
+                .iter()
+                .filter(|d| d.len() >= 2 && d[0] == "fab")
+                .map(|d| d[1].clone())
+                .collect();
+            // Items named through the re-exports: `crate::fab::X`, and `super::X` from
+            // a file directly in fab/.
+            let text = &files[&file];
+            let mut prefixes = vec!["crate::fab::"];
+            if file.len() == 2 {
+                prefixes.push("super::");
+            }
+            for prefix in prefixes {
+                for (i, _) in text.match_indices(prefix) {
+                    let rest = &text[i + prefix.len()..];
+                    let names = match rest.strip_prefix('{') {
+                        Some(list) => &list[..list.find('}').unwrap_or(list.len())],
+                        None => rest,
+                    };
+                    for name in names.split(|c: char| !(c.is_alphanumeric() || c == '_')) {
+                        if let Some(module) = owner.get(name) {
+                            used.push(module.to_string());
+                        }
+                        if names.as_ptr() == rest.as_ptr() {
+                            break; // a single path: only its first segment
+                        }
+                    }
+                }
+            }
+            for module in used {
+                if fab_half(&module) != half {
+                    crossings.push(format!("{} uses fab::{module}", file.join("::")));
+                }
+            }
+        }
+        assert!(checked > 20, "only {checked} fab files read");
+        crossings.sort();
+        crossings.dedup();
+        assert!(
+            crossings.is_empty(),
+            "fab's halves use each other: {crossings:#?}"
+        );
+    }
+
     #[test]
     fn the_graph_reader_sees_a_known_import() {
         let edges = graph();
