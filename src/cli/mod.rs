@@ -50,9 +50,10 @@ pub struct GenerateArgs {
     /// (tucks closed); waterbomb: flat only (fold it with `crease fold`).
     #[arg(long)]
     fold: Option<f64>,
-    /// Write only the flat crease pattern.
-    #[arg(long, conflicts_with = "fold")]
-    flat: bool,
+    /// Write only the crease pattern, with no folded 3D form (`--flat` is read as this
+    /// too; "flat" alone names the flat-folded state, `fold --flat`).
+    #[arg(long = "crease-pattern", alias = "flat", conflicts_with = "fold")]
+    crease_pattern: bool,
     /// Twist allowance α of triangulation creases (paper §2.4).
     #[arg(long, default_value_t = 0.0)]
     alpha: f64,
@@ -64,9 +65,9 @@ pub struct GenerateArgs {
 impl GenerateArgs {
     pub fn params(&self) -> Result<generate::Params, String> {
         let kind = generate::PatternKind::parse(&self.pattern)?;
-        if self.flat && kind.is_tube() {
+        if self.crease_pattern && kind.is_tube() {
             return Err(format!(
-                "{} is a tube: it is generated closed and has no flat state of its own (`crease fab` lays out its strip); drop --flat",
+                "{} is a tube: it is generated closed and has no flat state of its own, no crease pattern (`crease fab` lays out its strip); drop --crease-pattern",
                 kind.name()
             ));
         }
@@ -77,7 +78,7 @@ impl GenerateArgs {
             ny: self.ny,
             size: self.size,
             angle_deg: self.angle,
-            fold: if self.flat {
+            fold: if self.crease_pattern {
                 None
             } else {
                 self.fold.or(defaults.fold)

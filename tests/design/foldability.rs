@@ -91,7 +91,7 @@ fn violators(report: &serde_json::Value, family: &str) -> Vec<String> {
 fn a_vertex_moved_in_a_file_of_round_numbers_fails_however_other_numbers_are_written() {
     // The flat waterbomb has coordinates such as 20.0: exact values, not a file rounded to
     // 0.05 mm. Vertex 77 moved 0.8 mm (written 20.8) breaks Kawasaki at its neighbours.
-    let (code, out, err) = run_crease(&["generate", "waterbomb", "--flat", "-o", "-"]);
+    let (code, out, err) = run_crease(&["generate", "waterbomb", "--crease-pattern", "-o", "-"]);
     let text = if code == 0 && out.contains("vertices_coords") {
         out
     } else {
@@ -99,7 +99,7 @@ fn a_vertex_moved_in_a_file_of_round_numbers_fails_however_other_numbers_are_wri
         let (code, _, err2) = run_crease(&[
             "generate",
             "waterbomb",
-            "--flat",
+            "--crease-pattern",
             "-o",
             path.to_str().unwrap(),
         ]);

@@ -202,7 +202,12 @@ fn absurd_tube_requests_are_refused_saying_why() {
     let o = out.to_str().unwrap();
     for (args, says) in [
         (vec!["yoshimura-tube", "--fold", "0.3"], "one state"),
-        (vec!["waterbomb-tube", "--flat"], "no flat state"),
+        (
+            vec!["waterbomb-tube", "--crease-pattern"],
+            "no crease pattern",
+        ),
+        // `--flat`, the flag's old name, is read as --crease-pattern.
+        (vec!["waterbomb-tube", "--flat"], "drop --crease-pattern"),
         (vec!["kresling", "--nx", "2"], "at least 3 cells round"),
         (vec!["kresling", "--fold", "0.95"], "at most 0.9"),
     ] {
