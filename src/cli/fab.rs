@@ -99,7 +99,7 @@ pub fn fab(args: FabArgs) -> Result<u8, String> {
     let dir = args
         .out
         .clone()
-        .unwrap_or_else(|| PathBuf::from("out").join(args.design.file_stem().unwrap_or_default()));
+        .unwrap_or_else(|| crease::pipeline::names::fab_folder(&args.design));
     io::write_all_atomic(&dir, &result.files).map_err(|e| e.to_string())?;
     let removed = crease::pipeline::remove_stale_outputs(&dir, &result.files);
     if !removed.is_empty() {

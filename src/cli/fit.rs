@@ -7,7 +7,7 @@ use crease::fit::{FitOptions, SurfaceChoice};
 use crease::io;
 use crease::pipeline::{run_design, DesignJob, FitStage};
 use crease::surface::shapes::Shape;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Arc;
 
 #[derive(clap::Args)]
@@ -57,11 +57,6 @@ pub struct FitArgs {
     /// Write the fitted design even when faces pass through each other in it.
     #[arg(long)]
     force: bool,
-}
-
-/// Where the report of a fit written to `output` goes: `OUT.fit.json` beside it.
-pub fn report_path(output: &Path) -> PathBuf {
-    output.with_extension("fit.json")
 }
 
 pub fn fit(args: FitArgs) -> Result<u8, String> {
@@ -114,7 +109,7 @@ pub fn fit(args: FitArgs) -> Result<u8, String> {
         return Ok(1);
     }
     let json = serde_json::to_string_pretty(&report).expect("a report serialises");
-    let report_file = report_path(&args.output);
+    let report_file = crease::pipeline::names::fit_report_path(&args.output);
     io::write(&outcome.mesh, &args.output).map_err(|e| e.to_string())?;
     io::write_atomic(&report_file, json.as_bytes()).map_err(|e| e.to_string())?;
     if args.json {

@@ -10,6 +10,7 @@ mod fit;
 mod fold_job;
 mod guide;
 mod motion;
+pub mod names;
 mod path;
 pub mod plot_job;
 mod report_json;

@@ -160,7 +160,7 @@ impl Session {
         let path = Path::new(name);
         let imported =
             crate::io::read_bytes(path, bytes).map_err(|e| Refusal::bad(e.to_string()))?;
-        let stem = file_stem(name);
+        let stem = pipeline::names::file_stem(name);
         self.replace_design(imported.mesh, stem);
         self.message = format!("opened {name}");
         Ok(Reply::Json(
@@ -232,28 +232,6 @@ impl Session {
             // says so (in the page's words); a sheet too large for the media is not.
             Err(rejected) => Err(Refusal::failed(rejected.naming(&page_control))),
         }
-    }
-}
-
-pub(super) fn file_stem(name: &str) -> String {
-    let stem = Path::new(name)
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let clean: String = stem
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
-                c
-            } else {
-                '-'
-            }
-        })
-        .collect();
-    if clean.is_empty() {
-        "design".into()
-    } else {
-        clean
     }
 }
 

@@ -275,7 +275,7 @@ impl Session {
             Command::SaveFold => {
                 let mesh = self.finished()?;
                 Ok(Reply::File {
-                    name: format!("{}.fold", edits::file_stem(&self.title)),
+                    name: crate::pipeline::names::design_file(&self.title),
                     bytes: crate::io::fold::to_string(&mesh).into_bytes(),
                 })
             }

@@ -46,7 +46,7 @@ impl Session {
     /// `GET /api/motion/export?format=`: the motion kept (or [`PLAYED_FRAMES`] steps of
     /// it, folded now) as a `.glb`, `.fold` or animated `.png` named after the design.
     pub(super) fn motion_file(&mut self, format: &str) -> Result<Reply, Refusal> {
-        let name = format!("{}-motion.{format}", super::edits::file_stem(&self.title));
+        let name = crate::pipeline::names::motion_file(&self.title, format);
         let kind = MotionFormat::of(Path::new(&name)).map_err(|_| {
             Refusal::bad(format!(
                 "format \"{}\": the studio exports a motion as glb, fold or png",
