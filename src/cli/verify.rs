@@ -103,11 +103,13 @@ pub fn verify(args: VerifyArgs) -> Result<u8, String> {
         .transpose()
         .map_err(|e| e.to_string())?;
     let states = cap.map(|cap| fab::count_flat_states(&mesh, &budget, cap));
-    let collides = matches!(&path, Some(Ok(p)) if p.collision.is_some());
-    let path_undecided =
-        matches!(&path, Some(Err(_))) || matches!(&path, Some(Ok(p)) if p.short.is_some());
+    // One verdict: the report's, weighed with the path when there is one.
+    let verdict = match &path {
+        Some(p) => crease::pipeline::verdict_with_path(&report, p),
+        None => report.verdict(),
+    };
     if args.json {
-        let mut value = report.to_json();
+        let mut value = report.to_json_with(&verdict);
         value["import_notes"] = serde_json::json!(imported.notes);
         if let Some(states) = &states {
             value["states"] = states_json(states);
@@ -121,24 +123,19 @@ pub fn verify(args: VerifyArgs) -> Result<u8, String> {
         }
         out(&format!("{value}\n"));
     } else {
-        out(&report.to_string());
+        let mut more = Vec::new();
         if let Some(states) = &states {
-            out(&format!("{}\n", states_line(states)));
+            more.push(states_line(states));
         }
         match &path {
-            Some(Ok(p)) => out(&format!("{p}\n")),
-            Some(Err(why)) => out(&format!("path from flat: UNDECIDED — {why}\n")),
+            Some(Ok(p)) => more.push(p.to_string()),
+            Some(Err(why)) => more.push(format!("path from flat: UNDECIDED — {why}")),
             None => {}
         }
+        out(&report.text_with(&more, &verdict));
     }
-    // The report's verdict decides the status (0 pass, 1 fail, 3 undecided); a path
-    // where faces pass through each other fails a design that otherwise holds, and one
-    // the solver could not follow leaves it undecided.
-    Ok(match report.verdict().exit_code() {
-        0 if collides => 1,
-        0 if path_undecided => 3,
-        code => code,
-    })
+    // 0 pass, 1 fail, 3 undecided.
+    Ok(verdict.exit_code())
 }
 
 type Counted = Result<Option<Vec<fab::GroupCount>>, fab::LayerError>;

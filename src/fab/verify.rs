@@ -229,6 +229,11 @@ impl Report {
 
     /// `{"pass": bool, "families": {NAME: {"max", "rms", "worst", "violations"}}}`.
     pub fn to_json(&self) -> Value {
+        self.to_json_with(&self.verdict())
+    }
+
+    /// [`Report::to_json`] with `verdict` as its verdict (see [`Report::text_with`]).
+    pub fn to_json_with(&self, verdict: &Verdict) -> Value {
         let families: serde_json::Map<String, Value> = self
             .families
             .iter()
@@ -248,7 +253,6 @@ impl Report {
             .filter(|f| f.undecided.is_some())
             .map(|f| f.name)
             .collect();
-        let verdict = self.verdict();
         json!({"verdict": verdict.word(), "verdict_text": verdict.to_string(), "exit_code": verdict.exit_code(),
                "pass": verdict.is_pass(), "undecided": undecided, "families": families, "coordinate_precision_mm": self.precision,
                "drawn_precision_mm": self.drawn.map(|d| d.precision), "drawn_exactly": self.drawn.map(|d| d.exact),
@@ -256,8 +260,56 @@ impl Report {
     }
 }
 
-impl fmt::Display for Report {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+impl Report {
+    /// The report as text with `more` lines (a check judged beside it, as the path from
+    /// flat) before its verdict line, and `verdict` there: the report's own, or one that
+    /// also weighs what `more` found, so no failing line is ever shown beside a PASS.
+    pub fn text_with(&self, more: &[String], verdict: &Verdict) -> String {
+        struct Body<'a>(&'a Report);
+        impl fmt::Display for Body<'_> {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                self.0.write_body(f)
+            }
+        }
+        let mut text = Body(self).to_string();
+        for line in more {
+            text.push_str(line);
+            text.push('\n');
+        }
+        text.push_str(&self.verdict_text(verdict));
+        text
+    }
+
+    /// The verdict line, and for a failing condition of the report's own, where it fails.
+    fn verdict_text(&self, verdict: &Verdict) -> String {
+        match verdict {
+            Verdict::Pass => "verdict: PASS\n".into(),
+            undecided @ Verdict::Undecided { .. } => {
+                format!("verdict: {undecided}; every condition judged passes\n")
+            }
+            fail @ Verdict::Fail { .. } => {
+                let mut text = format!("verdict: {fail}\n");
+                for failing in self.families.iter().filter(|r| r.gating && !r.pass()) {
+                    let more = failing.violations.saturating_sub(failing.violators.len());
+                    let tail = if more > 0 {
+                        format!(" and {more} more")
+                    } else {
+                        String::new()
+                    };
+                    text.push_str(&format!(
+                        "  {} fails at {}{tail}\n",
+                        failing.name,
+                        failing.violators.join(", ")
+                    ));
+                }
+                text
+            }
+        }
+    }
+
+    /// Everything but the verdict: the table, notes, the drawing's precision, the
+    /// tolerances.
+    fn write_body(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(
             f,
             "{:<20} {:>6} {:>10} {:>10} {:>6}  worst",
@@ -316,30 +368,13 @@ impl fmt::Display for Report {
         for (basis, names) in bases {
             writeln!(f, "tolerance ({}): {basis}", names.join(", "))?;
         }
-        match self.verdict() {
-            Verdict::Pass => writeln!(f, "verdict: PASS"),
-            undecided @ Verdict::Undecided { .. } => {
-                writeln!(f, "verdict: {undecided}; every condition judged passes")
-            }
-            fail @ Verdict::Fail { .. } => {
-                writeln!(f, "verdict: {fail}")?;
-                for failing in self.families.iter().filter(|r| r.gating && !r.pass()) {
-                    let more = failing.violations.saturating_sub(failing.violators.len());
-                    let tail = if more > 0 {
-                        format!(" and {more} more")
-                    } else {
-                        String::new()
-                    };
-                    writeln!(
-                        f,
-                        "  {} fails at {}{tail}",
-                        failing.name,
-                        failing.violators.join(", ")
-                    )?;
-                }
-                Ok(())
-            }
-        }
+        Ok(())
+    }
+}
+
+impl fmt::Display for Report {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.text_with(&[], &self.verdict()))
     }
 }
 

@@ -35,7 +35,8 @@ pub use motion::{
     MAX_FRAME_VERTICES, RIGID_PANEL_MM,
 };
 pub use path::{
-    foldable_sheet, folding_path, PathCollision, PathReport, PathShort, PATH_STEPS, REACHED_RADIANS,
+    foldable_sheet, folding_path, verdict_with_path, PathCollision, PathReport, PathShort,
+    PATH_STEPS, REACHED_RADIANS,
 };
 pub use report_json::{
     DesignPreview, FabReport, HingeFold, HingeReport, MediaReport, PlotterReport, PreviewsReport,

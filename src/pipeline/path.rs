@@ -9,7 +9,7 @@
 //! flaps one at a time). Contact is not a collision: layers that only touch pass.
 
 use super::{record_fold_angles, PipelineError, Progress};
-use crate::fab::self_intersections;
+use crate::fab::{self_intersections, Report, Verdict};
 use crate::io::fold::angle_to_fold;
 use crate::mesh::{Assignment, Mesh, Vec3};
 use crate::solver::{fold_toward, mean_fraction, Mode, Options, Solver};
@@ -111,6 +111,42 @@ impl std::fmt::Display for PathReport {
             )?;
         }
         write!(f, ")")
+    }
+}
+
+/// The verdict of a design judged with its path from flat (`verify --path`), decided here
+/// for every face: the report's, except that a design that otherwise holds fails when
+/// faces pass through each other on the way, and is undecided when the path stops short
+/// of its angles or the solver cannot follow it (`path` is then `Err`, saying why).
+pub fn verdict_with_path(report: &Report, path: &Result<PathReport, String>) -> Verdict {
+    let verdict = report.verdict();
+    if !verdict.is_pass() {
+        return verdict;
+    }
+    const CONDITION: &str = "path-from-flat";
+    match path {
+        Ok(PathReport {
+            collision: Some(c),
+            of,
+            ..
+        }) => Verdict::Fail {
+            condition: CONDITION,
+            at: format!(
+                "faces {} and {}, step {} of {of}",
+                c.faces.0, c.faces.1, c.step
+            ),
+            value: c.depth,
+            tolerance: 0.0,
+        },
+        Ok(p) if p.short.is_some() => Verdict::Undecided {
+            condition: CONDITION,
+            why: p.to_string(),
+        },
+        Ok(_) => Verdict::Pass,
+        Err(why) => Verdict::Undecided {
+            condition: CONDITION,
+            why: why.clone(),
+        },
     }
 }
 

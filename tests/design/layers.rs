@@ -905,6 +905,20 @@ fn the_path_from_flat_is_clear_for_the_folded_waterbomb_and_names_where_two_flap
     assert!(faces[0] <= 1 && faces[1] >= 4, "{path}");
     let fraction = hit["fraction"].as_f64().unwrap();
     assert!(fraction > 90.0 / 170.0 && fraction < 0.8, "{path}");
+    // One verdict, the path's failure in it: never a PASS line beside the collision.
+    let mm = common::scratch_file("layers-path", "mm.fold", &strip(-170));
+    let (code, out, err) = common::run_crease(&["verify", mm.to_str().unwrap(), "--path"]);
+    assert_eq!(code, 1, "{out}{err}");
+    assert!(
+        out.contains("verdict: FAIL — path-from-flat at faces") && !out.contains("PASS"),
+        "{out}"
+    );
+    let (_, report) = verify_json(&mm, &["--path"]);
+    assert_eq!(
+        (&report["verdict"], &report["exit_code"]),
+        (&serde_json::json!("FAIL"), &serde_json::json!(1)),
+        "{report}"
+    );
     let (code, path) = path_of(&common::scratch_file("layers-path", "mv.fold", &strip(170)));
     assert_eq!(
         (code, &path["collision"]),
