@@ -100,12 +100,9 @@ pub fn fit(args: FitArgs) -> Result<u8, String> {
     };
     let mut report = outcome.fit.expect("a fit job reports its fit");
     report.target = args.to.display().to_string();
-    if report.self_intersections > 0 && !args.force {
+    if let Some(why) = report.refusal().filter(|_| !args.force) {
         eprintln!("{}", report.summary());
-        eprintln!(
-            "error: the fitted design passes through itself ({} pairs of faces cross); nothing was written (--force writes it anyway)",
-            report.self_intersections
-        );
+        eprintln!("error: {why}; nothing was written (--force writes it anyway)");
         return Ok(1);
     }
     let json = serde_json::to_string_pretty(&report).expect("a report serialises");

@@ -125,6 +125,17 @@ pub struct PlacementRecord {
 }
 
 impl FitReport {
+    /// Why the fitted design is not written unless the user insists: it passes through
+    /// itself (paper cannot), naming how many pairs of faces cross. `None` when it may be.
+    pub fn refusal(&self) -> Option<String> {
+        (self.self_intersections > 0).then(|| {
+            format!(
+                "the fitted design passes through itself ({} pairs of faces cross)",
+                self.self_intersections
+            )
+        })
+    }
+
     /// One paragraph for the terminal.
     pub fn summary(&self) -> String {
         let d = &self.distance;
