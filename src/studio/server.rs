@@ -134,18 +134,27 @@ fn accept_loop(listener: &TcpListener, hub: &Arc<Hub>, site: &Arc<Site>, stoppin
         };
         if open.fetch_add(1, Ordering::SeqCst) >= MAX_CONNECTIONS {
             open.fetch_sub(1, Ordering::SeqCst);
-            refuse_busy(&mut stream);
+            refuse_busy(&mut stream, "the studio has too many connections open");
             closer.close(stream);
             continue;
         }
         let slot = Slot(Arc::clone(&open));
         let (hub, site) = (Arc::clone(hub), Arc::clone(site));
-        // A thread the system will not give drops the closure: the connection closes and
-        // the slot is given back.
-        let _ = std::thread::Builder::new()
+        // A second handle on the socket, to answer on if no thread can serve it.
+        let spare = stream.try_clone().ok();
+        let spawned = std::thread::Builder::new()
             .name("studio-connection".into())
             .stack_size(CONNECTION_STACK)
             .spawn(move || serve_connection(stream, &hub, &site, &slot));
+        // A thread the system will not give drops the closure and gives the slot back;
+        // the client is told to come back rather than left with a closed socket.
+        if let (Err(_), Some(mut spare)) = (spawned, spare) {
+            refuse_busy(
+                &mut spare,
+                "the studio could not start a thread to serve this",
+            );
+            closer.close(spare);
+        }
     }
 }
 
@@ -225,10 +234,10 @@ fn drain_refused(incoming: &Receiver<TcpStream>) {
 }
 
 /// The 503 for a connection past the cap, written without waiting on the client.
-fn refuse_busy(stream: &mut TcpStream) {
+fn refuse_busy(stream: &mut TcpStream, why: &str) {
     let _ = stream.set_write_timeout(Some(Duration::from_millis(200)));
-    let body = br#"{"error":"the studio has too many connections open; try again in a moment"}"#;
-    let mut reply = with_studio_headers(503, "application/json", None, body);
+    let body = serde_json::json!({ "error": format!("{why}; try again in a moment") }).to_string();
+    let mut reply = with_studio_headers(503, "application/json", None, body.as_bytes());
     reply.headers.push(("Retry-After", "1".into()));
     let _ = http::write_response(stream, &reply, false, false);
     let _ = stream.shutdown(std::net::Shutdown::Write);
