@@ -36,10 +36,7 @@ impl Mesh {
     /// Summarises the mesh.
     pub fn info(&self) -> MeshInfo {
         let (lo, hi) = self.bounding_box();
-        let size_flat = self.crease_pattern().map(|f| {
-            let (lo, hi) = super::bounds(f);
-            [hi.x - lo.x, hi.y - lo.y]
-        });
+        let size_flat = self.crease_pattern_size().map(|s| [s.x, s.y]);
         let kinds = [
             Assignment::Boundary,
             Assignment::Mountain,

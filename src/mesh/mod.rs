@@ -282,6 +282,14 @@ impl Mesh {
         self.flat.as_deref()
     }
 
+    /// The crease pattern's width and height (mm), when known.
+    pub fn crease_pattern_size(&self) -> Option<Vec2> {
+        self.crease_pattern().map(|f| {
+            let (lo, hi) = bounds(f);
+            hi - lo
+        })
+    }
+
     /// Sets or replaces the crease pattern.
     pub fn set_crease_pattern(&mut self, flat: Vec<Vec2>) {
         assert_eq!(flat.len(), self.positions.len());

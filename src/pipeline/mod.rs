@@ -164,17 +164,9 @@ impl SheetResize {
     /// The change from `before` (a design's crease-pattern size) to `after`'s, when past
     /// [`SHEET_RESIZE_MM`].
     fn between(before: Option<crate::mesh::Vec2>, after: &Mesh) -> Option<SheetResize> {
-        let (before, after) = (before?, crease_pattern_size(after)?);
+        let (before, after) = (before?, after.crease_pattern_size()?);
         ((before - after).abs().max() > SHEET_RESIZE_MM).then_some(SheetResize { before, after })
     }
-}
-
-/// The stored crease pattern's width and height, mm.
-fn crease_pattern_size(mesh: &Mesh) -> Option<crate::mesh::Vec2> {
-    mesh.crease_pattern().map(|f| {
-        let (lo, hi) = crate::mesh::bounds(f);
-        hi - lo
-    })
 }
 
 impl DesignJob {
@@ -262,7 +254,7 @@ pub fn run_design(job: DesignJob, progress: Progress) -> Result<DesignOutcome, P
     if let Some(a) = alpha {
         set_alpha(&mut mesh, a)?;
     }
-    let size_before = crease_pattern_size(&mesh);
+    let size_before = mesh.crease_pattern_size();
     let dragged: Vec<usize> = stages
         .iter()
         .flat_map(|s| s.moves.iter().map(|m| m.vertex))
@@ -690,7 +682,7 @@ mod tests {
     fn a_sheet_resize_is_reported_past_its_threshold_and_not_below() {
         let mut mesh = crate::io::fold::parse(include_str!("../../patterns/bird-base.fold"))
             .expect("a bundled pattern parses");
-        let size = crease_pattern_size(&mesh).unwrap();
+        let size = mesh.crease_pattern_size().unwrap();
         let stretched = |by: f64| {
             let pattern: Vec<Vec2> = mesh
                 .crease_pattern()
