@@ -265,13 +265,9 @@ impl Report {
     /// flat) before its verdict line, and `verdict` there: the report's own, or one that
     /// also weighs what `more` found, so no failing line is ever shown beside a PASS.
     pub fn text_with(&self, more: &[String], verdict: &Verdict) -> String {
-        struct Body<'a>(&'a Report);
-        impl fmt::Display for Body<'_> {
-            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                self.0.write_body(f)
-            }
-        }
-        let mut text = Body(self).to_string();
+        let mut text = String::new();
+        self.write_body(&mut text)
+            .expect("writing to a String cannot fail");
         for line in more {
             text.push_str(line);
             text.push('\n');
@@ -309,7 +305,7 @@ impl Report {
 
     /// Everything but the verdict: the table, notes, the drawing's precision, the
     /// tolerances.
-    fn write_body(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+    fn write_body(&self, f: &mut impl fmt::Write) -> fmt::Result {
         writeln!(
             f,
             "{:<20} {:>6} {:>10} {:>10} {:>6}  worst",
