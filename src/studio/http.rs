@@ -67,52 +67,9 @@ pub fn read_request(reader: &mut impl BufRead, continue_to: &mut impl Write) -> 
         Ok(None) => return Read1::Ended,
         Err(refusal) => return refusal,
     };
-    let mut lines = head.iter();
-    let Some(request_line) = lines.next() else {
-        return Read1::Ended;
-    };
-    let mut words = request_line.split(' ');
-    let (Some(method), Some(target), Some(version), None) =
-        (words.next(), words.next(), words.next(), words.next())
-    else {
-        return Read1::Refused(400, "a malformed request line");
-    };
-    let http10 = match version {
-        "HTTP/1.1" => false,
-        "HTTP/1.0" => true,
-        _ => return Read1::Refused(505, "only HTTP/1.1 and 1.0 are spoken here"),
-    };
-    if method.is_empty() || !method.bytes().all(|b| b.is_ascii_uppercase()) || target.is_empty() {
-        return Read1::Refused(400, "a malformed request line");
-    }
-    let mut headers = Vec::new();
-    for line in lines {
-        let Some((name, value)) = line.split_once(':') else {
-            return Read1::Refused(400, "a header line without a colon");
-        };
-        if name.is_empty() || name.bytes().any(|b| b.is_ascii_whitespace()) {
-            return Read1::Refused(400, "a malformed header name");
-        }
-        if headers.len() == MAX_HEADERS {
-            return Read1::Refused(431, "too many header lines");
-        }
-        headers.push((name.to_string(), value.trim().to_string()));
-    }
-    let mut request = HttpRequest {
-        method: method.to_string(),
-        target: target.to_string(),
-        headers,
-        body: Vec::new(),
-        keep_alive: false,
-    };
-    let connection = request
-        .header("Connection")
-        .unwrap_or_default()
-        .to_ascii_lowercase();
-    request.keep_alive = if http10 {
-        connection.contains("keep-alive")
-    } else {
-        !connection.contains("close")
+    let mut request = match parse_head(&head) {
+        Ok(request) => request,
+        Err(refusal) => return refusal,
     };
     let body = match body_framing(&request) {
         Ok(framing) => framing,
@@ -146,6 +103,58 @@ pub fn read_request(reader: &mut impl BufRead, continue_to: &mut impl Write) -> 
         Err(BodyError::TooLarge) => Read1::Refused(413, "the body is larger than the studio takes"),
         Err(BodyError::Malformed) => Read1::Refused(400, "a malformed chunked body"),
     }
+}
+
+/// The request a head's lines describe (its body still unread), or why it is refused.
+fn parse_head(head: &[String]) -> Result<HttpRequest, Read1> {
+    let mut lines = head.iter();
+    let Some(request_line) = lines.next() else {
+        return Err(Read1::Ended);
+    };
+    let mut words = request_line.split(' ');
+    let (Some(method), Some(target), Some(version), None) =
+        (words.next(), words.next(), words.next(), words.next())
+    else {
+        return Err(Read1::Refused(400, "a malformed request line"));
+    };
+    let http10 = match version {
+        "HTTP/1.1" => false,
+        "HTTP/1.0" => true,
+        _ => return Err(Read1::Refused(505, "only HTTP/1.1 and 1.0 are spoken here")),
+    };
+    if method.is_empty() || !method.bytes().all(|b| b.is_ascii_uppercase()) || target.is_empty() {
+        return Err(Read1::Refused(400, "a malformed request line"));
+    }
+    let mut headers = Vec::new();
+    for line in lines {
+        let Some((name, value)) = line.split_once(':') else {
+            return Err(Read1::Refused(400, "a header line without a colon"));
+        };
+        if name.is_empty() || name.bytes().any(|b| b.is_ascii_whitespace()) {
+            return Err(Read1::Refused(400, "a malformed header name"));
+        }
+        if headers.len() == MAX_HEADERS {
+            return Err(Read1::Refused(431, "too many header lines"));
+        }
+        headers.push((name.to_string(), value.trim().to_string()));
+    }
+    let mut request = HttpRequest {
+        method: method.to_string(),
+        target: target.to_string(),
+        headers,
+        body: Vec::new(),
+        keep_alive: false,
+    };
+    let connection = request
+        .header("Connection")
+        .unwrap_or_default()
+        .to_ascii_lowercase();
+    request.keep_alive = if http10 {
+        connection.contains("keep-alive")
+    } else {
+        !connection.contains("close")
+    };
+    Ok(request)
 }
 
 /// How the body is delimited.
