@@ -6,6 +6,7 @@
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpStream;
 use std::process::{Child, Command, Stdio};
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 /// The studio binary, running.
@@ -13,6 +14,9 @@ pub struct StudioProcess {
     pub child: Child,
     pub url: String,
     pub port: u16,
+    /// Everything the studio has written to standard error so far, read by a thread of
+    /// its own so that the pipe never fills, and shown when a request fails.
+    stderr: Arc<Mutex<String>>,
 }
 
 impl StudioProcess {
@@ -59,12 +63,49 @@ impl StudioProcess {
             .next()
             .and_then(|p| p.parse().ok())
             .expect("a port in the URL");
-        StudioProcess { child, url, port }
+        let stderr = Arc::new(Mutex::new(String::new()));
+        let mut pipe = child.stderr.take().expect("stderr");
+        let sink = Arc::clone(&stderr);
+        std::thread::spawn(move || {
+            let mut buffer = [0u8; 4096];
+            while let Ok(n @ 1..) = pipe.read(&mut buffer) {
+                sink.lock()
+                    .unwrap()
+                    .push_str(&String::from_utf8_lossy(&buffer[..n]));
+            }
+        });
+        StudioProcess {
+            child,
+            url,
+            port,
+            stderr,
+        }
     }
 
-    /// `METHOD path` with a body: status and body.
+    /// What the studio has written to standard error so far.
+    pub fn stderr(&self) -> String {
+        self.stderr.lock().unwrap().clone()
+    }
+
+    /// `METHOD path` with a body: status and body. A request that gets no HTTP answer
+    /// fails the test with the studio's process state and standard error, which say
+    /// whether it died (and of what) or only dropped the connection.
     pub fn request(&self, method: &str, path: &str, body: &[u8]) -> (u16, Vec<u8>) {
-        http(self.port, method, path, body)
+        match try_http(self.port, method, path, body) {
+            Ok(answer) => answer,
+            Err(e) => {
+                std::thread::sleep(Duration::from_millis(200));
+                // A process that died is a zombie ("Z") until the test reaps it.
+                let state = std::fs::read_to_string(format!("/proc/{}/stat", self.child.id()))
+                    .ok()
+                    .and_then(|stat| stat.rsplit_once(") ")?.1.chars().next())
+                    .unwrap_or('?');
+                panic!(
+                    "{method} {path}: {e}; the studio's process state: {state}; its standard error:\n{}",
+                    self.stderr()
+                )
+            }
+        }
     }
 
     /// A JSON request: status and parsed body.
@@ -90,13 +131,23 @@ impl Drop for StudioProcess {
 /// One HTTP/1.1 request on its own connection (`Connection: close`), as the studio's
 /// page sends it: its own `Host`, and a POST body typed as the route wants.
 pub fn http(port: u16, method: &str, path: &str, body: &[u8]) -> (u16, Vec<u8>) {
+    try_http(port, method, path, body).unwrap_or_else(|e| panic!("{method} {path}: {e}"))
+}
+
+/// As [`http`], with the failure to get an answer returned.
+pub fn try_http(
+    port: u16,
+    method: &str,
+    path: &str,
+    body: &[u8],
+) -> Result<(u16, Vec<u8>), String> {
     let host = format!("127.0.0.1:{port}");
     let mut headers = vec![("Host", host.as_str())];
     if method == "POST" {
         let route = path.split('?').next().unwrap_or(path);
         headers.push(("Content-Type", crease::studio::api::body_type(route)));
     }
-    http_with(port, method, path, &headers, body)
+    try_http_with(port, method, path, &headers, body)
 }
 
 /// One HTTP/1.1 request with exactly these headers (besides `Connection` and
@@ -108,7 +159,19 @@ pub fn http_with(
     headers: &[(&str, &str)],
     body: &[u8],
 ) -> (u16, Vec<u8>) {
-    let mut s = TcpStream::connect(("127.0.0.1", port)).expect("connect to the studio");
+    try_http_with(port, method, path, headers, body)
+        .unwrap_or_else(|e| panic!("{method} {path}: {e}"))
+}
+
+fn try_http_with(
+    port: u16,
+    method: &str,
+    path: &str,
+    headers: &[(&str, &str)],
+    body: &[u8],
+) -> Result<(u16, Vec<u8>), String> {
+    let mut s = TcpStream::connect(("127.0.0.1", port))
+        .map_err(|e| format!("cannot connect to the studio: {e}"))?;
     s.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
     let mut head = format!("{method} {path} HTTP/1.1\r\n");
     for (name, value) in headers {
@@ -118,20 +181,29 @@ pub fn http_with(
         "Connection: close\r\nContent-Length: {}\r\n\r\n",
         body.len()
     ));
-    s.write_all(head.as_bytes()).unwrap();
-    s.write_all(body).unwrap();
+    s.write_all(head.as_bytes())
+        .map_err(|e| format!("cannot send the request's head: {e}"))?;
+    // A refusal may close the connection before the body is sent; its answer is read below.
+    let sent = s.write_all(body);
     let mut raw = Vec::new();
-    s.read_to_end(&mut raw).expect("a response");
+    s.read_to_end(&mut raw)
+        .map_err(|e| format!("no response ({e}); sending the body: {sent:?}"))?;
     let split = raw
         .windows(4)
         .position(|w| w == b"\r\n\r\n")
-        .expect("response headers end");
+        .ok_or_else(|| {
+            format!(
+                "the response's headers do not end ({} bytes: {:?}); sending the body: {sent:?}",
+                raw.len(),
+                String::from_utf8_lossy(&raw[..raw.len().min(200)])
+            )
+        })?;
     let head = String::from_utf8_lossy(&raw[..split]).to_string();
     let status = head
         .split_whitespace()
         .nth(1)
         .and_then(|s| s.parse().ok())
-        .expect("a status code");
+        .ok_or_else(|| format!("no status code in {head:?}"))?;
     let mut body = raw[split + 4..].to_vec();
     if head
         .to_ascii_lowercase()
@@ -139,7 +211,7 @@ pub fn http_with(
     {
         body = dechunk(&body);
     }
-    (status, body)
+    Ok((status, body))
 }
 
 fn dechunk(mut data: &[u8]) -> Vec<u8> {

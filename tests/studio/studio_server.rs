@@ -113,14 +113,8 @@ fn ctrl_c_stops_the_studio_cleanly() {
         std::thread::sleep(Duration::from_millis(50));
     };
     assert_eq!(code, Some(0));
-    let mut err = String::new();
-    use std::io::Read;
-    studio
-        .child
-        .stderr
-        .take()
-        .unwrap()
-        .read_to_string(&mut err)
-        .unwrap();
+    // The thread reading its standard error has read to the end once the pipe closes.
+    std::thread::sleep(Duration::from_millis(200));
+    let err = studio.stderr();
     assert!(err.contains("stopped"), "{err}");
 }
