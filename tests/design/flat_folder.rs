@@ -230,8 +230,7 @@ fn verify_text(name: &str, text: &str) -> Report {
 #[test]
 fn a_pattern_drawn_with_noise_gets_the_verdict_of_the_exact_one() {
     // The Kabuto on a 200 mm square: 0.01 mm is a twentieth of a percent of its
-    // shortest crease. (Noise nearer a percent of the shortest crease, as on a 100 mm
-    // 4 × 4 grid, is not yet always told from the pattern's own features.)
+    // shortest crease.
     for (name, scale) in [("instagram-sample/002_traditional_Kabuto.fold", 200.0)] {
         let text = std::fs::read_to_string(data("").join(name)).unwrap();
         let exact = verify_text("exact.fold", &drawn_with_noise(&text, scale, 0.0, 1));
@@ -261,13 +260,14 @@ fn a_pattern_drawn_with_noise_gets_the_verdict_of_the_exact_one() {
             );
         }
     }
-    // Daniel Brown's 4 × 4 grids on a 100 mm square (every 25th; their shortest creases
-    // are 4-6 mm, so the noise turns them by up to 0.3°, and compounded along the
-    // reflections it leaves corners up to 0.25 mm apart): each passes as exactly drawn.
-    for path in folds("grids").iter().skip(24).step_by(25) {
+    // Daniel Brown's grids on a 100 mm square (every 5th; the shortest creases of the
+    // 4 × 4 ones are 4-6 mm, so the noise turns them by up to 0.3°, and compounded along
+    // the reflections it left corners up to 0.4 mm apart until the folded state was
+    // balanced): each passes as exactly drawn. (From the 5th: the first has no crease.)
+    for path in folds("grids").iter().skip(4).step_by(5) {
         let text = std::fs::read_to_string(path).unwrap();
         let name = path.file_name().unwrap().to_string_lossy();
-        for seed in [7, 8] {
+        for seed in [7, 8, 9] {
             let noisy = verify_text("grid.fold", &drawn_with_noise(&text, 100.0, 0.01, seed));
             assert_eq!(
                 noisy.verdict(),

@@ -17,6 +17,7 @@
 //! unsatisfiable group is shrunk towards a smallest set of faces that still has no
 //! order, which the report names.
 
+mod balance;
 mod count;
 mod crimp;
 mod geometry;
@@ -362,8 +363,9 @@ fn prepared(mesh: &Mesh, budget: &Budget) -> Result<Prepared, LayerError> {
             tolerance: folded.tolerance,
         });
     }
-    // Judged at the drawing's precision: corners meant to meet, met.
-    let folded = folded.snapped(mesh.coordinate_precision);
+    // Judged at the drawing's precision: the noise spread over the pattern rather than
+    // compounded along the walk, then corners meant to meet, met.
+    let folded = balance::balanced(mesh, folded).snapped(mesh.coordinate_precision);
     let crease_at = |e: usize| folds_completely(&mesh.edges()[e]);
     if let Some((vertex, faces)) = crimp::first_unstackable_vertex(mesh, crease_at) {
         return Ok(Prepared::Conflict(vertex_conflict(
