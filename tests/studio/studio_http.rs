@@ -10,9 +10,22 @@ use std::net::{Shutdown, TcpStream};
 use std::time::{Duration, Instant};
 use studio_process::StudioProcess;
 
-/// The address space the studio runs in here (4 GB): the idle studio maps under 2 GB, and
-/// a buffer the size of an announced terabyte cannot be had.
-const ADDRESS_SPACE_KB: u64 = 4_000_000;
+/// The address space the studio runs in here: 4 GB (the idle studio maps under 2 GB, and
+/// a buffer the size of an announced terabyte cannot be had), plus the workspace faer's
+/// dense matrix products reserve on every thread that runs one. Its kernels
+/// (private-gemm-x86) take twice the CPU's L3 cache per thread, uninitialised, and keep it
+/// for the thread's life: 520 MiB each on a 260 MiB L3, where a fit's Cholesky runs on its
+/// own thread and both workers (its address space rose 1.6 GB in the fit below). Without
+/// that room the fit's third workspace was refused now and then, and the allocation's
+/// failure aborted the studio mid-request (an empty reply).
+fn address_space_kb() -> u64 {
+    const GEMM_THREADS: u64 = 4;
+    let l3_kb = std::fs::read_to_string("/sys/devices/system/cpu/cpu0/cache/index3/size")
+        .ok()
+        .and_then(|size| size.trim().strip_suffix('K')?.parse::<u64>().ok())
+        .unwrap_or(0);
+    4_000_000 + GEMM_THREADS * 2 * l3_kb
+}
 
 /// Sends `raw` on a fresh connection, closes the sending side, and returns what came back
 /// (empty when the studio closed without a word).
@@ -56,7 +69,7 @@ fn proc_status(pid: u32, field: &str) -> u64 {
 
 #[test]
 fn a_body_announced_past_any_memory_is_refused_unread_and_the_studio_goes_on() {
-    let mut studio = StudioProcess::start_limited(&["patterns/miura.fold"], ADDRESS_SPACE_KB);
+    let mut studio = StudioProcess::start_limited(&["patterns/miura.fold"], address_space_kb());
     let port = studio.port;
     let host = format!("Host: 127.0.0.1:{port}\r\n");
     for (head, host) in [
@@ -86,7 +99,7 @@ fn a_body_announced_past_any_memory_is_refused_unread_and_the_studio_goes_on() {
 
 #[test]
 fn a_thousand_held_long_polls_leave_it_answering_in_bounded_threads_and_memory() {
-    let mut studio = StudioProcess::start_limited(&["patterns/miura.fold"], ADDRESS_SPACE_KB);
+    let mut studio = StudioProcess::start_limited(&["patterns/miura.fold"], address_space_kb());
     let (port, pid) = (studio.port, studio.child.id());
     still_answering(&mut studio);
     let (threads_before, rss_before) = (proc_status(pid, "Threads:"), proc_status(pid, "VmRSS:"));
@@ -200,7 +213,7 @@ fn answering_while(
 
 #[test]
 fn hostile_uploads_and_a_fit_to_a_degenerate_target_leave_it_answering_within_a_second() {
-    let mut studio = StudioProcess::start_limited(&["patterns/miura.fold"], ADDRESS_SPACE_KB);
+    let mut studio = StudioProcess::start_limited(&["patterns/miura.fold"], address_space_kb());
     // One face of 30,000 corners (ear clipping took 18 s) and 80,000 overlapping pieces of
     // one line (the arrangement took 27 s): refused at once, the design unchanged.
     let face = crate::hostile_inputs::one_face_fold(30_000, 1.0);
