@@ -122,6 +122,7 @@ impl Format {
 }
 
 /// A mesh read from a file, with notes on what import changed (dropped lines, holes).
+#[derive(Debug)]
 pub struct Imported {
     /// The mesh.
     pub mesh: Mesh,

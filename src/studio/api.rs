@@ -442,11 +442,23 @@ fn command_for(
                 &body,
                 "/api/open needs ?name=FILE (its extension picks the format)",
             )?;
-            Command::Open { name, bytes: body }
+            // Read here, on the connection's thread: parsing a large file on the
+            // session's would hold up every other request until it ends.
+            let imported = crate::io::read_bytes(std::path::Path::new(&name), body)
+                .map_err(|e| Response::error(400, &e.to_string()))?;
+            Command::Open {
+                name,
+                imported: Box::new(imported),
+            }
         }
         ("POST", "/target") => {
             let name = upload_name(query, &body, "/api/target needs ?name=FILE (.obj or .stl)")?;
-            Command::LoadTarget { name, bytes: body }
+            let surface = crate::io::read_target_bytes(std::path::Path::new(&name), &body)
+                .map_err(|e| Response::error(400, &e.to_string()))?;
+            Command::LoadTarget {
+                name,
+                surface: Box::new(surface),
+            }
         }
         ("GET", "/target") => Command::TargetMesh,
         ("POST", "/target/place") => Command::PlaceTarget(parse::<TargetPlacement>(path, &body)?),

@@ -36,8 +36,7 @@ fn bad_fold_json_keeps_the_parsers_position() {
         Path::new("bad.fold"),
         b"{\"vertices_coords\": [[0, 0],".to_vec(),
     )
-    .err()
-    .expect("truncated JSON is refused");
+    .expect_err("truncated JSON is refused");
     let FileCause::Json(json) = &e.cause else {
         panic!("not a JSON cause: {e}")
     };
@@ -53,9 +52,8 @@ fn a_fold_file_of_a_broken_mesh_names_the_face() {
     // A triangle of three collinear points: only the mesh's own validation sees it.
     let text = r#"{"vertices_coords": [[0,0],[1,0],[2,0]], "faces_vertices": [[0,1,2]],
                   "edges_vertices": [[0,1],[1,2],[2,0]], "edges_assignment": ["B","B","B"]}"#;
-    let e = io::read_bytes(Path::new("broken.fold"), text.as_bytes().to_vec())
-        .err()
-        .expect("refused");
+    let e =
+        io::read_bytes(Path::new("broken.fold"), text.as_bytes().to_vec()).expect_err("refused");
     match &e.cause {
         FileCause::Mesh(MeshError::DegenerateFace { face, .. }) => assert_eq!(*face, 0),
         other => panic!("not the mesh's error: {other:?}"),

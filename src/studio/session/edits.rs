@@ -9,7 +9,6 @@ use crate::generate::{self, Params, PatternKind};
 use crate::mesh::Mesh;
 use crate::pipeline::{self, FabOptions};
 use crate::solver::{FoldReport, Mode};
-use std::path::Path;
 
 impl Session {
     pub(super) fn settings(&mut self, s: Settings) -> Result<Reply, Refusal> {
@@ -156,16 +155,13 @@ impl Session {
         Ok(ok())
     }
 
-    pub(super) fn open(&mut self, name: &str, bytes: Vec<u8>) -> Result<Reply, Refusal> {
-        let path = Path::new(name);
-        let imported =
-            crate::io::read_bytes(path, bytes).map_err(|e| Refusal::bad(e.to_string()))?;
+    /// Starts from a file already read (`crate::io::read_bytes`, on the connection's
+    /// thread).
+    pub(super) fn open(&mut self, name: &str, imported: crate::io::Imported) -> Reply {
         let stem = pipeline::names::file_stem(name);
         self.replace_design(imported.mesh, stem);
         self.message = format!("opened {name}");
-        Ok(Reply::Json(
-            serde_json::json!({"ok": true, "notes": imported.notes}),
-        ))
+        Reply::Json(serde_json::json!({"ok": true, "notes": imported.notes}))
     }
 
     /// The design as `deform` writes it: residual polished to 1e-12, fold angles recorded,

@@ -38,9 +38,9 @@ pub(super) struct FitRun {
 }
 
 impl Session {
-    pub(super) fn load_target(&mut self, name: &str, bytes: &[u8]) -> Result<Reply, Refusal> {
-        let surface = crate::io::read_target_bytes(std::path::Path::new(name), bytes)
-            .map_err(|e| Refusal::bad(e.to_string()))?;
+    /// Takes a target already read (`crate::io::read_target_bytes`, on the connection's
+    /// thread) and brings it near the design.
+    pub(super) fn load_target(&mut self, name: &str, surface: TriSurface) -> Reply {
         self.stop_fit("a new target was loaded");
         let surface = Arc::new(surface);
         let version = self.target.as_ref().map_or(1, |t| t.version + 1);
@@ -62,7 +62,7 @@ impl Session {
             ),
             None => format!("target {name} loaded ({triangles} triangles): place it, then press Fit"),
         };
-        Ok(self.target_summary())
+        self.target_summary()
     }
 
     /// A target whose box does not meet the design's is shifted so the boxes' centres

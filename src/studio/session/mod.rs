@@ -271,7 +271,7 @@ impl Session {
             Command::Settings(s) => self.settings(s),
             Command::Fold { amount } => self.fold(amount),
             Command::Generate(g) => self.generate(g),
-            Command::Open { name, bytes } => self.open(&name, bytes),
+            Command::Open { name, imported } => Ok(self.open(&name, *imported)),
             Command::SaveFold => {
                 let mesh = self.finished()?;
                 Ok(Reply::File {
@@ -282,7 +282,7 @@ impl Session {
             Command::Fabricate(r) => self.fabricate(r),
             Command::Motion(r) => self.motion(r),
             Command::MotionFile(format) => self.motion_file(&format),
-            Command::LoadTarget { name, bytes } => self.load_target(&name, &bytes),
+            Command::LoadTarget { name, surface } => Ok(self.load_target(&name, *surface)),
             Command::PlaceTarget(p) => self.place_target(p),
             Command::ClearTarget => Ok(self.clear_target()),
             Command::TargetMesh => self.target_mesh(),

@@ -36,12 +36,13 @@ pub enum Command {
     },
     /// Start from a generated pattern.
     Generate(GenerateRequest),
-    /// Start from a file's bytes.
+    /// Start from a file, read on the connection's own thread (a large upload's parsing
+    /// must not hold up the session's other requests).
     Open {
-        /// Its name (the extension picks the format).
+        /// Its name (the extension picked the format).
         name: String,
-        /// Its content.
-        bytes: Vec<u8>,
+        /// What was read from it.
+        imported: Box<crate::io::Imported>,
     },
     /// The design as the FOLD file `deform` writes.
     SaveFold,
@@ -53,12 +54,13 @@ pub enum Command {
     Motion(MotionRequest),
     /// The motion as a file in a format by its extension (glb, fold, png).
     MotionFile(String),
-    /// Load a target surface for the fit from a file's bytes (.obj, .stl).
+    /// Load a target surface for the fit, read from a file (.obj, .stl) on the
+    /// connection's own thread.
     LoadTarget {
-        /// Its name (the extension picks the format).
+        /// Its name (the extension picked the format).
         name: String,
-        /// Its content.
-        bytes: Vec<u8>,
+        /// The surface read from it.
+        surface: Box<crate::surface::TriSurface>,
     },
     /// Place the loaded target: shift, turn and offset from where its file put it.
     PlaceTarget(TargetPlacement),
