@@ -25,18 +25,18 @@
 //!    turned crease-pattern sides: `Σ_f Σ_{ab ∈ f} |y_b − y_a − L_f (x_b − x_a)|²`.
 //!
 //! A pattern drawn exactly has `δ = 0` and its walk's images already fit every side, so
-//! it is left where it was (to rounding); one piece of paper per connected component is
-//! held still (its first face's turn, its first vertex's place), so the balanced state
-//! sits where the walk put it.
+//! it is left where it was (to rounding); the walk's root face keeps its turn and its
+//! first corner its place, so the balanced state sits where the walk put it. A file of
+//! several pieces of paper is left as the walk left it: the walk folds only the root's.
 
 use super::super::flat_fold::{FlatFolded, PlaneMotion};
 use crate::constraints::mirrored_edges;
-use crate::mesh::{Mesh, UnionFind, Vec2};
+use crate::mesh::{Mesh, Vec2};
 
 /// `folded` (the walk's flat-folded state of `mesh`) with its faces' turns and its
 /// vertices' places balanced by least squares (see the module's comment). A tube, whose
-/// walk runs over its strip and not its own vertices, or a pattern whose linear algebra
-/// fails, is returned as it was.
+/// walk runs over its strip and not its own vertices, a file of several pieces, or a
+/// pattern whose linear algebra fails, is returned as it was.
 ///
 /// # Performance
 /// Three least-squares solves by conjugate gradients (the turns over the faces' adjacency,
@@ -46,10 +46,15 @@ pub(super) fn balanced(mesh: &Mesh, folded: FlatFolded) -> FlatFolded {
     let (Some(cp), Ok(reflects)) = (mesh.crease_pattern(), mirrored_edges(mesh)) else {
         return folded;
     };
-    if mesh.is_tube() || folded.motions.len() != mesh.faces().len() {
+    // The walk carries only the root's piece of paper; others keep their crease-pattern
+    // place, which no balance would make a folded state.
+    if mesh.is_tube()
+        || mesh.topology().components != 1
+        || folded.motions.len() != mesh.faces().len()
+    {
         return folded;
     }
-    let Some(turns) = balanced_turns(mesh, cp, &reflects, &folded.motions) else {
+    let Some(turns) = balanced_turns(mesh, cp, &reflects, &folded.motions, folded.root) else {
         return folded;
     };
     let linear: Vec<[[f64; 2]; 2]> = folded
@@ -69,12 +74,14 @@ pub(super) fn balanced(mesh: &Mesh, folded: FlatFolded) -> FlatFolded {
 }
 
 /// Per face, the turn `c_f` (radians) that best closes the walk's predictions across
-/// every edge (step 1 of the module's comment); `None` when the solve fails.
+/// every edge (step 1 of the module's comment), the walk's `root` face held; `None` when
+/// the solve fails.
 fn balanced_turns(
     mesh: &Mesh,
     cp: &[Vec2],
     reflects: &[bool],
     motions: &[PlaneMotion],
+    root: usize,
 ) -> Option<Vec<f64>> {
     let topo = mesh.topology();
     let mut rows = Vec::new();
@@ -92,8 +99,7 @@ fn balanced_turns(
         let delta = turn_between(predicted.linear, mg.linear);
         rows.push(([(g, 1.0), (f, -1.0)], -delta));
     }
-    let held = held_faces(mesh);
-    least_squares(motions.len(), &rows, &held)
+    least_squares(motions.len(), &rows, &[root])
 }
 
 /// Per vertex, its one folded position (step 2 of the module's comment), with every
@@ -127,10 +133,7 @@ fn balanced_places(
             sides.push(([(b, 1.0), (a, -1.0)], want - (start[b] - start[a])));
         }
     }
-    let held: Vec<usize> = held_faces(mesh)
-        .into_iter()
-        .map(|f| mesh.faces()[f][0])
-        .collect();
+    let held = [mesh.faces()[folded.root][0]];
     let rows = |axis: usize| -> Vec<([(usize, f64); 2], f64)> {
         sides.iter().map(|&(cols, r)| (cols, r[axis])).collect()
     };
@@ -143,23 +146,6 @@ fn balanced_places(
             .map(|(p, (&x, &y))| p + Vec2::new(x, y))
             .collect(),
     )
-}
-
-/// The first face of each connected piece of paper: the one whose turn and first vertex
-/// are held still, which fixes the piece's free rotation and translation.
-fn held_faces(mesh: &Mesh) -> Vec<usize> {
-    let topo = mesh.topology();
-    let faces = mesh.faces().len();
-    let mut pieces = UnionFind::new(faces);
-    for pair in &topo.edge_faces {
-        if let [Some(f), Some(g)] = *pair {
-            pieces.union(f, g);
-        }
-    }
-    let mut seen = vec![false; faces];
-    (0..faces)
-        .filter(|&f| !std::mem::replace(&mut seen[pieces.find(f)], true))
-        .collect()
 }
 
 /// The `x` minimising `Σ (Σ_k w_k x_{i_k} − r)²` over `rows` (two terms each), with the
@@ -279,8 +265,8 @@ mod tests {
     use crate::fab::flat_folded;
 
     /// A grid pattern of Daniel Brown's (Flat-Folder's examples) on a 100 mm square,
-    /// every vertex moved by up to `noise` mm in x and y.
-    fn grid(noise: f64, seed: u64) -> Mesh {
+    /// every vertex moved by up to `noise` mm in x and y, as FOLD.
+    fn grid_fold(noise: f64, seed: u64) -> serde_json::Value {
         let path = concat!(
             env!("CARGO_MANIFEST_DIR"),
             "/tests/data/flat-folder/grids/263_brown_4x4_D2.fold"
@@ -293,7 +279,12 @@ mod tests {
                 *c = (c.as_f64().unwrap() * 100.0 + rng.range(-noise, noise)).into();
             }
         }
-        crate::io::fold::parse(&fold.to_string()).unwrap()
+        fold
+    }
+
+    /// [`grid_fold`] read.
+    fn grid(noise: f64, seed: u64) -> Mesh {
+        crate::io::fold::parse(&grid_fold(noise, seed).to_string()).unwrap()
     }
 
     /// Of the vertices that fold onto one point in the exact pattern's folded state
@@ -333,6 +324,57 @@ mod tests {
                     b[k]
                 );
             }
+        }
+    }
+
+    /// Two pieces of paper in one file: the walk folds only the root's, so the balance
+    /// leaves the state as the walk left it, noise or not.
+    #[test]
+    fn a_file_of_two_pieces_is_left_as_the_walk_left_it() {
+        // The grid's file holds only its coordinates, edges, assignments and faces.
+        let twice = |mut fold: serde_json::Value| -> Mesh {
+            let n = fold["vertices_coords"].as_array().unwrap().len() as u64;
+            for key in [
+                "vertices_coords",
+                "edges_vertices",
+                "faces_vertices",
+                "edges_assignment",
+            ] {
+                let copy: Vec<serde_json::Value> = fold[key]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|row| match key {
+                        "edges_assignment" => row.clone(),
+                        "vertices_coords" => {
+                            let p: Vec<f64> = row
+                                .as_array()
+                                .unwrap()
+                                .iter()
+                                .map(|c| c.as_f64().unwrap())
+                                .collect();
+                            vec![p[0] + 300.0, p[1]].into()
+                        }
+                        _ => row
+                            .as_array()
+                            .unwrap()
+                            .iter()
+                            .map(|v| v.as_u64().unwrap() + n)
+                            .collect::<Vec<_>>()
+                            .into(),
+                    })
+                    .collect();
+                fold[key].as_array_mut().unwrap().extend(copy);
+            }
+            crate::io::fold::parse(&fold.to_string()).unwrap()
+        };
+        for mesh in [twice(grid_fold(0.0, 1)), twice(grid_fold(0.01, 6))] {
+            assert_eq!(mesh.shape().components, 2);
+            let walk = flat_folded(&mesh, None).unwrap();
+            assert!(
+                balanced(&mesh, walk.clone()).triangles == walk.triangles,
+                "the balance moved the faces of a file of two pieces"
+            );
         }
     }
 
