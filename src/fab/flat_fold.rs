@@ -66,6 +66,18 @@ impl PlaneMotion {
         }
     }
 
+    /// The motion of the face across the crease-pattern edge `a`–`b` from a face this
+    /// motion carries: reflected across the edge's folded image when the edge folds flat
+    /// (`folds`), the same motion when it does not. The walk's one rule, which the layer
+    /// solver's balance also predicts by.
+    pub fn across(&self, a: Vec2, b: Vec2, folds: bool) -> PlaneMotion {
+        if folds {
+            PlaneMotion::reflection(self.apply(a), self.apply(b)).after(self)
+        } else {
+            *self
+        }
+    }
+
     /// `self ∘ other`: first `other`, then `self`.
     pub fn after(&self, other: &PlaneMotion) -> PlaneMotion {
         let [[a, b], [c, d]] = self.linear;
@@ -219,13 +231,8 @@ pub fn flat_folded(mesh: &Mesh, flat: Option<&[Vec2]>) -> Result<FlatFolded, Not
                 if motions[g].is_some() {
                     continue;
                 }
-                let mg = if reflects[e] {
-                    let [a, b] = mesh.edges()[e].vertices;
-                    PlaneMotion::reflection(mf.apply(cp[a]), mf.apply(cp[b])).after(&mf)
-                } else {
-                    mf
-                };
-                motions[g] = Some(mg);
+                let [a, b] = mesh.edges()[e].vertices;
+                motions[g] = Some(mf.across(cp[a], cp[b], reflects[e]));
                 queue.push_back(g);
             }
         }

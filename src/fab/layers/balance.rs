@@ -26,7 +26,8 @@
 //!
 //! A pattern drawn exactly has `δ = 0` and its walk's images already fit every side, so
 //! it is left where it was (to rounding); the walk's root face keeps its turn and its
-//! first corner its place, so the balanced state sits where the walk put it. A file of
+//! first corner the walk's place for it (the mean of its faces' images, which drawn
+//! exactly are one), so the balanced state sits where the walk put it. A file of
 //! several pieces of paper is left as the walk left it: the walk folds only the root's.
 
 use super::super::flat_fold::{FlatFolded, PlaneMotion};
@@ -89,14 +90,9 @@ fn balanced_turns(
         let [Some(f), Some(g)] = *faces else {
             continue;
         };
-        let (mf, mg) = (motions[f], motions[g]);
-        let predicted = if reflects[e] {
-            let [a, b] = mesh.edges()[e].vertices;
-            PlaneMotion::reflection(mf.apply(cp[a]), mf.apply(cp[b])).after(&mf)
-        } else {
-            mf
-        };
-        let delta = turn_between(predicted.linear, mg.linear);
+        let [a, b] = mesh.edges()[e].vertices;
+        let predicted = motions[f].across(cp[a], cp[b], reflects[e]);
+        let delta = turn_between(predicted.linear, motions[g].linear);
         rows.push(([(g, 1.0), (f, -1.0)], -delta));
     }
     least_squares(motions.len(), &rows, &[root])
