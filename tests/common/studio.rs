@@ -17,6 +17,8 @@ pub struct StudioProcess {
     /// Everything the studio has written to standard error so far, read by a thread of
     /// its own so that the pipe never fills, and shown when a request fails.
     stderr: Arc<Mutex<String>>,
+    /// The thread that reads it: done once the studio has exited and the pipe closed.
+    stderr_reader: Option<std::thread::JoinHandle<()>>,
 }
 
 impl StudioProcess {
@@ -66,7 +68,7 @@ impl StudioProcess {
         let stderr = Arc::new(Mutex::new(String::new()));
         let mut pipe = child.stderr.take().expect("stderr");
         let sink = Arc::clone(&stderr);
-        std::thread::spawn(move || {
+        let stderr_reader = std::thread::spawn(move || {
             let mut buffer = [0u8; 4096];
             while let Ok(n @ 1..) = pipe.read(&mut buffer) {
                 sink.lock()
@@ -79,12 +81,22 @@ impl StudioProcess {
             url,
             port,
             stderr,
+            stderr_reader: Some(stderr_reader),
         }
     }
 
     /// What the studio has written to standard error so far.
     pub fn stderr(&self) -> String {
         self.stderr.lock().unwrap().clone()
+    }
+
+    /// Everything the studio wrote to standard error, once it has exited: waits for the
+    /// reader to reach the pipe's end.
+    pub fn stderr_at_exit(&mut self) -> String {
+        if let Some(reader) = self.stderr_reader.take() {
+            reader.join().expect("the standard-error reader ends");
+        }
+        self.stderr()
     }
 
     /// `METHOD path` with a body: status and body. A request that gets no HTTP answer

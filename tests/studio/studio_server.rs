@@ -113,8 +113,6 @@ fn ctrl_c_stops_the_studio_cleanly() {
         std::thread::sleep(Duration::from_millis(50));
     };
     assert_eq!(code, Some(0));
-    // The thread reading its standard error has read to the end once the pipe closes.
-    std::thread::sleep(Duration::from_millis(200));
-    let err = studio.stderr();
+    let err = studio.stderr_at_exit();
     assert!(err.contains("stopped"), "{err}");
 }
