@@ -79,6 +79,10 @@ pub struct FamilyReport {
     /// Why a family that would decide the verdict was not judged (its analysis ran out
     /// of budget): the design is neither passed nor failed on it.
     pub undecided: Option<String>,
+    /// Whether its residuals are quantities (radians, millimetres, a ratio) that reports
+    /// may print; false when a row is a finding with no size, as faces that admit no
+    /// layer order (the row's residual is then 1, a count).
+    pub measured: bool,
 }
 
 /// How many violating elements a report lists per family.
@@ -120,10 +124,8 @@ pub enum Verdict {
         condition: &'static str,
         /// Where its largest residual is.
         at: String,
-        /// That residual.
-        value: f64,
-        /// The threshold there.
-        tolerance: f64,
+        /// By how much, when the condition is measured ([`FamilyReport::measured`]).
+        excess: Option<Excess>,
     },
     /// Nothing judged fails, but something the design claims could not be judged: what,
     /// and why.
@@ -133,6 +135,15 @@ pub enum Verdict {
         /// Why it was not judged.
         why: String,
     },
+}
+
+/// How far a failing condition's worst element is from holding.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Excess {
+    /// Its residual.
+    pub value: f64,
+    /// The threshold there.
+    pub tolerance: f64,
 }
 
 impl Verdict {
@@ -168,12 +179,16 @@ impl fmt::Display for Verdict {
             Verdict::Fail {
                 condition,
                 at,
-                value,
-                tolerance,
+                excess: Some(Excess { value, tolerance }),
             } => write!(
                 f,
                 "FAIL — {condition} at {at} ({value:.3e} > {tolerance:.1e})"
             ),
+            Verdict::Fail {
+                condition,
+                at,
+                excess: None,
+            } => write!(f, "FAIL — {condition} at {at}"),
             Verdict::Undecided { condition, why } => write!(f, "UNDECIDED — {condition}: {why}"),
         }
     }
@@ -187,8 +202,10 @@ impl Report {
             return Verdict::Fail {
                 condition: r.name,
                 at: r.worst.clone().unwrap_or_else(|| "?".into()),
-                value: r.max,
-                tolerance: r.worst_tolerance,
+                excess: r.measured.then_some(Excess {
+                    value: r.max,
+                    tolerance: r.worst_tolerance,
+                }),
             };
         }
         match self.undecided() {
@@ -243,7 +260,8 @@ impl Report {
                     json!({"max": f.max, "rms": f.rms, "worst": f.worst, "violations": f.violations,
                            "tolerance": f.tolerance, "rounding_allowance": f.allowance,
                            "tolerance_basis": f.basis, "rows": f.rows, "judged": f.gating,
-                           "violators": f.violators, "not_judged_because": f.undecided}),
+                           "violators": f.violators, "not_judged_because": f.undecided,
+                           "measured": f.measured}),
                 )
             })
             .collect();
@@ -319,14 +337,17 @@ impl Report {
             } else {
                 format!("({})", r.violations)
             };
+            // A finding without a size (faces that admit no order) has no figures.
+            let (max, rms) = if r.measured {
+                (format!("{:.3e}", r.max), format!("{:.3e}", r.rms))
+            } else {
+                ("-".into(), "-".into())
+            };
             writeln!(
                 f,
-                "{:<20} {:>6} {:>10.3e} {:>10.3e} {:>6}  {}",
+                "{:<20} {:>6} {max:>10} {rms:>10} {fail:>6}  {}",
                 r.name,
                 r.rows,
-                r.max,
-                r.rms,
-                fail,
                 r.worst.as_deref().unwrap_or("-")
             )?;
         }
@@ -431,6 +452,7 @@ fn summarise_with(
         rows: values.len(),
         gating: true,
         undecided: None,
+        measured: true,
     }
 }
 
@@ -908,6 +930,7 @@ fn conflict_report(c: &super::layers::LayerConflict) -> FamilyReport {
     let faces = &c.faces;
     let element = Element::Faces(faces[0], *faces.get(1).unwrap_or(&faces[0]));
     let mut r = summarise("layer-order", &[(1.0, element)], 0.0);
+    r.measured = false;
     let names: Vec<String> = faces.iter().map(|f| f.to_string()).collect();
     // A vertex of 2,000 creases names 2,000 faces: the table shows the first few.
     r.worst = Some(if names.len() > 12 {

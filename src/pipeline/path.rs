@@ -135,8 +135,10 @@ pub fn verdict_with_path(report: &Report, path: &Result<PathReport, String>) -> 
                 "faces {} and {}, step {} of {of}",
                 c.faces.0, c.faces.1, c.step
             ),
-            value: c.depth,
-            tolerance: 0.0,
+            excess: Some(crate::fab::verify::Excess {
+                value: c.depth,
+                tolerance: 0.0,
+            }),
         },
         Ok(p) if p.short.is_some() => Verdict::Undecided {
             condition: CONDITION,

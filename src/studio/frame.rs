@@ -317,7 +317,8 @@ pub fn live_json(l: &Live) -> String {
                 .families
                 .iter()
                 .map(|f| {
-                    json!({"name": f.name, "max": f.max, "tolerance": f.tolerance,
+                    // A finding without a size (faces that admit no order) has no figure.
+                    json!({"name": f.name, "max": f.measured.then_some(f.max), "tolerance": f.tolerance,
                            "pass": f.pass(), "judged": f.gating, "worst": f.worst})
                 })
                 .collect();

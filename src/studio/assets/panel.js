@@ -171,7 +171,7 @@ export class Panel {
       tr.insertCell().textContent = f.name;
       const max = tr.insertCell();
       max.className = 'num';
-      max.textContent = f.max.toExponential(1);
+      max.textContent = f.max === null ? '–' : f.max.toExponential(1);
       tr.insertCell().textContent = !f.judged ? 'reported' : f.pass ? '✓' : '✗ ' + (f.worst || '');
     }
     $('worst').textContent = live.worst && !live.worst.pass
