@@ -324,7 +324,7 @@ pub fn live_json(l: &Live) -> String {
                 .collect();
             let worst = r.worst_family().map(|(f, e)| {
                 json!({"family": f.name, "element": element_json(e),
-                       "max": f.max, "pass": f.pass()})
+                       "max": f.measured.then_some(f.max), "pass": f.pass()})
             });
             let verdict = r.verdict();
             (
