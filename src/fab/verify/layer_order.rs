@@ -47,12 +47,8 @@ pub(super) fn layer_order_report(
             folded.mismatch,
             folded.tolerance
         );
-        return Some(FamilyReport {
-            gating: false,
-            basis: format!("not judged: {why}"),
-            undecided: (!only_reported && !freeform).then_some(why),
-            ..summarise("layer-order", &[], 0.0)
-        });
+        let undecided = (!only_reported && !freeform).then(|| why.clone());
+        return Some(unjudged(format!("not judged: {why}"), undecided));
     }
     // A pattern drawn at partial folds (Origami Simulator's 90°) does not claim to fold
     // flat: reported, not judged, as Maekawa there. A freeform design's creases stand
@@ -64,28 +60,10 @@ pub(super) fn layer_order_report(
             "crease {e} is drawn at {:.0}°, a partial fold: the pattern does not say it folds flat",
             crate::io::fold::angle_to_fold(edge.fold_angle)
         );
-        return Some(FamilyReport {
-            gating: false,
-            basis: format!("not judged: {why}"),
-            undecided: claimed.then_some(why),
-            ..summarise("layer-order", &[], 0.0)
-        });
+        let undecided = claimed.then(|| why.clone());
+        return Some(unjudged(format!("not judged: {why}"), undecided));
     }
-    // Reported, not gating, for a freeform design: a third of the cap, and under a
-    // deadline (the studio's) at most FREEFORM_LIVE of it, so verifying a large 3D design
-    // costs little more than it did before its flat state was judged and the studio's
-    // verdict is not held up by it.
-    let now = std::time::Instant::now();
-    let reported = Budget {
-        max_constraints: budget.max_constraints.min(FREEFORM_LAYER_CAP),
-        // Only a live analysis (one that can be cancelled: the studio's) holds the
-        // report to FREEFORM_LIVE; the command line's deadline stands as given.
-        deadline: budget.deadline.map(|(at, given)| match budget.cancel {
-            Some(_) => (at.min(now + FREEFORM_LIVE), given.min(FREEFORM_LIVE)),
-            None => (at, given),
-        }),
-        ..budget.clone()
-    };
+    let reported = reported_budget(budget);
     let (budget, naming) = if only_reported {
         (&reported, ADVISORY_SHRINK_WORK)
     } else {
@@ -97,20 +75,16 @@ pub(super) fn layer_order_report(
             ..summarise("layer-order", &[], 0.0)
         },
         Ok(LayerOrder::Conflict(c)) => conflict_report(&c),
-        Err(LayerError::OverBudget(e)) => FamilyReport {
-            gating: false,
-            basis: format!("not judged: {e}"),
-            undecided: (!only_reported).then(|| e.to_string()),
-            ..summarise("layer-order", &[], 0.0)
-        },
+        Err(LayerError::OverBudget(e)) => unjudged(
+            format!("not judged: {e}"),
+            (!only_reported).then(|| e.to_string()),
+        ),
         // The search stopped, or the folded state could not be set up: nothing was
         // shown either way, so a claim of folding flat is left undecided.
-        Err(e) => FamilyReport {
-            gating: false,
-            basis: format!("not decided: {e}"),
-            undecided: (!only_reported).then(|| format!("not decided: {e}")),
-            ..summarise("layer-order", &[], 0.0)
-        },
+        Err(e) => {
+            let why = format!("not decided: {e}");
+            unjudged(why.clone(), (!only_reported).then_some(why))
+        }
     };
     if report.basis.is_empty() {
         report.basis = "one order of every overlapping pair of faces once folded flat, or the faces that admit none".into();
@@ -123,6 +97,35 @@ pub(super) fn layer_order_report(
         );
     }
     Some(report)
+}
+
+/// The layer-order row of a state that was not judged: `basis` says why for the table,
+/// `undecided` why the verdict is left undecided (when the design claims to fold flat).
+fn unjudged(basis: String, undecided: Option<String>) -> FamilyReport {
+    FamilyReport {
+        gating: false,
+        basis,
+        undecided,
+        ..summarise("layer-order", &[], 0.0)
+    }
+}
+
+/// The budget of a layer order only reported, not gating (a freeform design's): a third
+/// of the cap, and under a deadline (the studio's) at most [`FREEFORM_LIVE`] of it, so
+/// verifying a large 3D design costs little more than it did before its flat state was
+/// judged and the studio's verdict is not held up by it.
+fn reported_budget(budget: &Budget) -> Budget {
+    let now = std::time::Instant::now();
+    Budget {
+        max_constraints: budget.max_constraints.min(FREEFORM_LAYER_CAP),
+        // Only a live analysis (one that can be cancelled: the studio's) holds the
+        // report to FREEFORM_LIVE; the command line's deadline stands as given.
+        deadline: budget.deadline.map(|(at, given)| match budget.cancel {
+            Some(_) => (at.min(now + FREEFORM_LIVE), given.min(FREEFORM_LIVE)),
+            None => (at, given),
+        }),
+        ..budget.clone()
+    }
 }
 
 /// The failing layer-order row of a tube whose seam does not close once folded flat: the

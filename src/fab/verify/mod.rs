@@ -163,56 +163,16 @@ fn verify_as_drawn(
         .filter(|&&f| f != Family::LayerOrder)
         .flat_map(|&family| family_reports(mesh, family, &rows, tol, bounds.as_ref()))
         .collect();
-    let mut notes = Vec::new();
-    if let Some(r) = families
-        .iter()
-        .find(|r| r.name == EMPIRICAL && r.violations > 0)
-    {
-        notes.push(format!(
-            "eq. (7, 8), the paper's empirical condition for a locally closed vertex, does not hold at \
-             {} sector(s) (largest at {}): designs keep it while they are varied, but a flat fold \
-             does not need it, and it does not decide the verdict (eq. 6 and the layer order do)",
-            r.violations,
-            r.worst.as_deref().unwrap_or("?")
-        ));
-    }
+    let mut notes: Vec<String> = empirical_note(&families).into_iter().collect();
     if set.families.contains(&Family::FlatFoldability) {
         families.extend(maekawa(mesh));
     }
     if mesh.has_3d() {
         families.push(self_intersection(mesh));
     }
-    // The layer order is the crease pattern's: whether it folds flat. A design whose 3D
-    // form lies in a plane (a flat-folded frame, or the unfolded sheet) is judged so and
-    // fails without one. A freeform 3D design is judged on its crease pattern folded flat
-    // too, but reported, not gating: it folds to its own form (the self-intersection row
-    // judges that), and its flat state is a property the maker should know of, not a bar
-    // to cutting it.
-    let asked = set.families.contains(&Family::LayerOrder);
-    let wants_flat =
-        conditions.is_none() || asked || set.families.contains(&Family::FlatFoldability);
-    if wants_flat {
-        // Named among the conditions, the order gates a freeform design too.
-        let freeform = mesh.has_3d() && !lies_in_a_plane(mesh);
-        let only_reported = freeform && !asked;
-        // Flat folding named among the conditions is a claim: what cannot be judged of it
-        // leaves the verdict undecided.
-        let claimed = conditions.is_some();
-        let report = layer_order_report(mesh, budget, freeform, only_reported, claimed);
-        if report.is_none() {
-            notes.extend(flat_state_unjudged(mesh));
-        }
-        if let Some(r) = report
-            .as_ref()
-            .filter(|r| only_reported && r.violations > 0)
-        {
-            notes.push(format!(
-                "this design folds to its 3D form but its crease pattern cannot fold flat: {}",
-                r.violators.join("; ")
-            ));
-        }
-        families.extend(report);
-    }
+    let (layer_order, flat_notes) = flat_state(mesh, conditions, set, budget);
+    families.extend(layer_order);
+    notes.extend(flat_notes);
     families.extend(unassigned_creases(mesh));
     if conditions.is_none() && !set.families.contains(&Family::FlatFoldability) {
         notes.push(match reference.odd_vertex {
@@ -229,6 +189,65 @@ fn verify_as_drawn(
         drawn,
         notes,
     }
+}
+
+/// The layer-order row of the design's flat-folded state, when flat folding is wanted,
+/// and the notes it calls for (no flat state to judge, a freeform design whose crease
+/// pattern cannot fold flat).
+fn flat_state(
+    mesh: &Mesh,
+    conditions: Option<&ConstraintSet>,
+    set: &ConstraintSet,
+    budget: &Budget,
+) -> (Option<FamilyReport>, Vec<String>) {
+    // The layer order is the crease pattern's: whether it folds flat. A design whose 3D
+    // form lies in a plane (a flat-folded frame, or the unfolded sheet) is judged so and
+    // fails without one. A freeform 3D design is judged on its crease pattern folded flat
+    // too, but reported, not gating: it folds to its own form (the self-intersection row
+    // judges that), and its flat state is a property the maker should know of, not a bar
+    // to cutting it.
+    let asked = set.families.contains(&Family::LayerOrder);
+    let wants_flat =
+        conditions.is_none() || asked || set.families.contains(&Family::FlatFoldability);
+    let mut notes = Vec::new();
+    if !wants_flat {
+        return (None, notes);
+    }
+    // Named among the conditions, the order gates a freeform design too.
+    let freeform = mesh.has_3d() && !lies_in_a_plane(mesh);
+    let only_reported = freeform && !asked;
+    // Flat folding named among the conditions is a claim: what cannot be judged of it
+    // leaves the verdict undecided.
+    let claimed = conditions.is_some();
+    let report = layer_order_report(mesh, budget, freeform, only_reported, claimed);
+    if report.is_none() {
+        notes.extend(flat_state_unjudged(mesh));
+    }
+    if let Some(r) = report
+        .as_ref()
+        .filter(|r| only_reported && r.violations > 0)
+    {
+        notes.push(format!(
+            "this design folds to its 3D form but its crease pattern cannot fold flat: {}",
+            r.violators.join("; ")
+        ));
+    }
+    (report, notes)
+}
+
+/// The note on the paper's empirical condition (eq. 7, 8) where it does not hold: it is
+/// reported, never judged.
+fn empirical_note(families: &[FamilyReport]) -> Option<String> {
+    let r = families
+        .iter()
+        .find(|r| r.name == EMPIRICAL && r.violations > 0)?;
+    Some(format!(
+        "eq. (7, 8), the paper's empirical condition for a locally closed vertex, does not hold at \
+         {} sector(s) (largest at {}): designs keep it while they are varied, but a flat fold \
+         does not need it, and it does not decide the verdict (eq. 6 and the layer order do)",
+        r.violations,
+        r.worst.as_deref().unwrap_or("?")
+    ))
 }
 
 /// A design whose creases all fold to ±180° claims a flat-folded state; where none could
