@@ -197,7 +197,7 @@ pub fn run_stage(
         .collect();
     let mut refused = None;
     let mut stalled = false;
-    'steps: for k in 0..stage.steps {
+    for k in 0..stage.steps {
         let n = solver.positions().len();
         let x = solver.positions().to_vec();
         let mut dx0 = vec![Vec3::zeros(); n];
@@ -205,27 +205,12 @@ pub fn run_stage(
             let share = (target(m) - x[m.vertex]) / (stage.steps - k) as f64;
             pull(&x, m.vertex, share, radius, &mut dx0);
         }
-        let mut halvings = 0;
-        loop {
-            match solver.step(&dx0) {
-                Ok(_) => {}
-                Err(e @ SolverError::NotConverged { .. }) if keep_partial => {
-                    refused = Some(format!("step {} of {}: {e}", k + 1, stage.steps));
-                    stalled = true;
-                    break 'steps;
-                }
-                Err(e) => return Err(e),
-            }
-            let Some(why) = check(solver) else { break };
-            solver.restore(x.clone());
-            if halvings == KEEP_HALVINGS {
-                refused = Some(format!("step {} of {}: {why}", k + 1, stage.steps));
-                break 'steps;
-            }
-            halvings += 1;
-            for d in &mut dx0 {
-                *d *= 0.5;
-            }
+        if let StepEnd::Refused { why, uncorrected } =
+            checked_step(solver, dx0, check, keep_partial)?
+        {
+            refused = Some(format!("step {} of {}: {why}", k + 1, stage.steps));
+            stalled = uncorrected;
+            break;
         }
         if let Some(threshold) = remesh {
             let dragged: Vec<usize> = stage.moves.iter().map(|m| m.vertex).collect();
@@ -259,6 +244,54 @@ pub fn run_stage(
         refused,
         stalled,
     })
+}
+
+/// How one step of a stage ended.
+enum StepEnd {
+    /// Taken, every condition and the check held.
+    Taken,
+    /// Not taken (the positions are as before it): `why`, and whether it was the solver
+    /// that could not correct it (rather than the check refusing it at every length).
+    Refused { why: String, uncorrected: bool },
+}
+
+/// One step of `dx0` held to `check`: a step the check refuses is undone and tried at half
+/// the length, [`KEEP_HALVINGS`] times; with `keep_partial`, a step the solver cannot
+/// correct ends the stage instead of failing it.
+fn checked_step(
+    solver: &mut Solver,
+    mut dx0: Vec<Vec3>,
+    check: &mut dyn FnMut(&Solver) -> Option<String>,
+    keep_partial: bool,
+) -> Result<StepEnd, SolverError> {
+    let x = solver.positions().to_vec();
+    let mut halvings = 0;
+    loop {
+        match solver.step(&dx0) {
+            Ok(_) => {}
+            Err(e @ SolverError::NotConverged { .. }) if keep_partial => {
+                return Ok(StepEnd::Refused {
+                    why: e.to_string(),
+                    uncorrected: true,
+                })
+            }
+            Err(e) => return Err(e),
+        }
+        let Some(why) = check(solver) else {
+            return Ok(StepEnd::Taken);
+        };
+        solver.restore(x.clone());
+        if halvings == KEEP_HALVINGS {
+            return Ok(StepEnd::Refused {
+                why,
+                uncorrected: false,
+            });
+        }
+        halvings += 1;
+        for d in &mut dx0 {
+            *d *= 0.5;
+        }
+    }
 }
 
 #[cfg(test)]
