@@ -12,6 +12,9 @@ use std::collections::HashMap;
 /// One `crease:seam` entry.
 pub(super) type SeamEntry = ([usize; 2], [usize; 2], String);
 
+/// A seam crease: its first copy's ends and its assignment.
+type SeamCrease = ([usize; 2], Assignment);
+
 /// The strip a tube is written as and its `crease:seam` entries, one JSON array each;
 /// `None` when the mesh is not a tube or cannot be cut open (it is then written as it is,
 /// closed).
@@ -49,40 +52,7 @@ pub(super) fn close(
     let positions =
         positions.ok_or("crease:seam needs the tube's 3D frame (a foldedForm frame)")?;
     let n = positions.len();
-    let (lo, hi) = crate::mesh::bounds(&positions);
-    // The two copies of a seam vertex close up as a walk round the strip would.
-    let tolerance = crate::tolerance::WALK_RELATIVE * (hi - lo).norm().max(1.0);
-    // Each pair joins into its lower-numbered vertex: a strip written by crease numbers
-    // the tube's own vertices first, so the tube reads back with its own numbering.
-    let mut groups = crate::mesh::UnionFind::new(n);
-    let mut creases: Vec<([usize; 2], Assignment)> = Vec::with_capacity(entries.len());
-    for (k, (first, second, letter)) in entries.iter().enumerate() {
-        for &v in first.iter().chain(second) {
-            if v >= n {
-                return Err(format!(
-                    "crease:seam[{k}] refers to vertex {v}, but there are only {n} vertices"
-                ));
-            }
-        }
-        let assignment = Assignment::from_fold(letter)
-            .filter(|a| !a.is_boundary())
-            .ok_or_else(|| {
-                format!(
-                    "crease:seam[{k}] has assignment \"{}\"; a seam crease is M, V, F, U or J",
-                    crate::limits::short_text(letter)
-                )
-            })?;
-        for (&p, &q) in first.iter().zip(second) {
-            let gap = (positions[p] - positions[q]).norm();
-            if p == q || gap > tolerance {
-                return Err(format!(
-                    "crease:seam[{k}] joins vertices {p} and {q}, which lie {gap:.3} mm apart in the 3D frame"
-                ));
-            }
-            groups.union(p, q);
-        }
-        creases.push((*first, assignment));
-    }
+    let (mut groups, creases) = join_pairs(&positions, entries)?;
     let mut lowest = vec![usize::MAX; n];
     for v in 0..n {
         let r = groups.find(v);
@@ -133,4 +103,48 @@ pub(super) fn close(
         },
         seam,
     ))
+}
+
+/// The seam's vertex pairs joined (each pair checked to name vertices that lie together
+/// in the 3D frame) and each seam crease's first copy with its assignment.
+fn join_pairs(
+    positions: &[crate::mesh::Vec3],
+    entries: &[SeamEntry],
+) -> Result<(crate::mesh::UnionFind, Vec<SeamCrease>), String> {
+    let n = positions.len();
+    let (lo, hi) = crate::mesh::bounds(positions);
+    // The two copies of a seam vertex close up as a walk round the strip would.
+    let tolerance = crate::tolerance::WALK_RELATIVE * (hi - lo).norm().max(1.0);
+    // Each pair joins into its lower-numbered vertex: a strip written by crease numbers
+    // the tube's own vertices first, so the tube reads back with its own numbering.
+    let mut groups = crate::mesh::UnionFind::new(n);
+    let mut creases: Vec<SeamCrease> = Vec::with_capacity(entries.len());
+    for (k, (first, second, letter)) in entries.iter().enumerate() {
+        for &v in first.iter().chain(second) {
+            if v >= n {
+                return Err(format!(
+                    "crease:seam[{k}] refers to vertex {v}, but there are only {n} vertices"
+                ));
+            }
+        }
+        let assignment = Assignment::from_fold(letter)
+            .filter(|a| !a.is_boundary())
+            .ok_or_else(|| {
+                format!(
+                    "crease:seam[{k}] has assignment \"{}\"; a seam crease is M, V, F, U or J",
+                    crate::limits::short_text(letter)
+                )
+            })?;
+        for (&p, &q) in first.iter().zip(second) {
+            let gap = (positions[p] - positions[q]).norm();
+            if p == q || gap > tolerance {
+                return Err(format!(
+                    "crease:seam[{k}] joins vertices {p} and {q}, which lie {gap:.3} mm apart in the 3D frame"
+                ));
+            }
+            groups.union(p, q);
+        }
+        creases.push((*first, assignment));
+    }
+    Ok((groups, creases))
 }
