@@ -642,6 +642,48 @@ fn panels_that_pass_through_each_other_are_reported_and_marked() {
     assert_eq!(faces.len(), 2);
 }
 
+#[test]
+fn faces_that_admit_no_layer_order_are_a_finding_without_a_figure_on_the_page() {
+    // Jason Ku's Bad Twist (Flat-Folder's unsatisfiable set): every local condition holds,
+    // ten faces admit no order. The page gets no number for that row (its residual is a
+    // count, 1), where the measured rows keep theirs.
+    let mesh = crease::io::read(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/flat-folder/unsatisfiable/001_ku_Bad_Twist.fold"
+    )))
+    .unwrap();
+    let hub = Hub::start(mesh, "bad-twist");
+    let start = Instant::now();
+    let live = loop {
+        let f: Value =
+            serde_json::from_slice(&call(&hub, "GET", "/api/frame?after=0", b"").body).unwrap();
+        let families = f["live"]["residuals"]
+            .as_array()
+            .cloned()
+            .unwrap_or_default();
+        if families.iter().any(|r| r["name"] == "layer-order") {
+            break f["live"].clone();
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(30),
+            "the analysis reports the layer order"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    assert_eq!(live["verdict"], "FAIL", "{live}");
+    let rows = live["residuals"].as_array().unwrap();
+    let row = |name: &str| rows.iter().find(|r| r["name"] == name).unwrap().clone();
+    let layer_order = row("layer-order");
+    assert_eq!(layer_order["pass"], false, "{layer_order}");
+    assert!(layer_order["max"].is_null(), "{layer_order}");
+    let kawasaki = row("angular-inequality");
+    assert_eq!(kawasaki["pass"], true, "{kawasaki}");
+    assert!(kawasaki["max"].as_f64().unwrap() < 1e-6, "{kawasaki}");
+    assert_eq!(live["worst"]["family"], "layer-order", "{live}");
+    assert!(live["worst"]["max"].is_null(), "{live}");
+    hub.stop();
+}
+
 /// The largest distance of the default Miura-ori's parallelograms (by their means) from
 /// the cap, computed here from the state's positions: the figure the fit must bring down.
 fn largest_facet_distance(s: &Value, cap: &crease::surface::TriSurface, mesh: &Mesh) -> f64 {
