@@ -10,7 +10,7 @@ use std::fmt;
 /// One family's figures.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FamilyReport {
-    /// Family name (a [`Family`] name, or "maekawa").
+    /// Family name (a [`Family`](crate::constraints::Family) name, or "maekawa").
     pub name: &'static str,
     /// Largest |residual|.
     pub max: f64,
