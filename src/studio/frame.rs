@@ -318,13 +318,13 @@ pub fn live_json(l: &Live) -> String {
                 .iter()
                 .map(|f| {
                     // A finding without a size (faces that admit no order) has no figure.
-                    json!({"name": f.name, "max": f.measured.then_some(f.max), "tolerance": f.tolerance,
+                    json!({"name": f.name, "max": f.figure(), "tolerance": f.tolerance,
                            "pass": f.pass(), "judged": f.gating, "worst": f.worst})
                 })
                 .collect();
             let worst = r.worst_family().map(|(f, e)| {
                 json!({"family": f.name, "element": element_json(e),
-                       "max": f.measured.then_some(f.max), "pass": f.pass()})
+                       "max": f.figure(), "pass": f.pass()})
             });
             let verdict = r.verdict();
             (

@@ -54,6 +54,12 @@ impl FamilyReport {
     pub fn pass(&self) -> bool {
         self.violations == 0
     }
+
+    /// The largest residual as a figure reports may print: `None` for a finding without a
+    /// size (faces that admit no order, see [`FamilyReport::measured`]).
+    pub fn figure(&self) -> Option<f64> {
+        self.measured.then_some(self.max)
+    }
 }
 
 /// The result of verifying a design.
@@ -163,8 +169,8 @@ impl Report {
             return Verdict::Fail {
                 condition: r.name,
                 at: r.worst.clone().unwrap_or_else(|| "?".into()),
-                excess: r.measured.then_some(Excess {
-                    value: r.max,
+                excess: r.figure().map(|value| Excess {
+                    value,
                     tolerance: r.worst_tolerance,
                 }),
             };

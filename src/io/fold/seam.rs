@@ -53,6 +53,8 @@ pub(super) fn close(
         positions.ok_or("crease:seam needs the tube's 3D frame (a foldedForm frame)")?;
     let n = positions.len();
     let (mut groups, creases) = join_pairs(&positions, entries)?;
+    // Each pair joins into its lower-numbered vertex: a strip written by crease numbers
+    // the tube's own vertices first, so the tube reads back with its own numbering.
     let mut lowest = vec![usize::MAX; n];
     for v in 0..n {
         let r = groups.find(v);
@@ -115,8 +117,6 @@ fn join_pairs(
     let (lo, hi) = crate::mesh::bounds(positions);
     // The two copies of a seam vertex close up as a walk round the strip would.
     let tolerance = crate::tolerance::WALK_RELATIVE * (hi - lo).norm().max(1.0);
-    // Each pair joins into its lower-numbered vertex: a strip written by crease numbers
-    // the tube's own vertices first, so the tube reads back with its own numbering.
     let mut groups = crate::mesh::UnionFind::new(n);
     let mut creases: Vec<SeamCrease> = Vec::with_capacity(entries.len());
     for (k, (first, second, letter)) in entries.iter().enumerate() {
