@@ -8,10 +8,15 @@
 //! space of the chosen conditions (eq. 10) and corrected by Newton, so every condition
 //! holds at every step exactly as in a drag. Without an anchor the rigid motions are
 //! in that null space too, so the placement keeps refining while the design bends.
+//! When these steps stall short of the goal, the fit goes on with Gauss–Newton steps on
+//! the same energy, in the same null space ([`gauss_newton`]): where the conditions let
+//! only a little of the pull through, gradient steps creep, and a Gauss–Newton step
+//! takes the whole way along those directions at once.
 //! The fit stops when the distance stops improving, and names the condition that
 //! refuses most of what the target still asks for ([`crate::solver::Resistance`]).
 
 pub mod align;
+pub mod gauss_newton;
 pub mod groups;
 
 pub use align::{kabsch, place, Placement};
@@ -260,6 +265,11 @@ pub struct Fitter {
     stop: Option<Stop>,
     /// Why the last step a check refused was undone ([`Fitter::step_checked`]).
     pub held_back: Option<String>,
+    /// Gauss–Newton steps undone because they did not lower the energy: they count
+    /// against the step limit as the solver counts them among its steps.
+    undone: usize,
+    /// The damping of Gauss–Newton steps, once the pull has stalled short of the goal.
+    gauss_newton: Option<f64>,
 }
 
 impl Fitter {
@@ -282,6 +292,8 @@ impl Fitter {
             best: None,
             stop: None,
             held_back: None,
+            undone: 0,
+            gauss_newton: None,
         };
         fitter.regroup(solver);
         let m = fitter.measure(solver);
@@ -411,8 +423,17 @@ impl Fitter {
         if self.stop.is_some() {
             return Ok(m);
         }
-        let dx0 = self.wish(&m, solver.positions(), solver.mesh().edges());
+        let dx0 = match self.gauss_newton {
+            Some(damping) => self.gauss_newton_wish(solver, &m, damping)?,
+            None => self.wish(&m, solver.positions(), solver.mesh().edges()),
+        };
         let newton_before = solver.stats.newton_iterations;
+        // Where the step starts, and the energy there when a Gauss–Newton step may be
+        // undone.
+        let before = (
+            solver.positions().to_vec(),
+            self.gauss_newton.map_or(0.0, |_| self.energy(solver, &m)),
+        );
         match solver.step(&dx0) {
             Ok(_) => {
                 self.consecutive_failures = 0;
@@ -439,6 +460,9 @@ impl Fitter {
             }
             Err(e) => return Err(e),
         }
+        if self.undone_by_damping(solver, before, &m) {
+            return Ok(m);
+        }
         if let Some(threshold) = self.options.remesh {
             let outcome = solver.remesh(&[], threshold);
             if outcome.renumbered.is_some() || outcome.collapses + outcome.flips > 0 {
@@ -452,6 +476,75 @@ impl Fitter {
         self.judge(solver, &after);
         self.last = Some((solver.positions().to_vec(), after.clone()));
         Ok(after)
+    }
+
+    /// The preferences at their current softness, as the Gauss–Newton steps weigh them.
+    fn preferences(&self) -> gauss_newton::Preferences<'_> {
+        gauss_newton::Preferences {
+            rest: &self.rest,
+            neighbours: &self.neighbours,
+            lengths: self.softness * KEEP_LENGTHS,
+            size: self.softness * KEEP_SIZE,
+        }
+    }
+
+    /// The fit's energy at the solver's positions, `m` measured there (the Gauss–Newton
+    /// steps' objective, [`gauss_newton::energy`]).
+    fn energy(&self, solver: &Solver, m: &Measure) -> f64 {
+        gauss_newton::energy(solver, &self.groups, m, &self.target, &self.preferences())
+    }
+
+    /// The wish of a Gauss–Newton step ([`gauss_newton::motion`]), scaled so no vertex is
+    /// asked to move more than the cap.
+    fn gauss_newton_wish(
+        &self,
+        solver: &mut Solver,
+        m: &Measure,
+        damping: f64,
+    ) -> Result<Vec<Vec3>, SolverError> {
+        let keep = self.preferences();
+        let mut dx = gauss_newton::motion(solver, &self.groups, m, &self.target, &keep, damping)?;
+        let longest = dx.iter().map(|d| d.norm()).fold(0.0, f64::max);
+        if longest > self.cap {
+            let s = self.cap / longest;
+            dx.iter_mut().for_each(|d| *d *= s);
+        }
+        Ok(dx)
+    }
+
+    /// In the Gauss–Newton phase, undoes a step that did not lower the fit's energy (the
+    /// solver back at `before`, where `m` was measured) and damps the next one more; a
+    /// step that did lowers the damping. Ends the fit when the damping has grown past
+    /// [`gauss_newton::MAX_DAMPING`]. Whether the step was undone.
+    fn undone_by_damping(
+        &mut self,
+        solver: &mut Solver,
+        before: (Vec<Vec3>, f64),
+        m: &Measure,
+    ) -> bool {
+        let Some(damping) = self.gauss_newton else {
+            return false;
+        };
+        let (before, was) = before;
+        let better = self.energy(solver, &self.measure(solver)) < was;
+        let damping = gauss_newton::next_damping(damping, better);
+        self.gauss_newton = Some(damping);
+        if better {
+            return false;
+        }
+        solver.restore(before);
+        self.undone += 1;
+        if self.history.len() - 1 + self.undone >= self.options.max_steps {
+            self.stop = Some(Stop::StepLimit);
+        } else if damping > gauss_newton::MAX_DAMPING {
+            self.stop = Some(if m.largest <= self.goal(solver) {
+                Stop::Converged
+            } else {
+                Stop::Stalled
+            });
+        }
+        self.last = Some((solver.positions().to_vec(), m.clone()));
+        true
     }
 
     /// The cap never grows past [`STEP_CAP_EDGES`] of the mean edge.
@@ -491,6 +584,11 @@ impl Fitter {
                 // is as near the target as it lets it come. Loosen it and go on.
                 self.softness *= 0.25;
                 self.settled_at = steps;
+            } else if self.gauss_newton.is_none() && m.largest > self.goal(solver) {
+                // The pull has stalled short of the goal: what the conditions let through
+                // may still lead there, too weakly for gradient steps to follow.
+                self.gauss_newton = Some(gauss_newton::INITIAL_DAMPING);
+                self.settled_at = steps;
             } else {
                 self.stop = Some(if m.largest <= self.goal(solver) {
                     Stop::Converged
@@ -500,7 +598,7 @@ impl Fitter {
                 return;
             }
         }
-        if steps >= self.options.max_steps {
+        if steps + self.undone >= self.options.max_steps {
             self.stop = Some(Stop::StepLimit);
         }
     }

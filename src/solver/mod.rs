@@ -420,6 +420,13 @@ impl Solver {
         self.project(dx0, false)
     }
 
+    /// Eq. (10) again at the same positions: through the factor the last projection or
+    /// step made while the active rows stay (a fresh one otherwise). An iterative solve
+    /// that applies the projector many times within one step pays one factorisation.
+    pub fn null_space_step_reusing(&mut self, dx0: &[Vec3]) -> Result<Vec<Vec3>, SolverError> {
+        self.project(dx0, true)
+    }
+
     /// Makes sure the factor of J Jᵀ fits the active rows at the current positions: a
     /// fresh one, or with `allow_stale` one up to [`MAX_FACTOR_AGE`] (or
     /// [`PREDICTED_FACTOR_AGE`]) steps old while the active set stays.
