@@ -224,48 +224,57 @@ mod tests {
     use crate::solver::{Mode, Options};
     use crate::surface::shapes::Shape;
 
-    /// A folded 3 × 3 Miura-ori in design mode 5 mm above a saddle, its groups, and
-    /// preferences for lengths 10% shorter than its own (so every term of the energy is
-    /// non-zero).
-    struct Setting {
-        solver: Solver,
+    /// What a folded 3 × 3 Miura-ori in design mode, 5 mm above a saddle, is fitted
+    /// with: its groups, the saddle, and preferences for lengths 10% shorter than its own
+    /// (so every term of the energy is non-zero).
+    struct Scene {
         groups: Vec<Vec<usize>>,
         target: TriSurface,
         rest: Vec<f64>,
         neighbours: Vec<(usize, usize, f64)>,
     }
 
-    impl Setting {
-        fn new() -> Setting {
-            let mut mesh = generate(&Params::square(PatternKind::Miura, 3, 20.0)).unwrap();
-            let lifted: Vec<Vec3> = mesh
-                .positions()
-                .iter()
-                .map(|p| p + Vec3::new(0.0, 0.0, 5.0))
-                .collect();
-            mesh.set_positions(lifted);
-            let set = Mode::Design.conditions(None, &mesh);
-            let solver = Solver::new(mesh, set, &[], Options::default()).unwrap();
-            let target = Shape::Saddle { depth: 20.0 }.surface(120.0, 24).unwrap();
-            let groups = surface_groups(solver.mesh(), SurfaceChoice::Mid);
-            let x = solver.positions();
-            let rest = solver
-                .mesh()
-                .edges()
-                .iter()
-                .map(|e| 0.9 * (x[e.vertices[0]] - x[e.vertices[1]]).norm())
-                .collect();
-            let m = measure(x, &groups, &target);
-            let last = groups.len() - 1;
-            let neighbours = vec![(0, last, 0.9 * (m.points[0] - m.points[last]).norm())];
-            Setting {
-                solver,
-                groups,
-                target,
-                rest,
-                neighbours,
+    impl Scene {
+        fn keep(&self) -> Preferences<'_> {
+            Preferences {
+                rest: &self.rest,
+                neighbours: &self.neighbours,
+                lengths: 0.3,
+                size: 0.7,
             }
         }
+    }
+
+    /// The Miura-ori's solver and its [`Scene`].
+    fn setting() -> (Solver, Scene) {
+        let mut mesh = generate(&Params::square(PatternKind::Miura, 3, 20.0)).unwrap();
+        let lifted: Vec<Vec3> = mesh
+            .positions()
+            .iter()
+            .map(|p| p + Vec3::new(0.0, 0.0, 5.0))
+            .collect();
+        mesh.set_positions(lifted);
+        let set = Mode::Design.conditions(None, &mesh);
+        let solver = Solver::new(mesh, set, &[], Options::default()).unwrap();
+        let target = Shape::Saddle { depth: 20.0 }.surface(120.0, 24).unwrap();
+        let groups = surface_groups(solver.mesh(), SurfaceChoice::Mid);
+        let x = solver.positions();
+        let rest = solver
+            .mesh()
+            .edges()
+            .iter()
+            .map(|e| 0.9 * (x[e.vertices[0]] - x[e.vertices[1]]).norm())
+            .collect();
+        let m = measure(x, &groups, &target);
+        let last = groups.len() - 1;
+        let neighbours = vec![(0, last, 0.9 * (m.points[0] - m.points[last]).norm())];
+        let scene = Scene {
+            groups,
+            target,
+            rest,
+            neighbours,
+        };
+        (solver, scene)
     }
 
     fn random_motion(rng: &mut Rng, n: usize) -> Vec<Vec3> {
@@ -291,22 +300,11 @@ mod tests {
 
     #[test]
     fn the_energy_terms_derivatives_match_central_differences() {
-        let Setting {
-            mut solver,
-            groups,
-            target,
-            rest,
-            neighbours,
-        } = Setting::new();
-        let keep = Preferences {
-            rest: &rest,
-            neighbours: &neighbours,
-            lengths: 0.3,
-            size: 0.7,
-        };
+        let (mut solver, scene) = setting();
+        let (groups, target, keep) = (&scene.groups, &scene.target, scene.keep());
         let x0 = solver.positions().to_vec();
-        let m = measure(&x0, &groups, &target);
-        let rows = rows(&solver, &groups, &m, &target, &keep);
+        let m = measure(&x0, groups, target);
+        let rows = rows(&solver, groups, &m, target, &keep);
         let mut rng = Rng::new(7);
         for _ in 0..5 {
             let v = random_motion(&mut rng, x0.len());
@@ -317,8 +315,8 @@ mod tests {
             let h = 1e-5;
             let mut at = |t: f64| {
                 solver.restore(x0.iter().zip(&v).map(|(p, d)| p + d * t).collect());
-                let m = measure(solver.positions(), &groups, &target);
-                energy(&solver, &groups, &m, &target, &keep)
+                let m = measure(solver.positions(), groups, target);
+                energy(&solver, groups, &m, target, &keep)
             };
             let measured = (at(h) - at(-h)) / (2.0 * h);
             assert!(
@@ -330,23 +328,12 @@ mod tests {
 
     #[test]
     fn the_step_minimises_the_linearised_energy_over_the_null_space() {
-        let Setting {
-            mut solver,
-            groups,
-            target,
-            rest,
-            neighbours,
-        } = Setting::new();
-        let keep = Preferences {
-            rest: &rest,
-            neighbours: &neighbours,
-            lengths: 0.3,
-            size: 0.7,
-        };
-        let m = measure(solver.positions(), &groups, &target);
+        let (mut solver, scene) = setting();
+        let (groups, target, keep) = (&scene.groups, &scene.target, scene.keep());
+        let m = measure(solver.positions(), groups, target);
         let damping = 1e-3;
-        let dx = motion(&mut solver, &groups, &m, &target, &keep, damping).unwrap();
-        let rows = rows(&solver, &groups, &m, &target, &keep);
+        let dx = motion(&mut solver, groups, &m, target, &keep, damping).unwrap();
+        let rows = rows(&solver, groups, &m, target, &keep);
         let n = dx.len();
         let mut diag = vec![0.0; n];
         for r in &rows {
