@@ -47,6 +47,9 @@ pub struct Fitter {
     stop: Option<Stop>,
     /// Why the last step a check refused was undone ([`Fitter::step_checked`]).
     pub held_back: Option<String>,
+    /// The accepted step after which the pull stalled short of the goal and Gauss–Newton
+    /// steps took over (an index into `history`), if they did.
+    pub gauss_newton_from: Option<usize>,
     /// Gauss–Newton steps undone because they did not lower the energy: they count
     /// against the step limit as the solver counts them among its steps.
     undone: usize,
@@ -74,6 +77,7 @@ impl Fitter {
             best: None,
             stop: None,
             held_back: None,
+            gauss_newton_from: None,
             undone: 0,
             gauss_newton: None,
         };
@@ -370,6 +374,7 @@ impl Fitter {
                 // The pull has stalled short of the goal: what the conditions let through
                 // may still lead there, too weakly for gradient steps to follow.
                 self.gauss_newton = Some(gauss_newton::INITIAL_DAMPING);
+                self.gauss_newton_from = Some(steps);
                 self.settled_at = steps;
             } else {
                 self.stop = Some(if m.largest <= self.goal(solver) {

@@ -61,6 +61,10 @@ pub struct FitReport {
     /// ([`crate::fit::largest_still_falling`]): more steps bring it nearer.
     #[serde(default)]
     pub still_improving: bool,
+    /// The step after which the pull stalled short of the goal and Gauss–Newton steps
+    /// took over ([`crate::fit::gauss_newton`]; an index into `history`), if they did.
+    #[serde(default)]
+    pub gauss_newton_from: Option<usize>,
     /// When the goal was not met and the fit was no longer improving: the condition
     /// refusing most of what the target still asks for.
     pub blocked_by: Option<BlockedBy>,
@@ -171,6 +175,12 @@ impl FitReport {
         if let Some(why) = &self.held_back {
             s += &format!("\nheld back: a step was undone because {why}");
         }
+        if let Some(&[_, largest]) = self.gauss_newton_from.and_then(|k| self.history.get(k)) {
+            s += &format!(
+                "\nthe pull stalled at {largest:.3} mm after step {}; Gauss–Newton steps went on from there",
+                self.gauss_newton_from.unwrap_or_default()
+            );
+        }
         if let (true, Some(last)) = (self.still_improving, self.history.last()) {
             let window = (self.history.len() - 1).min(crate::fit::STALL_WINDOW);
             s += &format!(
@@ -203,6 +213,7 @@ pub(super) struct FitPhase {
     failures: usize,
     /// Why the last step the layer-order check refused was undone.
     held_back: Option<String>,
+    gauss_newton_from: Option<usize>,
     stop: Stop,
     resistance: Option<Resistance>,
     goal: Option<f64>,
@@ -285,6 +296,7 @@ fn pull(
         history: fitter.history.clone(),
         failures: fitter.failures,
         held_back: fitter.held_back.clone(),
+        gauss_newton_from: fitter.gauss_newton_from,
         stop,
         resistance,
         goal: stage.options.goal,
@@ -355,6 +367,7 @@ pub(super) fn report(
         seconds: phase.seconds,
         stopped: stopped.name().to_string(),
         still_improving: improving,
+        gauss_newton_from: phase.gauss_newton_from,
         blocked_by: phase
             .resistance
             .filter(|_| !met && !improving)
