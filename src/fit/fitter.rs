@@ -190,6 +190,11 @@ impl Fitter {
                 }
             }
         }
+        self.capped(dx0)
+    }
+
+    /// `dx0` scaled so no vertex is asked to move more than the cap.
+    fn capped(&self, mut dx0: Vec<Vec3>) -> Vec<Vec3> {
         let longest = dx0.iter().map(|d| d.norm()).fold(0.0, f64::max);
         if longest > self.cap {
             let s = self.cap / longest;
@@ -214,12 +219,10 @@ impl Fitter {
             None => self.wish(&m, solver.positions(), solver.mesh().edges()),
         };
         let newton_before = solver.stats.newton_iterations;
-        // Where the step starts, and the energy there when a Gauss–Newton step may be
-        // undone.
-        let before = (
-            solver.positions().to_vec(),
-            self.gauss_newton.map_or(0.0, |_| self.energy(solver, &m)),
-        );
+        // Where a Gauss–Newton step starts and the energy there, should it be undone.
+        let before = self
+            .gauss_newton
+            .map(|_| (solver.positions().to_vec(), self.energy(solver, &m)));
         match solver.step(&dx0) {
             Ok(_) => {
                 self.consecutive_failures = 0;
@@ -289,29 +292,24 @@ impl Fitter {
         damping: f64,
     ) -> Result<Vec<Vec3>, SolverError> {
         let keep = self.preferences();
-        let mut dx = gauss_newton::motion(solver, &self.groups, m, &self.target, &keep, damping)?;
-        let longest = dx.iter().map(|d| d.norm()).fold(0.0, f64::max);
-        if longest > self.cap {
-            let s = self.cap / longest;
-            dx.iter_mut().for_each(|d| *d *= s);
-        }
-        Ok(dx)
+        let dx = gauss_newton::motion(solver, &self.groups, m, &self.target, &keep, damping)?;
+        Ok(self.capped(dx))
     }
 
-    /// In the Gauss–Newton phase, undoes a step that did not lower the fit's energy (the
-    /// solver back at `before`, where `m` was measured) and damps the next one more; a
-    /// step that did lowers the damping. Ends the fit when the damping has grown past
-    /// [`gauss_newton::MAX_DAMPING`]. Whether the step was undone.
+    /// In the Gauss–Newton phase (`before` holds where the step started, where `m` was
+    /// measured, and the energy there), undoes a step that did not lower the fit's energy
+    /// and damps the next one more; a step that did lowers the damping. Ends the fit when
+    /// the damping has grown past [`gauss_newton::MAX_DAMPING`]. Whether the step was
+    /// undone.
     fn undone_by_damping(
         &mut self,
         solver: &mut Solver,
-        before: (Vec<Vec3>, f64),
+        before: Option<(Vec<Vec3>, f64)>,
         m: &Measure,
     ) -> bool {
-        let Some(damping) = self.gauss_newton else {
+        let (Some(damping), Some((before, was))) = (self.gauss_newton, before) else {
             return false;
         };
-        let (before, was) = before;
         let better = self.energy(solver, &self.measure(solver)) < was;
         let damping = gauss_newton::next_damping(damping, better);
         self.gauss_newton = Some(damping);
@@ -320,14 +318,10 @@ impl Fitter {
         }
         solver.restore(before);
         self.undone += 1;
-        if self.history.len() - 1 + self.undone >= self.options.max_steps {
+        if self.out_of_steps(self.history.len() - 1) {
             self.stop = Some(Stop::StepLimit);
         } else if damping > gauss_newton::MAX_DAMPING {
-            self.stop = Some(if m.largest <= self.goal(solver) {
-                Stop::Converged
-            } else {
-                Stop::Stalled
-            });
+            self.stop = Some(self.no_longer_improving(solver, m));
         }
         self.last = Some((solver.positions().to_vec(), m.clone()));
         true
@@ -377,17 +371,29 @@ impl Fitter {
                 self.gauss_newton_from = Some(steps);
                 self.settled_at = steps;
             } else {
-                self.stop = Some(if m.largest <= self.goal(solver) {
-                    Stop::Converged
-                } else {
-                    Stop::Stalled
-                });
+                self.stop = Some(self.no_longer_improving(solver, m));
                 return;
             }
         }
-        if steps + self.undone >= self.options.max_steps {
+        if self.out_of_steps(steps) {
             self.stop = Some(Stop::StepLimit);
         }
+    }
+
+    /// Why a fit that no longer comes nearer stops: converged with the goal met at `m`,
+    /// stalled short of it.
+    fn no_longer_improving(&self, solver: &Solver, m: &Measure) -> Stop {
+        if m.largest <= self.goal(solver) {
+            Stop::Converged
+        } else {
+            Stop::Stalled
+        }
+    }
+
+    /// Whether `accepted` steps, with the Gauss–Newton steps undone (the solver counts
+    /// them among its steps too), have used the step budget.
+    fn out_of_steps(&self, accepted: usize) -> bool {
+        accepted + self.undone >= self.options.max_steps
     }
 
     /// Steps until the fit stops; `progress` sees each step's distances.

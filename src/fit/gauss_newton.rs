@@ -141,6 +141,19 @@ fn rows(
     rows
 }
 
+/// μ of [`motion`]: `damping` times the mean diagonal entry of the normal matrix
+/// Σ w ∂rᵀ∂r over `vertices` (so the damping is relative to the terms' own scale).
+fn damping_weight(rows: &[Row], vertices: usize, damping: f64) -> f64 {
+    // Summed vertex by vertex: the fit's path depends on μ to the last bit.
+    let mut diag = vec![0.0; vertices];
+    for r in rows {
+        r.terms
+            .iter()
+            .for_each(|(v, c)| diag[*v] += r.weight * c.norm_squared());
+    }
+    damping * diag.iter().sum::<f64>() / vertices.max(1) as f64
+}
+
 /// The fit's energy Σ w r² at the solver's positions (`m` measured there).
 pub fn energy(
     solver: &Solver,
@@ -169,13 +182,7 @@ pub fn motion(
 ) -> Result<Vec<Vec3>, SolverError> {
     let rows = rows(solver, groups, m, target, keep);
     let vertices = solver.positions().len();
-    let mut diag = vec![0.0; vertices];
-    for r in &rows {
-        r.terms
-            .iter()
-            .for_each(|(v, c)| diag[*v] += r.weight * c.norm_squared());
-    }
-    let mu = damping * diag.iter().sum::<f64>() / vertices.max(1) as f64;
+    let mu = damping_weight(&rows, vertices, damping);
     let h = |p: &[Vec3]| -> Vec<Vec3> {
         let mut out: Vec<Vec3> = p.iter().map(|q| q * mu).collect();
         for r in &rows {
@@ -335,13 +342,7 @@ mod tests {
         let dx = motion(&mut solver, groups, &m, target, &keep, damping).unwrap();
         let rows = rows(&solver, groups, &m, target, &keep);
         let n = dx.len();
-        let mut diag = vec![0.0; n];
-        for r in &rows {
-            r.terms
-                .iter()
-                .for_each(|(v, c)| diag[*v] += r.weight * c.norm_squared());
-        }
-        let mu = damping * diag.iter().sum::<f64>() / n as f64;
+        let mu = damping_weight(&rows, n, damping);
         // In the null space: the projection leaves it as it is.
         let projected = solver.null_space_step(&dx).unwrap();
         let size = dx.iter().map(|d| d.norm()).fold(0.0, f64::max);

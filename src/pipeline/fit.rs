@@ -175,11 +175,12 @@ impl FitReport {
         if let Some(why) = &self.held_back {
             s += &format!("\nheld back: a step was undone because {why}");
         }
-        if let Some(&[_, largest]) = self.gauss_newton_from.and_then(|k| self.history.get(k)) {
-            s += &format!(
-                "\nthe pull stalled at {largest:.3} mm after step {}; Gauss–Newton steps went on from there",
-                self.gauss_newton_from.unwrap_or_default()
-            );
+        if let Some(k) = self.gauss_newton_from {
+            if let Some([_, largest]) = self.history.get(k) {
+                s += &format!(
+                    "\nthe pull stalled at {largest:.3} mm after step {k}; Gauss–Newton steps went on from there"
+                );
+            }
         }
         if let (true, Some(last)) = (self.still_improving, self.history.last()) {
             let window = (self.history.len() - 1).min(crate::fit::STALL_WINDOW);
