@@ -6,7 +6,7 @@ use crate::limits;
 use crate::mesh::{
     edge_key, triangulate_polygon, Assignment, Edge, MeshParts, TriangulationBudget, Vec2,
 };
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 /// One drawn line of a crease pattern.
 #[derive(Clone, Debug, PartialEq)]
@@ -115,15 +115,45 @@ pub fn mesh_from_segments(segments: &[Segment]) -> Result<(MeshParts, PlanarRepo
         })
         .collect();
     let faces = trace_faces(&flat, &edges, tol, &mut report)?;
-    Ok((
-        MeshParts {
-            positions: None,
-            flat: Some(flat),
-            faces,
-            edges,
-        },
-        report,
-    ))
+    Ok((only_paper(flat, faces, edges), report))
+}
+
+/// The parts that bound paper: where holes meet (four cut-out squares around one point,
+/// two sharing a side), the points and lines between them border no face and are left
+/// out, the rest renumbered.
+fn only_paper(flat: Vec<Vec2>, faces: Vec<[usize; 3]>, edges: Vec<Edge>) -> MeshParts {
+    let mut index = vec![usize::MAX; flat.len()];
+    let mut kept = Vec::with_capacity(flat.len());
+    for &v in faces.iter().flatten() {
+        if index[v] == usize::MAX {
+            index[v] = 0;
+        }
+    }
+    for (v, slot) in index.iter_mut().enumerate() {
+        if *slot == 0 {
+            *slot = kept.len();
+            kept.push(flat[v]);
+        }
+    }
+    let sides: HashSet<(usize, usize)> = faces
+        .iter()
+        .flat_map(|f| (0..3).map(move |k| edge_key(f[k], f[(k + 1) % 3])))
+        .collect();
+    let edges = edges
+        .into_iter()
+        .filter(|e| sides.contains(&e.key()))
+        .map(|mut e| {
+            e.vertices = e.vertices.map(|v| index[v]);
+            e
+        })
+        .collect();
+    let faces = faces.iter().map(|f| f.map(|v| index[v])).collect();
+    MeshParts {
+        positions: None,
+        flat: Some(kept),
+        faces,
+        edges,
+    }
 }
 
 /// The distance within which points are one: [`crate::tolerance::POINT_MERGE_RELATIVE`] of the drawing's
@@ -496,6 +526,43 @@ mod tests {
             .map(|f| 0.5 * (flat[f[1]] - flat[f[0]]).perp(&(flat[f[2]] - flat[f[0]])))
             .sum();
         assert!((area - 96.0).abs() < 1e-9, "area {area}");
+    }
+
+    /// Four square holes around one point: the point and the cuts between the holes
+    /// border no paper, so they are left out and the rest is a valid mesh.
+    #[test]
+    fn points_and_lines_between_holes_are_left_out() {
+        let mut s = square(30.0);
+        for (a, b) in [
+            ((10.0, 10.0), (20.0, 10.0)),
+            ((20.0, 10.0), (20.0, 20.0)),
+            ((20.0, 20.0), (10.0, 20.0)),
+            ((10.0, 20.0), (10.0, 10.0)),
+            ((15.0, 10.0), (15.0, 20.0)),
+            ((10.0, 15.0), (20.0, 15.0)),
+        ] {
+            s.push(seg(a, b, Assignment::Cut));
+        }
+        s.push(seg((0.0, 0.0), (10.0, 10.0), Assignment::Flat));
+        s.push(seg((30.0, 30.0), (20.0, 20.0), Assignment::Flat));
+        let (parts, report) = mesh_from_segments(&s).unwrap();
+        assert_eq!(report.holes, 4);
+        let flat = parts.flat.clone().unwrap();
+        assert!(flat
+            .iter()
+            .all(|p| (p - Vec2::new(15.0, 15.0)).norm() > 1.0));
+        assert!(parts.edges.iter().all(|e| {
+            let mid = (flat[e.vertices[0]] + flat[e.vertices[1]]) / 2.0;
+            (mid - Vec2::new(15.0, 15.0)).norm() > 4.0
+        }));
+        let area: f64 = parts
+            .faces
+            .iter()
+            .map(|f| 0.5 * (flat[f[1]] - flat[f[0]]).perp(&(flat[f[2]] - flat[f[0]])))
+            .sum();
+        assert!((area - 800.0).abs() < 1e-9, "area {area}");
+        let mesh = crate::mesh::Mesh::new(parts).unwrap();
+        assert_eq!(mesh.shape().holes, 1);
     }
 
     #[test]

@@ -166,10 +166,7 @@ pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, FileCause> {
         return Err("the file is empty".into());
     }
     let drawing = Drawing::read(text, notes)?;
-    let (mut parts, report) = mesh_from_segments(&drawing.segments)?;
-    report_notes(&report, notes);
-    split_along_cuts(&mut parts);
-    let mut mesh = Mesh::new(parts)?;
+    let mut mesh = sheet_of(&drawing.segments, notes)?;
     // A point of a relative path command adds a rounded offset to a rounded start: twice
     // the rounding of one number.
     mesh.coordinate_precision = super::rounding_of(
@@ -177,6 +174,57 @@ pub fn parse(text: &str, notes: &mut Vec<String>) -> Result<Mesh, FileCause> {
         2.0 * super::decimal_quantum(&drawing.geometry_text) * drawing.root_scale,
     );
     Ok(mesh)
+}
+
+/// The paper the lines draw, green read as Origami Simulator's cut — unless those cuts
+/// fall the sheet apart into pieces and the same lines read as unassigned creases hold it
+/// together in fewer: a crease pattern is folded from one sheet, and Flat-Folder, whose
+/// examples draw unassigned creases `#00FF00`, reads a colour it does not know as
+/// unassigned. A note says which reading was taken and why.
+fn sheet_of(segments: &[Segment], notes: &mut Vec<String>) -> Result<Mesh, FileCause> {
+    let greens = segments
+        .iter()
+        .filter(|s| s.assignment == Assignment::Cut)
+        .count();
+    let as_cuts = paper_cut_along(segments);
+    let pieces = |m: &Mesh| m.shape().components;
+    let cut_pieces = match &as_cuts {
+        Ok((mesh, _)) if greens > 0 => pieces(mesh),
+        _ => 0,
+    };
+    if cut_pieces > 1 {
+        let creases: Vec<Segment> = segments
+            .iter()
+            .map(|s| match s.assignment {
+                Assignment::Cut => Segment {
+                    assignment: Assignment::Unassigned,
+                    fold_angle: 0.0,
+                    ..s.clone()
+                },
+                _ => s.clone(),
+            })
+            .collect();
+        if let Ok((mesh, report)) = paper_cut_along(&creases) {
+            if pieces(&mesh) < cut_pieces {
+                notes.push(format!(
+                    "the {greens} green line(s) are read as unassigned creases, as Flat-Folder reads them: \
+                     as Origami Simulator's cuts they would cut the sheet into {cut_pieces} pieces"
+                ));
+                report_notes(&report, notes);
+                return Ok(mesh);
+            }
+        }
+    }
+    let (mesh, report) = as_cuts?;
+    report_notes(&report, notes);
+    Ok(mesh)
+}
+
+/// The mesh the lines draw, split along its cuts.
+fn paper_cut_along(segments: &[Segment]) -> Result<(Mesh, PlanarReport), FileCause> {
+    let (mut parts, report) = mesh_from_segments(segments)?;
+    split_along_cuts(&mut parts);
+    Ok((Mesh::new(parts)?, report))
 }
 
 /// What an SVG's visible crease elements draw.

@@ -355,6 +355,48 @@ fn a_pattern_of_unassigned_creases_is_assigned_and_judged() {
     );
 }
 
+/// Flat-Folder's examples draw unassigned creases green, Origami Simulator's cut. Read as
+/// cuts, `grid_unassigned.svg`'s 24 lines would cut its 4 × 4 grid into 12 loose squares
+/// and drop the middle four as holes, and the triangle pleat's 9 would cut it into 10
+/// strips: a crease pattern is one sheet, so both are read as unassigned creases, with a
+/// note, assigned and judged. The pleat is the sample's 009 drawn again: the same states.
+#[test]
+fn green_lines_that_would_cut_the_sheet_apart_are_read_as_unassigned_creases() {
+    for (name, lines, pieces) in [
+        ("grid_unassigned.svg", 24, 12),
+        ("triangle_pleats_unassigned.svg", 9, 10),
+    ] {
+        let path = data("original").join(name);
+        let read = crease::io::read_with_notes(&path).unwrap();
+        let said = format!("the {lines} green line(s) are read as unassigned creases");
+        let note = read.notes.iter().find(|n| n.contains(&said));
+        let note = note.unwrap_or_else(|| panic!("{name}: {:?}", read.notes));
+        assert!(note.contains(&format!("into {pieces} pieces")), "{note}");
+        assert_eq!(read.mesh.shape().components, 1, "{name}");
+        let unassigned = read
+            .mesh
+            .edges()
+            .iter()
+            .filter(|e| e.assignment == Assignment::Unassigned)
+            .count();
+        assert_eq!(unassigned, lines, "{name}");
+        let report = verify(&read.mesh, None, Tolerances::default());
+        assert_eq!(report.verdict(), Verdict::Pass, "{name}:\n{report}");
+        assert!(layer_order_judged(&report), "{name}:\n{report}");
+    }
+    let count = |path: PathBuf| {
+        let mesh = crease::io::read(&path).unwrap();
+        let groups = crease::fab::count_flat_states(&mesh, &Budget::default(), 1_000_000)
+            .unwrap()
+            .unwrap();
+        crease::fab::StateTotal::product(&groups).to_string()
+    };
+    assert_eq!(
+        count(data("original").join("triangle_pleats_unassigned.svg")),
+        count(data("instagram-sample").join("009_ku_Unassigned_Triangle_Pleat.fold"))
+    );
+}
+
 /// The sides found are written: `convert --assign` gives the pleat's unassigned creases
 /// theirs (and its layer order), `fold --flat` folds it with them, and a design with
 /// nothing to assign, or an unassigned vertex that cannot fold flat, says so.
@@ -448,21 +490,18 @@ fn the_sides_found_for_unassigned_creases_are_written() {
 /// passes with its layer order judged, but `tiger_piece2.opx`, whose vertex 95 misses
 /// Kawasaki's sum by 0.011 rad (its faces leave a 0.19 mm gap there once folded, more
 /// than any scale at which the drawing's structure holds), which fails there: never a
-/// pass without the layers. (`grid_unassigned.svg` and
-/// `triangle_pleats_unassigned.svg` draw their creases green, which Origami Simulator's
-/// colours, the ones crease reads, make cuts; Flat-Folder reads any other colour as
-/// unassigned.)
+/// pass without the layers. (`grid_unassigned.svg` and `triangle_pleats_unassigned.svg`
+/// draw their unassigned creases green, Origami Simulator's cut: read as cuts they fall
+/// apart into 12 and 10 pieces, so they are read as unassigned creases, as Flat-Folder
+/// reads them, and assigned; the test below checks that reading.)
 #[test]
 fn every_original_example_is_read_and_judged() {
     let mut files: Vec<PathBuf> = std::fs::read_dir(data("original"))
         .unwrap()
         .map(|e| e.unwrap().path())
-        .filter(|p| {
-            !p.ends_with("grid_unassigned.svg") && !p.ends_with("triangle_pleats_unassigned.svg")
-        })
         .collect();
     files.sort();
-    assert_eq!(files.len(), 23);
+    assert_eq!(files.len(), 25);
     assert_eq!(
         files
             .iter()
