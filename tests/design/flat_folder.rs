@@ -397,6 +397,25 @@ fn green_lines_that_would_cut_the_sheet_apart_are_read_as_unassigned_creases() {
     );
 }
 
+/// Lang's Hyperbolic Limit is drawn a little inexactly: corners fold 7.7e-5 to 1.1e-4 mm
+/// (about 1e-4 of its 1 mm sheet) past a crease line, deeper than the contact allowance,
+/// so each overlaps the two faces of that crease (42 such pairs). The creases that meet
+/// at such a corner cross those faces too, as Flat-Folder finds: its one flat-folded
+/// state, not 2⁴² (each pair a free choice, as when a crease had to run deeper than the
+/// allowance for longer than the allowance to count).
+#[test]
+fn a_corner_folded_past_a_crease_line_is_held_by_the_creases_at_it() {
+    let path = data("instagram-extra").join("033_lang_Hyperbolic_Limit.fold");
+    let mesh = crease::io::read(&path).unwrap();
+    let report = verify(&mesh, None, Tolerances::default());
+    assert_eq!(report.verdict(), Verdict::Pass, "{report}");
+    assert!(layer_order_judged(&report), "{report}");
+    let groups = crease::fab::count_flat_states(&mesh, &Budget::default(), 10_000)
+        .unwrap()
+        .unwrap();
+    assert_eq!(crease::fab::StateTotal::product(&groups).to_string(), "1");
+}
+
 /// The sides found are written: `convert --assign` gives the pleat's unassigned creases
 /// theirs (and its layer order), `fold --flat` folds it with them, and a design with
 /// nothing to assign, or an unassigned vertex that cannot fold flat, says so.

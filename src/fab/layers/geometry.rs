@@ -30,7 +30,15 @@ pub(super) fn overlap_depth(s: &[Vec2; 3], t: &[Vec2; 3], eps: f64) -> Option<f6
     Some(depth)
 }
 
-/// Segment p–q passes through the interior of triangle t for a length above `eps`.
+/// Segment p–q (longer than `eps`) passes through triangle t deeper than `eps`: some
+/// point of it lies farther than `eps` inside every side of t. That is the depth
+/// [`overlap_depth`] asks of two faces, so where a face's corner pokes into another face
+/// deeper than the contact allowance, the creases that meet at that corner cross that
+/// face too, however short the stretch past the allowance (a design drawn a little
+/// inexactly folds a corner 0.08 % of its size past a crease line; asking that stretch to
+/// be longer than `eps` as well left the overlap in and its constraints out, and counted
+/// each such corner as a free choice: Lang's Hyperbolic Limit, 2⁴² states where
+/// Flat-Folder finds its one).
 pub(super) fn crosses(p: Vec2, q: Vec2, t: &[Vec2; 3], eps: f64) -> bool {
     let d = q - p;
     let len = d.norm();
@@ -56,7 +64,7 @@ pub(super) fn crosses(p: Vec2, q: Vec2, t: &[Vec2; 3], eps: f64) -> bool {
             hi = hi.min(-fp / fd);
         }
     }
-    (hi - lo) * len > eps
+    hi > lo
 }
 
 /// Segments p–q and r–s lie on one line and share a stretch longer than `eps`.
@@ -204,5 +212,32 @@ mod tests {
         let far = tri([[5.0, 5.0], [6.0, 5.0], [5.0, 6.0]]);
         assert_eq!(PairOverlap::new(&a, &far).area(), 0.0);
         assert!(!shared.shares_with(&far, 1e-9, &mut scratch));
+    }
+
+    /// A face whose corner pokes into another deeper than `eps` overlaps it, and the
+    /// sides that meet at that corner cross it, however short their stretch deeper
+    /// than `eps`; a corner within `eps` of the side does neither.
+    #[test]
+    fn the_sides_at_a_corner_that_overlaps_a_face_cross_it() {
+        let t = tri([[0.0, 0.0], [10.0, 0.0], [5.0, 10.0]]);
+        let eps = 0.1;
+        for (poke, inside) in [(0.15, true), (0.08, false)] {
+            let s = tri([[4.0, -5.0], [6.0, -5.0], [5.0, poke]]);
+            let depth = overlap_depth(&s, &t, eps);
+            assert_eq!(depth.is_some(), inside, "poke {poke}: {depth:?}");
+            if let Some(d) = depth {
+                assert!((d - poke).abs() < 1e-12, "poke {poke}: depth {d}");
+            }
+            // The sides from the corner: deeper than eps for only 0.05 of their length.
+            for base in [s[0], s[1]] {
+                assert_eq!(crosses(s[2], base, &t, eps), inside, "poke {poke}");
+                assert_eq!(crosses(base, s[2], &t, eps), inside, "poke {poke}");
+            }
+        }
+        // A crease through the middle crosses; one along a side, within eps, does not.
+        let through = crosses(Vec2::new(-1.0, 3.0), Vec2::new(11.0, 3.0), &t, eps);
+        assert!(through);
+        let along = crosses(Vec2::new(-1.0, 0.05), Vec2::new(11.0, 0.05), &t, eps);
+        assert!(!along);
     }
 }
