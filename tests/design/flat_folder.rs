@@ -416,6 +416,32 @@ fn a_corner_folded_past_a_crease_line_is_held_by_the_creases_at_it() {
     assert_eq!(crease::fab::StateTotal::product(&groups).to_string(), "1");
 }
 
+/// Keied Keqing's states, counted with Flat-Folder's cap of 10,000 a group, are its
+/// exact count, as Flat-Folder's: three of its groups (6, 45 and 45 states) are tied
+/// only by transitivity triples whose cycles taco–tortilla equalities already rule out,
+/// so they are counted apart, not as one group of 12,150 past the cap.
+#[test]
+fn groups_tied_only_by_settled_transitivity_are_counted_apart() {
+    let path = data("instagram-extra").join("286_carrotkei_Keied_Keqing.fold");
+    let mesh = crease::io::read(&path).unwrap();
+    let groups = crease::fab::count_flat_states(&mesh, &Budget::default(), 10_000)
+        .unwrap()
+        .unwrap();
+    assert!(groups.iter().all(|g| !g.capped), "{groups:?}");
+    let mut counts: Vec<u64> = groups.iter().map(|g| g.count).collect();
+    counts.sort_unstable();
+    // Flat-Folder's components, |1|2|2|2|2|2|2|2|2|6|45|45|11|4|64|4096|4128| (the 1
+    // is its fixed variables), sorted.
+    assert_eq!(
+        counts,
+        [2, 2, 2, 2, 2, 2, 2, 2, 4, 6, 11, 45, 45, 64, 4096, 4128]
+    );
+    assert_eq!(
+        crease::fab::StateTotal::product(&groups).to_string(),
+        "148097773810483200"
+    );
+}
+
 /// The sides found are written: `convert --assign` gives the pleat's unassigned creases
 /// theirs (and its layer order), `fold --flat` folds it with them, and a design with
 /// nothing to assign, or an unassigned vertex that cannot fold flat, says so.
