@@ -25,6 +25,11 @@ const FINEST: i32 = 28;
 /// leave around a vertex ([`super::FlatFolded::mismatch`]).
 const GAPS_EXPLAINED: f64 = 4.0;
 
+/// The largest gap, as a fraction of the shortest crease, taken as a drawing's noise
+/// where its folded corners settle at no scale ([`unsettled`]): 1/256, noise that turns
+/// a crease by at most about 0.2°.
+const UNSETTLED_RELATIVE: f64 = 1.0 / 256.0;
+
 /// A precision below this fraction of the pattern's diagonal is what double precision
 /// leaves along the folding (about 1e-16 a reflection, compounded): the drawing is exact.
 const EXACT_RELATIVE: f64 = 1e-12;
@@ -69,8 +74,11 @@ pub fn drawing_precision(mesh: &Mesh) -> Option<DrawnPrecision> {
         .collect();
     let counts: Vec<usize> = scales.iter().map(|&s| clusters(&corners, s)).collect();
     // The first run of three equal counts, as Flat-Folder's, followed to its end.
-    let start = (0..counts.len().saturating_sub(2))
-        .find(|&i| counts[i] == counts[i + 1] && counts[i] == counts[i + 2])?;
+    let Some(start) = (0..counts.len().saturating_sub(2))
+        .find(|&i| counts[i] == counts[i + 1] && counts[i] == counts[i + 2])
+    else {
+        return unsettled(&folded, shortest);
+    };
     let end = (start..counts.len())
         .take_while(|&i| counts[i] == counts[start])
         .last()
@@ -90,6 +98,22 @@ pub fn drawing_precision(mesh: &Mesh) -> Option<DrawnPrecision> {
         precision,
         exact: last || precision <= EXACT_RELATIVE * (hi - lo).norm(),
     })
+}
+
+/// The precision of a drawing whose folded corners settle at no scale above the gaps
+/// they leave: Lang's computed tessellations (Rings8) miss Kawasaki's sums by about the
+/// same small amount at every vertex, and their folded corners lie apart at every scale
+/// from the gaps up to the creases. The gaps are then the one measure of the drawing's
+/// noise, taken as its precision while they are small against its features (at most
+/// [`UNSETTLED_RELATIVE`] of the shortest crease); a larger gap is no noise to allow for.
+fn unsettled(folded: &super::FlatFolded, shortest: f64) -> Option<DrawnPrecision> {
+    (folded.worst_vertex.is_some()
+        && folded.mismatch > 0.0
+        && folded.mismatch <= UNSETTLED_RELATIVE * shortest)
+        .then_some(DrawnPrecision {
+            precision: folded.mismatch,
+            exact: false,
+        })
 }
 
 /// How many groups `points` fall into when points within `scale` of each other (in x and

@@ -442,6 +442,43 @@ fn groups_tied_only_by_settled_transitivity_are_counted_apart() {
     );
 }
 
+/// Lang's Rings8 misses Kawasaki's sums by about 2e-3 rad at every one of its 527
+/// vertices, and its folded corners lie apart at every scale from the gaps they leave
+/// (2.7e-5 mm on its 1 mm sheet, 0.3 % of its shortest crease) up to its creases: no
+/// scale of the drawing settles. The gaps are then its precision, and it passes with
+/// Flat-Folder's one state; moved by 2 % of its shortest crease at one vertex, the
+/// gap is no noise and it fails there.
+#[test]
+fn a_drawing_that_settles_at_no_scale_is_judged_at_the_gaps_it_leaves() {
+    let path = data("instagram-extra").join("019_lang_Rings8.fold");
+    let mesh = crease::io::read(&path).unwrap();
+    let report = verify(&mesh, None, Tolerances::default());
+    assert_eq!(report.verdict(), Verdict::Pass, "{report}");
+    assert!(layer_order_judged(&report), "{report}");
+    let drawn = report.drawn.expect("measured");
+    let gap = crease::fab::flat_folded(&mesh, None).unwrap().mismatch;
+    assert!(
+        !drawn.exact && drawn.precision == gap,
+        "{drawn:?} against {gap}"
+    );
+    assert!((2e-5..4e-5).contains(&gap), "{gap}");
+    let groups = crease::fab::count_flat_states(&mesh, &Budget::default(), 10_000)
+        .unwrap()
+        .unwrap();
+    assert_eq!(crease::fab::StateTotal::product(&groups).to_string(), "1");
+
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut fold: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let x = &mut fold["vertices_coords"][311][0];
+    *x = serde_json::json!(x.as_f64().unwrap() + 2e-4);
+    let moved = verify_text("moved.fold", &fold.to_string());
+    let verdict = moved.verdict();
+    assert!(
+        matches!(&verdict, Verdict::Fail { condition: "flat-foldability", at, .. } if at == "vertex 311"),
+        "{verdict}"
+    );
+}
+
 /// The sides found are written: `convert --assign` gives the pleat's unassigned creases
 /// theirs (and its layer order), `fold --flat` folds it with them, and a design with
 /// nothing to assign, or an unassigned vertex that cannot fold flat, says so.
