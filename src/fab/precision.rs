@@ -77,7 +77,7 @@ pub fn drawing_precision(mesh: &Mesh) -> Option<DrawnPrecision> {
     let Some(start) = (0..counts.len().saturating_sub(2))
         .find(|&i| counts[i] == counts[i + 1] && counts[i] == counts[i + 2])
     else {
-        return unsettled(&folded, shortest);
+        return unsettled(&folded, shortest_crease(mesh, cp));
     };
     let end = (start..counts.len())
         .take_while(|&i| counts[i] == counts[start])
@@ -105,15 +105,27 @@ pub fn drawing_precision(mesh: &Mesh) -> Option<DrawnPrecision> {
 /// same small amount at every vertex, and their folded corners lie apart at every scale
 /// from the gaps up to the creases. The gaps are then the one measure of the drawing's
 /// noise, taken as its precision while they are small against its features (at most
-/// [`UNSETTLED_RELATIVE`] of the shortest crease); a larger gap is no noise to allow for.
-fn unsettled(folded: &super::FlatFolded, shortest: f64) -> Option<DrawnPrecision> {
+/// [`UNSETTLED_RELATIVE`] of `shortest_crease`); a larger gap is no noise to allow for.
+fn unsettled(folded: &super::FlatFolded, shortest_crease: f64) -> Option<DrawnPrecision> {
     (folded.worst_vertex.is_some()
         && folded.mismatch > 0.0
-        && folded.mismatch <= UNSETTLED_RELATIVE * shortest)
+        && folded.mismatch <= UNSETTLED_RELATIVE * shortest_crease)
         .then_some(DrawnPrecision {
             precision: folded.mismatch,
             exact: false,
         })
+}
+
+/// The shortest line of `cp` that is not the paper's edge: noise is judged against the
+/// creases it turns, not against a sliver of boundary where a crease ends a hair from a
+/// corner.
+fn shortest_crease(mesh: &Mesh, cp: &[Vec2]) -> f64 {
+    mesh.edges()
+        .iter()
+        .filter(|e| !e.assignment.is_boundary())
+        .map(|e| (cp[e.vertices[1]] - cp[e.vertices[0]]).norm())
+        .filter(|&l| l > 0.0)
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// How many groups `points` fall into when points within `scale` of each other (in x and

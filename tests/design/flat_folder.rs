@@ -479,6 +479,26 @@ fn a_drawing_that_settles_at_no_scale_is_judged_at_the_gaps_it_leaves() {
     );
 }
 
+/// Lang's 5-Fold 2-Layer Weave settles at no scale either; its 3.6e-6 gaps are 0.1 % of
+/// its shortest crease, though 2.6 % of its shortest boundary line (slivers of 1.4e-4
+/// where a crease ends a hair from a corner). Noise is judged against the creases it
+/// turns: it passes with Flat-Folder's 2³⁰ states.
+#[test]
+fn noise_is_judged_against_the_creases_not_a_sliver_of_boundary() {
+    let path = data("instagram-extra").join("041_lang_5-Fold_2-Layer_Weave.fold");
+    let mesh = crease::io::read(&path).unwrap();
+    let report = verify(&mesh, None, Tolerances::default());
+    assert_eq!(report.verdict(), Verdict::Pass, "{report}");
+    assert!(layer_order_judged(&report), "{report}");
+    let groups = crease::fab::count_flat_states(&mesh, &Budget::default(), 10_000)
+        .unwrap()
+        .unwrap();
+    assert_eq!(
+        crease::fab::StateTotal::product(&groups).to_string(),
+        (1u64 << 30).to_string()
+    );
+}
+
 /// The sides found are written: `convert --assign` gives the pleat's unassigned creases
 /// theirs (and its layer order), `fold --flat` folds it with them, and a design with
 /// nothing to assign, or an unassigned vertex that cannot fold flat, says so.
