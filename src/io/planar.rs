@@ -470,6 +470,14 @@ mod tests {
         }
     }
 
+    /// The area the triangles cover (mm²).
+    fn paper_area(faces: &[[usize; 3]], flat: &[Vec2]) -> f64 {
+        faces
+            .iter()
+            .map(|f| 0.5 * (flat[f[1]] - flat[f[0]]).perp(&(flat[f[2]] - flat[f[0]])))
+            .sum()
+    }
+
     fn square(size: f64) -> Vec<Segment> {
         let c = [(0.0, 0.0), (size, 0.0), (size, size), (0.0, size)];
         (0..4)
@@ -520,11 +528,7 @@ mod tests {
         let (parts, report) = mesh_from_segments(&s).unwrap();
         assert_eq!(report.holes, 1);
         let flat = parts.flat.unwrap();
-        let area: f64 = parts
-            .faces
-            .iter()
-            .map(|f| 0.5 * (flat[f[1]] - flat[f[0]]).perp(&(flat[f[2]] - flat[f[0]])))
-            .sum();
+        let area = paper_area(&parts.faces, &flat);
         assert!((area - 96.0).abs() < 1e-9, "area {area}");
     }
 
@@ -555,11 +559,7 @@ mod tests {
             let mid = (flat[e.vertices[0]] + flat[e.vertices[1]]) / 2.0;
             (mid - Vec2::new(15.0, 15.0)).norm() > 4.0
         }));
-        let area: f64 = parts
-            .faces
-            .iter()
-            .map(|f| 0.5 * (flat[f[1]] - flat[f[0]]).perp(&(flat[f[2]] - flat[f[0]])))
-            .sum();
+        let area = paper_area(&parts.faces, &flat);
         assert!((area - 800.0).abs() < 1e-9, "area {area}");
         let mesh = crate::mesh::Mesh::new(parts).unwrap();
         assert_eq!(mesh.shape().holes, 1);

@@ -8,8 +8,8 @@ use crate::common;
 
 use common::run_crease;
 use crease::constraints::ConstraintSet;
-use crease::fab::{verify, verify_within, Budget, Report, Tolerances, Verdict};
-use crease::mesh::Assignment;
+use crease::fab::{verify, verify_within, Budget, GroupCount, Report, Tolerances, Verdict};
+use crease::mesh::{Assignment, Mesh};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
@@ -40,6 +40,38 @@ fn layer_order_judged(report: &Report) -> bool {
         .families
         .iter()
         .any(|f| f.name == "layer-order" && f.gating && f.undecided.is_none())
+}
+
+/// The flat-folded states of `mesh` by independent group, each enumerated up to `cap`;
+/// `what` names the pattern if the search fails or finds none.
+fn state_groups(what: &str, mesh: &Mesh, cap: u64) -> Vec<GroupCount> {
+    crease::fab::count_flat_states(mesh, &Budget::default(), cap)
+        .unwrap_or_else(|e| panic!("{what}: {e}"))
+        .unwrap_or_else(|| panic!("{what}: no state"))
+}
+
+/// The pattern at `path`, read and verified: it passes with its layer order judged.
+fn passes_judged(path: &Path) -> (Mesh, Report) {
+    let mesh = crease::io::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let report = verify(&mesh, None, Tolerances::default());
+    assert_passes_judged(path, &report);
+    (mesh, report)
+}
+
+/// The report of the pattern at `path` is a PASS with its layer order judged.
+fn assert_passes_judged(path: &Path, report: &Report) {
+    assert_eq!(
+        report.verdict(),
+        Verdict::Pass,
+        "{}:\n{report}",
+        path.display()
+    );
+    assert!(layer_order_judged(report), "{}:\n{report}", path.display());
+}
+
+/// The groups' product, in decimal.
+fn total(groups: &[GroupCount]) -> String {
+    crease::fab::StateTotal::product(groups).to_string()
 }
 
 #[test]
@@ -386,10 +418,7 @@ fn green_lines_that_would_cut_the_sheet_apart_are_read_as_unassigned_creases() {
     }
     let count = |path: PathBuf| {
         let mesh = crease::io::read(&path).unwrap();
-        let groups = crease::fab::count_flat_states(&mesh, &Budget::default(), 1_000_000)
-            .unwrap()
-            .unwrap();
-        crease::fab::StateTotal::product(&groups).to_string()
+        total(&state_groups(&path.display().to_string(), &mesh, 1_000_000))
     };
     assert_eq!(
         count(data("original").join("triangle_pleats_unassigned.svg")),
@@ -406,14 +435,8 @@ fn green_lines_that_would_cut_the_sheet_apart_are_read_as_unassigned_creases() {
 #[test]
 fn a_corner_folded_past_a_crease_line_is_held_by_the_creases_at_it() {
     let path = data("instagram-extra").join("033_lang_Hyperbolic_Limit.fold");
-    let mesh = crease::io::read(&path).unwrap();
-    let report = verify(&mesh, None, Tolerances::default());
-    assert_eq!(report.verdict(), Verdict::Pass, "{report}");
-    assert!(layer_order_judged(&report), "{report}");
-    let groups = crease::fab::count_flat_states(&mesh, &Budget::default(), 10_000)
-        .unwrap()
-        .unwrap();
-    assert_eq!(crease::fab::StateTotal::product(&groups).to_string(), "1");
+    let (mesh, _) = passes_judged(&path);
+    assert_eq!(total(&state_groups("the design", &mesh, 10_000)), "1");
 }
 
 /// Keied Keqing's states, counted with Flat-Folder's cap of 10,000 a group, are its
@@ -424,9 +447,7 @@ fn a_corner_folded_past_a_crease_line_is_held_by_the_creases_at_it() {
 fn groups_tied_only_by_settled_transitivity_are_counted_apart() {
     let path = data("instagram-extra").join("286_carrotkei_Keied_Keqing.fold");
     let mesh = crease::io::read(&path).unwrap();
-    let groups = crease::fab::count_flat_states(&mesh, &Budget::default(), 10_000)
-        .unwrap()
-        .unwrap();
+    let groups = state_groups("Keqing", &mesh, 10_000);
     assert!(groups.iter().all(|g| !g.capped), "{groups:?}");
     let mut counts: Vec<u64> = groups.iter().map(|g| g.count).collect();
     counts.sort_unstable();
@@ -436,10 +457,7 @@ fn groups_tied_only_by_settled_transitivity_are_counted_apart() {
         counts,
         [2, 2, 2, 2, 2, 2, 2, 2, 4, 6, 11, 45, 45, 64, 4096, 4128]
     );
-    assert_eq!(
-        crease::fab::StateTotal::product(&groups).to_string(),
-        "148097773810483200"
-    );
+    assert_eq!(total(&groups), "148097773810483200");
 }
 
 /// Lang's Rings8 misses Kawasaki's sums by about 2e-3 rad at every one of its 527
@@ -451,10 +469,7 @@ fn groups_tied_only_by_settled_transitivity_are_counted_apart() {
 #[test]
 fn a_drawing_that_settles_at_no_scale_is_judged_at_the_gaps_it_leaves() {
     let path = data("instagram-extra").join("019_lang_Rings8.fold");
-    let mesh = crease::io::read(&path).unwrap();
-    let report = verify(&mesh, None, Tolerances::default());
-    assert_eq!(report.verdict(), Verdict::Pass, "{report}");
-    assert!(layer_order_judged(&report), "{report}");
+    let (mesh, report) = passes_judged(&path);
     let drawn = report.drawn.expect("measured");
     let gap = crease::fab::flat_folded(&mesh, None).unwrap().mismatch;
     assert!(
@@ -462,10 +477,7 @@ fn a_drawing_that_settles_at_no_scale_is_judged_at_the_gaps_it_leaves() {
         "{drawn:?} against {gap}"
     );
     assert!((2e-5..4e-5).contains(&gap), "{gap}");
-    let groups = crease::fab::count_flat_states(&mesh, &Budget::default(), 10_000)
-        .unwrap()
-        .unwrap();
-    assert_eq!(crease::fab::StateTotal::product(&groups).to_string(), "1");
+    assert_eq!(total(&state_groups("the design", &mesh, 10_000)), "1");
 
     let text = std::fs::read_to_string(&path).unwrap();
     let mut fold: serde_json::Value = serde_json::from_str(&text).unwrap();
@@ -486,17 +498,9 @@ fn a_drawing_that_settles_at_no_scale_is_judged_at_the_gaps_it_leaves() {
 #[test]
 fn noise_is_judged_against_the_creases_not_a_sliver_of_boundary() {
     let path = data("instagram-extra").join("041_lang_5-Fold_2-Layer_Weave.fold");
-    let mesh = crease::io::read(&path).unwrap();
-    let report = verify(&mesh, None, Tolerances::default());
-    assert_eq!(report.verdict(), Verdict::Pass, "{report}");
-    assert!(layer_order_judged(&report), "{report}");
-    let groups = crease::fab::count_flat_states(&mesh, &Budget::default(), 10_000)
-        .unwrap()
-        .unwrap();
-    assert_eq!(
-        crease::fab::StateTotal::product(&groups).to_string(),
-        (1u64 << 30).to_string()
-    );
+    let (mesh, _) = passes_judged(&path);
+    let groups = state_groups("the weave", &mesh, 10_000);
+    assert_eq!(total(&groups), (1u64 << 30).to_string());
 }
 
 /// The sides found are written: `convert --assign` gives the pleat's unassigned creases
@@ -622,13 +626,7 @@ fn every_original_example_is_read_and_judged() {
             );
             continue;
         }
-        assert_eq!(
-            report.verdict(),
-            Verdict::Pass,
-            "{}:\n{report}",
-            path.display()
-        );
-        assert!(layer_order_judged(&report), "{}:\n{report}", path.display());
+        assert_passes_judged(path, &report);
     }
 }
 
@@ -761,11 +759,9 @@ fn every_grid_pattern_has_flat_folders_count_of_states() {
             })
             .unwrap_or_else(|| panic!("grid {}", cells[number]));
         let mesh = crease::io::read(path).unwrap();
-        let counts = crease::fab::count_flat_states(&mesh, &Budget::default(), 10_000_000)
-            .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-            .unwrap_or_else(|| panic!("{}: no state", path.display()));
+        let counts = state_groups(&path.display().to_string(), &mesh, 10_000_000);
         assert!(counts.iter().all(|g| !g.capped), "{}", path.display());
-        let total = crease::fab::StateTotal::product(&counts).to_string();
+        let total = total(&counts);
         checked += 1;
         if total != cells[states] {
             wrong.push(format!(
@@ -804,15 +800,9 @@ fn the_sample_designs_have_flat_folders_count_of_states() {
         ("208_kei_General_Grievous.fold", "122880"),
     ] {
         let mesh = crease::io::read(&data("instagram-sample").join(name)).unwrap();
-        let groups = crease::fab::count_flat_states(&mesh, &Budget::default(), 1_000_000)
-            .unwrap_or_else(|e| panic!("{name}: {e}"))
-            .unwrap_or_else(|| panic!("{name}: no state"));
+        let groups = state_groups(name, &mesh, 1_000_000);
         assert!(groups.iter().all(|g| !g.capped), "{name}");
-        assert_eq!(
-            crease::fab::StateTotal::product(&groups).to_string(),
-            states,
-            "{name}"
-        );
+        assert_eq!(total(&groups), states, "{name}");
     }
     // The command line says it, and caps a group where asked.
     let bird = data("instagram-sample").join("003_ku_Triangle_Bird.fold");
