@@ -48,12 +48,7 @@ pub struct DrawnPrecision {
 /// it has no crease pattern or does not fold to a flat state to measure.
 pub fn drawing_precision(mesh: &Mesh) -> Option<DrawnPrecision> {
     let cp = mesh.crease_pattern()?;
-    let shortest = mesh
-        .edges()
-        .iter()
-        .map(|e| (cp[e.vertices[1]] - cp[e.vertices[0]]).norm())
-        .filter(|&l| l > 0.0)
-        .fold(f64::INFINITY, f64::min);
+    let shortest = shortest_line(mesh, cp, true);
     if !shortest.is_finite() {
         return None;
     }
@@ -77,7 +72,7 @@ pub fn drawing_precision(mesh: &Mesh) -> Option<DrawnPrecision> {
     let Some(start) = (0..counts.len().saturating_sub(2))
         .find(|&i| counts[i] == counts[i + 1] && counts[i] == counts[i + 2])
     else {
-        return unsettled(&folded, shortest_crease(mesh, cp));
+        return unsettled(&folded, shortest_line(mesh, cp, false));
     };
     let end = (start..counts.len())
         .take_while(|&i| counts[i] == counts[start])
@@ -105,7 +100,8 @@ pub fn drawing_precision(mesh: &Mesh) -> Option<DrawnPrecision> {
 /// same small amount at every vertex, and their folded corners lie apart at every scale
 /// from the gaps up to the creases. The gaps are then the one measure of the drawing's
 /// noise, taken as its precision while they are small against its features (at most
-/// [`UNSETTLED_RELATIVE`] of `shortest_crease`); a larger gap is no noise to allow for.
+/// [`UNSETTLED_RELATIVE`] of `shortest_crease`, [`shortest_line`] without the paper's
+/// edges); a larger gap is no noise to allow for.
 fn unsettled(folded: &super::FlatFolded, shortest_crease: f64) -> Option<DrawnPrecision> {
     (folded.worst_vertex.is_some()
         && folded.mismatch > 0.0
@@ -116,13 +112,14 @@ fn unsettled(folded: &super::FlatFolded, shortest_crease: f64) -> Option<DrawnPr
         })
 }
 
-/// The shortest line of `cp` that is not the paper's edge: noise is judged against the
-/// creases it turns, not against a sliver of boundary where a crease ends a hair from a
-/// corner.
-fn shortest_crease(mesh: &Mesh, cp: &[Vec2]) -> f64 {
+/// The shortest line of `cp` of positive length (infinite when there is none), the
+/// paper's edges among them or not: the scales start from every line, but noise is
+/// judged against the creases it turns, not against a sliver of boundary where a
+/// crease ends a hair from a corner.
+fn shortest_line(mesh: &Mesh, cp: &[Vec2], with_boundary: bool) -> f64 {
     mesh.edges()
         .iter()
-        .filter(|e| !e.assignment.is_boundary())
+        .filter(|e| with_boundary || !e.assignment.is_boundary())
         .map(|e| (cp[e.vertices[1]] - cp[e.vertices[0]]).norm())
         .filter(|&l| l > 0.0)
         .fold(f64::INFINITY, f64::min)

@@ -122,18 +122,15 @@ pub fn mesh_from_segments(segments: &[Segment]) -> Result<(MeshParts, PlanarRepo
 /// two sharing a side), the points and lines between them border no face and are left
 /// out, the rest renumbered.
 fn only_paper(flat: Vec<Vec2>, faces: Vec<[usize; 3]>, edges: Vec<Edge>) -> MeshParts {
+    let mut on_paper = vec![false; flat.len()];
+    for &v in faces.iter().flatten() {
+        on_paper[v] = true;
+    }
     let mut index = vec![usize::MAX; flat.len()];
     let mut kept = Vec::with_capacity(flat.len());
-    for &v in faces.iter().flatten() {
-        if index[v] == usize::MAX {
-            index[v] = 0;
-        }
-    }
-    for (v, slot) in index.iter_mut().enumerate() {
-        if *slot == 0 {
-            *slot = kept.len();
-            kept.push(flat[v]);
-        }
+    for v in (0..flat.len()).filter(|&v| on_paper[v]) {
+        index[v] = kept.len();
+        kept.push(flat[v]);
     }
     let sides: HashSet<(usize, usize)> = faces
         .iter()

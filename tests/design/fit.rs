@@ -16,20 +16,23 @@ fn scratch(name: &str) -> PathBuf {
     dir.join(name)
 }
 
+/// The scratch file `name`, written by `crease <args> -o` it (a `generate` or `surface`
+/// command), which must succeed.
+fn made(name: &str, args: &[&str]) -> PathBuf {
+    let path = scratch(name);
+    let mut all = args.to_vec();
+    all.extend(["-o", path.to_str().unwrap()]);
+    let (code, _, err) = run_crease(&all);
+    assert_eq!(code, 0, "{}: {err}", args.join(" "));
+    path
+}
+
 /// The 12 × 12 Miura-ori of the acceptance, through the binary.
 fn miura_12() -> (PathBuf, f64) {
-    let path = scratch("miura12.fold");
-    let (code, _, err) = run_crease(&[
-        "generate",
-        "miura",
-        "--nx",
-        "12",
-        "--ny",
-        "12",
-        "-o",
-        path.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{err}");
+    let path = made(
+        "miura12.fold",
+        &["generate", "miura", "--nx", "12", "--ny", "12"],
+    );
     let mesh = crease::io::read(&path).unwrap();
     let (lo, hi) = mesh.bounding_box();
     let span = (hi.x - lo.x).max(hi.y - lo.y);
@@ -139,6 +142,18 @@ fn check_distances_by_brute_force(report: &FitReport, design: &Path, target: &Pa
     assert!((diagonal - report.distance.diagonal_mm).abs() < 1e-9);
 }
 
+/// Every condition of the fitted design `name` holds to 1e-9.
+fn check_conditions_held(report: &FitReport, name: &str) {
+    for c in &report.conditions {
+        assert!(
+            c.largest_residual < 1e-9,
+            "{name}: {} {}",
+            c.name,
+            c.largest_residual
+        );
+    }
+}
+
 /// A fitted design passes `verify` with the fit's conditions, has no face through
 /// another, and `fab` cuts it.
 fn check_design_is_made(report: &FitReport, design: &Path, name: &str) {
@@ -178,32 +193,31 @@ fn a_miura_ori_fits_a_dome_and_a_saddle_within_a_percent_of_its_diagonal() {
     let (miura, span) = miura_12();
     let radius = 1.5 * span;
     let target_span = 1.6 * span;
-    let cap = scratch("cap.obj");
-    let saddle = scratch("saddle.obj");
-    let (code, _, err) = run_crease(&[
-        "surface",
-        "cap",
-        "--radius",
-        &radius.to_string(),
-        "--span",
-        &target_span.to_string(),
-        "-o",
-        cap.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{err}");
+    let (radius_text, span_text) = (radius.to_string(), target_span.to_string());
+    let cap = made(
+        "cap.obj",
+        &[
+            "surface",
+            "cap",
+            "--radius",
+            &radius_text,
+            "--span",
+            &span_text,
+        ],
+    );
     // A saddle of the same curvature at its middle: z = d (x² − y²)/(S/2)², 2d/(S/2)² = 1/R.
     let depth = (target_span / 2.0).powi(2) / (2.0 * radius);
-    let (code, _, err) = run_crease(&[
-        "surface",
-        "saddle",
-        "--depth",
-        &depth.to_string(),
-        "--span",
-        &target_span.to_string(),
-        "-o",
-        saddle.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{err}");
+    let saddle = made(
+        "saddle.obj",
+        &[
+            "surface",
+            "saddle",
+            "--depth",
+            &depth.to_string(),
+            "--span",
+            &span_text,
+        ],
+    );
     for (target, name) in [(&cap, "dome"), (&saddle, "saddle")] {
         let (code, report, design, err) = fit(&miura, target, name, &[]);
         assert_eq!(code, 0, "{name}: {err}");
@@ -217,14 +231,7 @@ fn a_miura_ori_fits_a_dome_and_a_saddle_within_a_percent_of_its_diagonal() {
         assert!(report.distance.hausdorff_mm < 0.5 * report.placed.hausdorff_mm);
         check_distances_by_brute_force(&report, &design, target);
         check_design_is_made(&report, &design, name);
-        for c in &report.conditions {
-            assert!(
-                c.largest_residual < 1e-9,
-                "{name}: {} {}",
-                c.name,
-                c.largest_residual
-            );
-        }
+        check_conditions_held(&report, name);
     }
 }
 
@@ -234,12 +241,8 @@ fn a_miura_ori_fits_a_dome_and_a_saddle_within_a_percent_of_its_diagonal() {
 /// step budget (0.99 mm of a 2.02 mm goal), and the design verifies and cuts.
 #[test]
 fn a_waterbomb_fits_the_default_saddle_with_default_options() {
-    let waterbomb = scratch("waterbomb.fold");
-    let (code, _, err) = run_crease(&["generate", "waterbomb", "-o", waterbomb.to_str().unwrap()]);
-    assert_eq!(code, 0, "{err}");
-    let saddle = scratch("default-saddle.obj");
-    let (code, _, err) = run_crease(&["surface", "saddle", "-o", saddle.to_str().unwrap()]);
-    assert_eq!(code, 0, "{err}");
+    let waterbomb = made("waterbomb.fold", &["generate", "waterbomb"]);
+    let saddle = made("default-saddle.obj", &["surface", "saddle"]);
     let (code, report, design, err) = fit(&waterbomb, &saddle, "waterbomb-saddle", &[]);
     assert_eq!(code, 0, "{err}");
     assert!(report.distance.met, "{err}");
@@ -264,34 +267,17 @@ fn a_waterbomb_fits_the_default_saddle_with_default_options() {
     );
     check_distances_by_brute_force(&report, &design, &saddle);
     check_design_is_made(&report, &design, "waterbomb-saddle");
-    for c in &report.conditions {
-        assert!(
-            c.largest_residual < 1e-9,
-            "{} {}",
-            c.name,
-            c.largest_residual
-        );
-    }
+    check_conditions_held(&report, "waterbomb-saddle");
 }
 
 #[test]
 fn a_target_out_of_reach_ends_with_exit_1_the_best_design_and_what_blocked_it() {
     // A Yoshimura asked for negative curvature: its vault bends one way only.
-    let yoshimura = scratch("yoshimura.fold");
-    let (code, _, err) = run_crease(&["generate", "yoshimura", "-o", yoshimura.to_str().unwrap()]);
-    assert_eq!(code, 0, "{err}");
-    let saddle = scratch("steep-saddle.obj");
-    let (code, _, err) = run_crease(&[
-        "surface",
-        "saddle",
-        "--depth",
-        "60",
-        "--span",
-        "300",
-        "-o",
-        saddle.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{err}");
+    let yoshimura = made("yoshimura.fold", &["generate", "yoshimura"]);
+    let saddle = made(
+        "steep-saddle.obj",
+        &["surface", "saddle", "--depth", "60", "--span", "300"],
+    );
     // At 150 steps it still comes nearer (more steps are what it needs, and it says so);
     // by 400 it no longer does, and the conditions are blamed.
     let (code, report, _, err) = fit(&yoshimura, &saddle, "unreachable", &["--steps", "150"]);
@@ -393,8 +379,7 @@ fn bad_targets_exit_2_with_one_line_naming_the_file_and_write_nothing() {
         assert!(!out.exists() && !scratch("never.fit.json").exists());
     }
     // Absurd options too.
-    let cap = scratch("cap-for-options.obj");
-    run_crease(&["surface", "cap", "-o", cap.to_str().unwrap()]);
+    let cap = made("cap-for-options.obj", &["surface", "cap"]);
     for (flag, value, cause) in [
         ("--steps", "0", "--steps"),
         ("--within=-1", "", "--within"),
@@ -424,23 +409,17 @@ fn bad_targets_exit_2_with_one_line_naming_the_file_and_write_nothing() {
 fn stl_targets_read_as_their_obj_twins_ascii_and_binary() {
     // The same cap written as OBJ and binary STL, and an ASCII STL written here: the fit
     // reads each to the same triangles (STL keeps single precision).
-    let obj = scratch("twin.obj");
-    let stl = scratch("twin.stl");
-    for p in [&obj, &stl] {
-        let (code, _, err) = run_crease(&[
-            "surface",
-            "cap",
-            "--radius",
-            "200",
-            "--span",
-            "150",
-            "--resolution",
-            "6",
-            "-o",
-            p.to_str().unwrap(),
-        ]);
-        assert_eq!(code, 0, "{err}");
-    }
+    let cap = [
+        "surface",
+        "cap",
+        "--radius",
+        "200",
+        "--span",
+        "150",
+        "--resolution",
+        "6",
+    ];
+    let (obj, stl) = (made("twin.obj", &cap), made("twin.stl", &cap));
     let a = crease::io::read_target(&obj).unwrap();
     let b = crease::io::read_target(&stl).unwrap();
     assert_eq!(a.triangles().len(), b.triangles().len());

@@ -88,9 +88,7 @@ impl Problem {
         }
         Ok(Some(counts))
     }
-}
 
-impl Problem {
     /// Whether the pieces of the triple whose pair variables are `[ab, bc, ac]` (as
     /// [`Problem::for_each_triple`] gives them) can still lie in a cycle a > b > c > a or
     /// its reverse, given the variables' fixed `value`s and the relations `equal` holds
