@@ -90,8 +90,8 @@ enum Command {
         input: PathBuf,
         /// Output file.
         output: PathBuf,
-        /// Give a crease pattern of only unassigned creases the mountains and valleys of
-        /// a flat-folded state found for it (exit 1 naming the faces when none exists, 3
+        /// Give a crease pattern's unassigned creases the mountains and valleys of a
+        /// flat-folded state found for it, its own kept (exit 1 naming the faces when none exists, 3
         /// when the search stops).
         #[arg(long)]
         assign: bool,

@@ -33,9 +33,9 @@ pub enum SideSearch {
     Stopped(LayerError),
 }
 
-/// The sides of a crease pattern whose creases are all unassigned, searched within
-/// `budget` at the drawing's precision; `None` for any other design (a 3D design, or a
-/// pattern with mountains or valleys, whose U creases stay flat).
+/// The sides of a crease pattern's unassigned interior creases, searched within `budget`
+/// at the drawing's precision, its mountains and valleys kept. `None` for a design with
+/// none, a 3D design, or a pattern with a partial fold (whose U lines are free).
 pub fn assign_sides(mesh: &Mesh, budget: &Budget) -> Option<SideSearch> {
     let open = unassigned_interior(mesh)?;
     let (_, measured) = as_drawn(mesh);
@@ -79,10 +79,18 @@ pub(super) fn with_open_sides(mesh: &Mesh, open: &[usize]) -> Mesh {
     free
 }
 
-/// The interior edges of a crease pattern whose creases are all unassigned, when it has
-/// any (`None` for a 3D design or a pattern with mountains or valleys).
+/// The interior unassigned creases of a crease pattern meant to fold flat, when it has
+/// any: a flat pattern (no 3D form) whose mountains and valleys, if it has any, all aim
+/// at a full fold and are drawn at one (an Origami Simulator SVG's opacity draws a
+/// partial fold). There a `U` crease is what FOLD calls it, a crease whose side is
+/// unknown (a line that stays unfolded is `F`), as Flat-Folder and "Box Pleating is
+/// Hard"'s unassigned patterns read it. `None` for a 3D design, or a pattern with a
+/// partial fold, whose `U` lines are free (the rulings of a curved fold, Resch's tucks).
 pub(super) fn unassigned_interior(mesh: &Mesh) -> Option<Vec<usize>> {
-    if mesh.has_3d() || mesh.edges().iter().any(|e| e.assignment.is_folded()) {
+    let full = |angle| crate::constraints::folds_flat(angle) == Some(true);
+    let partial =
+        |e: &crate::mesh::Edge| e.assignment.is_folded() && !(full(e.target) && full(e.fold_angle));
+    if mesh.has_3d() || mesh.edges().iter().any(partial) {
         return None;
     }
     let topo = mesh.topology();

@@ -1,7 +1,7 @@
 //! `convert` as a job: what a design becomes when written in another format. A flat
 //! format (SVG, `.cp`) draws a sheet, so a tube becomes its strip and a 3D-only design its
 //! unfolding; a crease pattern that folds flat, written as FOLD, carries its layer order;
-//! with `assign`, a pattern of unassigned creases is written with the sides a layer
+//! with `assign`, a pattern with unassigned creases is written with the sides a layer
 //! order gives them.
 
 use crate::fab::{Budget, LayerConflict, LayerError, LayerOrder, SideSearch};
@@ -34,7 +34,7 @@ pub enum ConvertError {
         cause: UnfoldError,
     },
     /// Sides were asked for a design that has no unassigned creases to give them.
-    #[error("it has no crease pattern of only unassigned creases to assign (its creases already say mountain or valley, or it is a 3D design)")]
+    #[error("it has no unassigned creases to assign (its creases already say mountain or valley, or it is a 3D design or folds partly, where unassigned lines are free)")]
     NothingToAssign,
     /// No mountain/valley of the unassigned creases folds flat.
     #[error(
@@ -137,7 +137,7 @@ pub fn convert(
     })
 }
 
-/// A crease pattern of only unassigned creases with the sides of a layer order found for
+/// A crease pattern's unassigned creases with the sides of a layer order found for
 /// them, and a sentence saying so; any other design unchanged, with no sentence. Errors
 /// when no assignment folds flat or the search stops.
 pub fn with_sides_found(

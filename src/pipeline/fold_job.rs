@@ -96,7 +96,7 @@ impl FlatFoldError {
 }
 
 /// The flat-folded state of `mesh` as a FOLD folded form beside its crease pattern: a
-/// pattern of unassigned creases gets the sides a layer order gives them first (within
+/// pattern with unassigned creases gets the sides a layer order gives them first (within
 /// `budget`), then the state is folded flat and its layers ordered.
 pub fn flat_folded_file(mut mesh: Mesh, budget: &Budget) -> Result<FlatFoldedFile, FlatFoldError> {
     let (assigned, note) = super::with_sides_found(mesh, budget)?;

@@ -387,6 +387,100 @@ fn a_pattern_of_unassigned_creases_is_assigned_and_judged() {
     );
 }
 
+/// A crease pattern that leaves only some sides open (mountains and valleys beside `U`
+/// creases, as "Box Pleating is Hard"'s unassigned gadgets) counts the states of every
+/// side the open creases may take, its own kept: brute force over the 2⁶ assignments of
+/// the six creases at vertex 16 of Brown's 4 × 4 A77 (1,296 states as drawn) sums to the
+/// count with them open. Verified, it gets sides for the six alone and passes.
+#[test]
+fn a_pattern_with_some_creases_unassigned_counts_every_side_they_may_take() {
+    let path = data("grids").join("099_brown_4x4_A77.fold");
+    let drawn = crease::io::read(&path).unwrap();
+    let open: Vec<usize> = (0..drawn.edges().len())
+        .filter(|&e| {
+            let edge = &drawn.edges()[e];
+            edge.assignment.is_folded() && edge.vertices.contains(&16)
+        })
+        .collect();
+    assert_eq!(open.len(), 6);
+    let with = |sides: &[Assignment]| {
+        let mut mesh = drawn.clone();
+        for (&e, &side) in open.iter().zip(sides) {
+            let edge = &mut mesh.edges_mut()[e];
+            edge.assignment = side;
+            edge.target = side.default_target();
+            edge.fold_angle = edge.target;
+        }
+        mesh
+    };
+    let states = |mesh: &Mesh| {
+        crease::fab::count_flat_states(mesh, &Budget::default(), u64::MAX)
+            .unwrap()
+            .map_or(0, |groups| total(&groups).parse::<u64>().unwrap())
+    };
+    let mut brute_force = 0;
+    for bits in 0..1u32 << open.len() {
+        let sides: Vec<Assignment> = (0..open.len())
+            .map(|i| match bits >> i & 1 {
+                0 => Assignment::Mountain,
+                _ => Assignment::Valley,
+            })
+            .collect();
+        brute_force += states(&with(&sides));
+    }
+    let mixed = with(&[Assignment::Unassigned; 6]);
+    assert_eq!(states(&drawn), 1296);
+    assert!(brute_force > 1296, "other sides fold too: {brute_force}");
+    assert_eq!(states(&mixed), brute_force);
+
+    let report = verify(&mixed, None, Tolerances::default());
+    assert_passes_judged(&path, &report);
+    assert!(
+        report
+            .notes
+            .iter()
+            .any(|n| n.contains("the 6 unassigned creases were given the sides")),
+        "{report}"
+    );
+    let Some(crease::fab::SideSearch::Found { mesh: assigned, .. }) =
+        crease::fab::assign_sides(&mixed, &Budget::default())
+    else {
+        panic!("sides are found for the six")
+    };
+    for (e, edge) in drawn.edges().iter().enumerate() {
+        let now = assigned.edges()[e].assignment;
+        match open.contains(&e) {
+            true => assert!(now.is_folded(), "edge {e}: {now:?}"),
+            false => assert_eq!(now, edge.assignment, "edge {e} is kept"),
+        }
+    }
+    // Drawn folding partly (an Origami Simulator SVG's opacity of 0.5 on one mountain),
+    // the pattern is no flat fold: its U lines are free, with no sides to find.
+    let mut partly = mixed.clone();
+    let first = (0..partly.edges().len())
+        .find(|&e| partly.edges()[e].assignment == Assignment::Mountain)
+        .unwrap();
+    partly.edges_mut()[first].fold_angle = std::f64::consts::FRAC_PI_2;
+    assert!(crease::fab::assign_sides(&partly, &Budget::default()).is_none());
+}
+
+/// "Box Pleating is Hard"'s solvable unassigned gadget (585 mountains, 3,736 `U` creases)
+/// passes with sides found for its `U` creases and Flat-Folder's 2 states; read as flat
+/// lines they left vertices of one mountain, and it was undecided.
+#[test]
+fn the_box_pleating_gadget_with_unassigned_creases_passes_with_flat_folders_states() {
+    let path = data("instagram-extra").join("319_boxhard_Unassigned_Solvable.fold");
+    let (mesh, report) = passes_judged(&path);
+    assert!(
+        report
+            .notes
+            .iter()
+            .any(|n| n.contains("the 3736 unassigned creases were given the sides")),
+        "{report}"
+    );
+    assert_eq!(total(&state_groups("the gadget", &mesh, 10_000)), "2");
+}
+
 /// Flat-Folder's examples draw unassigned creases green, Origami Simulator's cut. Read as
 /// cuts, `grid_unassigned.svg`'s 24 lines would cut its 4 × 4 grid into 12 loose squares
 /// and drop the middle four as holes, and the triangle pleat's 9 would cut it into 10
@@ -564,7 +658,7 @@ fn the_sides_found_for_unassigned_creases_are_written() {
     ]);
     assert_eq!(code, 2, "{err}");
     assert!(
-        err.contains("no crease pattern of only unassigned creases"),
+        err.contains("it has no unassigned creases to assign"),
         "{err}"
     );
     // Three unassigned creases at a vertex never fold flat (an odd number of folds):

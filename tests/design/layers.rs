@@ -695,8 +695,8 @@ fn a_miura_reassigned_so_no_order_exists_fails_on_layer_order_and_its_mirror_too
 
 #[test]
 fn flaps_whose_flat_lines_land_on_the_other_hinge_have_no_order() {
-    // A strip 20 | 10 | 10 | 10 | 20 mm: creases at x = 30 and 40, flat (auxiliary)
-    // lines at 20 and 50. Folded, the flap [0, 30] covers [30, 60] and the flap
+    // A strip 20 | 10 | 10 | 10 | 20 mm: creases at x = 30 and 40, flat (auxiliary,
+    // ORIPA's type 0) lines at 20 and 50. Folded, the flap [0, 30] covers [30, 60] and the flap
     // [40, 70] covers [10, 40]: each covers the other's hinge, but only with a flat line
     // of its own lying on it, so no single face crosses the hinge. Both mountain: no
     // order (a face stacked apart from its flat-joined neighbour would allow one);
@@ -704,7 +704,7 @@ fn flaps_whose_flat_lines_land_on_the_other_hinge_have_no_order() {
     let strip = |second: &str| {
         format!(
             "1 0 0 70 0\n1 0 10 70 10\n1 0 0 0 10\n1 70 0 70 10\n\
-             4 20 0 20 10\n2 30 0 30 10\n{second} 40 0 40 10\n4 50 0 50 10\n"
+             0 20 0 20 10\n2 30 0 30 10\n{second} 40 0 40 10\n0 50 0 50 10\n"
         )
     };
     let (code, layer) = verify_cp("mm.cp", &strip("2"));

@@ -69,9 +69,9 @@ pub fn verify_within(
         .unwrap_or_else(|| verify_as_drawn(mesh, conditions, tol, budget))
 }
 
-/// A crease pattern whose creases are all unassigned (`U`, Flat-Folder's "unassigned"
-/// patterns) says only where the paper folds: its claim is that some mountain/valley
-/// folds it flat. The layer search is run with those creases' sides free
+/// A crease pattern with unassigned creases (`U`, Flat-Folder's "unassigned" patterns,
+/// all or some of its creases: [`super::assign::unassigned_interior`]) says only where
+/// the paper folds there: its claim is that some mountain/valley folds it flat. The layer search is run with those creases' sides free
 /// ([`super::layers::assign_unassigned`]); the pattern is verified with the sides found
 /// (a note says so), fails naming the faces no assignment orders, or is undecided when the
 /// search could not finish. `None` for any other design.
@@ -117,7 +117,7 @@ fn verify_assigning(
 
 /// The flat-folded states of a crease pattern ([`super::layers::count_states`]): each
 /// independent group's count, up to `cap` a group, or `None` when it has none. A pattern
-/// of only unassigned creases counts the states of every side they may take (as
+/// with unassigned creases counts the states of every side they may take (as
 /// Flat-Folder does).
 pub fn count_flat_states(
     mesh: &Mesh,
@@ -271,10 +271,10 @@ fn flat_state_unjudged(mesh: &Mesh) -> Option<String> {
     ))
 }
 
-/// The row of a crease pattern whose creases are all unassigned, as drawn: undecided
+/// The row of a crease pattern with unassigned creases, as drawn: undecided
 /// ([`verify_assigning`] replaces it with the verdict of the sides it finds). `None` for
-/// a pattern with mountains or valleys (its `U` lines are free, as Resch's tucks), or a
-/// 3D design (its creases fold to the form it has).
+/// a pattern with a partial fold (its `U` lines are free, as Resch's tucks), or a 3D
+/// design (its creases fold to the form it has).
 fn unassigned_creases(mesh: &Mesh) -> Option<FamilyReport> {
     let unassigned = unassigned_interior(mesh)?;
     let first = unassigned[0];
