@@ -464,6 +464,52 @@ fn a_pattern_with_some_creases_unassigned_counts_every_side_they_may_take() {
     assert!(crease::fab::assign_sides(&partly, &Budget::default()).is_none());
 }
 
+/// Six creases at 60° round a vertex, five mountains and one unassigned: no side gives
+/// |M − V| = 2, so no layer order. The pattern fails on its layer order alone, judged
+/// with the unassigned crease folded (Kawasaki's sums hold), not as drawn with it flat
+/// (five folds at the vertex, an odd number: flat folding "not checked", a second
+/// layer-order row with a gap of 160 mm).
+#[test]
+fn unassigned_creases_that_find_no_sides_fail_on_the_layer_order_alone() {
+    let (xs, ys): (Vec<f64>, Vec<f64>) = (0..6)
+        .map(|k| {
+            let a = std::f64::consts::FRAC_PI_3 * k as f64;
+            (50.0 * a.cos(), 50.0 * a.sin())
+        })
+        .unzip();
+    let corners: Vec<String> = xs
+        .iter()
+        .zip(&ys)
+        .map(|(x, y)| format!("[{x},{y}]"))
+        .collect();
+    let text = format!(
+        r#"{{"file_spec": 1.1, "frame_classes": ["creasePattern"],
+ "vertices_coords": [[0,0],{}],
+ "edges_vertices": [[0,1],[0,2],[0,3],[0,4],[0,5],[0,6],[1,2],[2,3],[3,4],[4,5],[5,6],[6,1]],
+ "edges_assignment": ["M","M","M","M","M","U","B","B","B","B","B","B"],
+ "faces_vertices": [[0,1,2],[0,2,3],[0,3,4],[0,4,5],[0,5,6],[0,6,1]]}}"#,
+        corners.join(",")
+    );
+    let report = verify_text("five-and-one.fold", &text);
+    assert!(
+        matches!(
+            report.verdict(),
+            Verdict::Fail {
+                condition: "layer-order",
+                ..
+            }
+        ),
+        "{report}"
+    );
+    let rows = |name: &str| report.families.iter().filter(|f| f.name == name).count();
+    assert_eq!(rows("layer-order"), 1, "{report}");
+    assert_eq!(rows("flat-foldability"), 1, "{report}");
+    assert!(report
+        .to_string()
+        .contains("no mountain/valley for the 1 unassigned creases"));
+    assert!(!report.to_string().contains("not checked"), "{report}");
+}
+
 /// "Box Pleating is Hard"'s solvable unassigned gadget (585 mountains, 3,736 `U` creases)
 /// passes with sides found for its `U` creases and Flat-Folder's 2 states; read as flat
 /// lines they left vertices of one mountain, and it was undecided.

@@ -87,17 +87,18 @@ fn verify_assigning(
             mountains,
             valleys,
         } => (*mesh, mountains, valleys),
+        // Judged with its unassigned creases folded, their side open (Kawasaki's sums
+        // and the rest hold or fail as for any side); the layer order is the search's.
         SideSearch::NoOrder { conflict, open } => {
-            let mut report = verify_as_drawn(mesh, conditions, tol, budget);
-            report.families.retain(|f| f.name != "assignment");
             let mut row = conflict_report(&conflict);
             row.basis =
                 format!("no mountain/valley for the {open} unassigned creases gives a layer order");
-            report.families.push(row);
+            let mut report = verify_with_sides_open(mesh, conditions, tol, Some(row));
+            report.families.retain(|f| f.name != "assignment");
             return Some(report);
         }
         SideSearch::Stopped(e) => {
-            let mut report = verify_as_drawn(mesh, conditions, tol, budget);
+            let mut report = verify_with_sides_open(mesh, conditions, tol, None);
             if let Some(row) = report.families.iter_mut().find(|f| f.name == "assignment") {
                 let why = format!("the search for their sides stopped: {e}");
                 row.basis = format!("not judged: {why}");
@@ -113,6 +114,20 @@ fn verify_assigning(
         mountains + valleys
     ));
     Some(report)
+}
+
+/// The report of a pattern whose unassigned creases found no sides, judged with them
+/// folded, their side open, and `layer_order` as its layer-order row: the search for
+/// the sides has already judged it (or stopped), and is not run again.
+fn verify_with_sides_open(
+    mesh: &Mesh,
+    conditions: Option<&ConstraintSet>,
+    tol: Tolerances,
+    layer_order: Option<FamilyReport>,
+) -> Report {
+    let open = unassigned_interior(mesh).unwrap_or_default();
+    let free = with_open_sides(mesh, &open);
+    verify_drawn_with(&free, conditions, tol, |_, _| (layer_order, Vec::new()))
 }
 
 /// The flat-folded states of a crease pattern ([`super::layers::count_states`]): each
@@ -138,6 +153,19 @@ fn verify_as_drawn(
     conditions: Option<&ConstraintSet>,
     tol: Tolerances,
     budget: &Budget,
+) -> Report {
+    verify_drawn_with(mesh, conditions, tol, |mesh, set| {
+        flat_state(mesh, conditions, set, budget)
+    })
+}
+
+/// [`verify_as_drawn`] with the layer-order row and its notes from `flat`, given the
+/// design as measured and its set of conditions.
+fn verify_drawn_with(
+    mesh: &Mesh,
+    conditions: Option<&ConstraintSet>,
+    tol: Tolerances,
+    flat: impl FnOnce(&Mesh, &ConstraintSet) -> (Option<FamilyReport>, Vec<String>),
 ) -> Report {
     let (drawn, measured) = if tol.rounding {
         as_drawn(mesh)
@@ -170,7 +198,7 @@ fn verify_as_drawn(
     if mesh.has_3d() {
         families.push(self_intersection(mesh));
     }
-    let (layer_order, flat_notes) = flat_state(mesh, conditions, set, budget);
+    let (layer_order, flat_notes) = flat(mesh, set);
     families.extend(layer_order);
     notes.extend(flat_notes);
     families.extend(unassigned_creases(mesh));
