@@ -283,28 +283,12 @@ fn shared_lines(
     tolerance: f64,
 ) -> Vec<Contact> {
     let edges = mesh.edges();
-    let mut on_edge: Vec<Vec<usize>> = Vec::with_capacity(edges.len());
+    let on_edge = points_on_edges(mesh, w, grid, point_of, tolerance);
     let mut edges_at: std::collections::BTreeMap<usize, Vec<usize>> = Default::default();
-    for (e, edge) in edges.iter().enumerate() {
-        let [a, b] = edge.vertices;
-        let (wa, wb) = (w[a], w[b]);
-        let length = (wb - wa).norm();
-        let mut points = vec![point_of[a], point_of[b]];
-        if point_of[a] != point_of[b] {
-            for v in grid.near((wa + wb) / 2.0, length / 2.0 + tolerance) {
-                let t = (w[v] - wa).dot(&(wb - wa)) / (length * length);
-                let off = (wb - wa).perp(&(w[v] - wa)).abs() / length;
-                if (0.0..=1.0).contains(&t) && off <= tolerance {
-                    points.push(point_of[v]);
-                }
-            }
-        }
-        points.sort_unstable();
-        points.dedup();
-        for &p in &points {
+    for (e, points) in on_edge.iter().enumerate() {
+        for &p in points {
             edges_at.entry(p).or_default().push(e);
         }
-        on_edge.push(points);
     }
     let collinear = |e: usize, f: usize| {
         let [a, b] = edges[e].vertices;
@@ -361,6 +345,36 @@ fn shared_lines(
         );
     }
     contacts
+}
+
+/// The points on each edge's image (its ends' and every vertex folded within
+/// `tolerance` of it), sorted and each once.
+fn points_on_edges(
+    mesh: &Mesh,
+    w: &[Vec2],
+    grid: &ImageGrid,
+    point_of: &[usize],
+    tolerance: f64,
+) -> Vec<Vec<usize>> {
+    let on_edge = |edge: &crate::mesh::Edge| {
+        let [a, b] = edge.vertices;
+        let (wa, wb) = (w[a], w[b]);
+        let length = (wb - wa).norm();
+        let mut points = vec![point_of[a], point_of[b]];
+        if point_of[a] != point_of[b] {
+            for v in grid.near((wa + wb) / 2.0, length / 2.0 + tolerance) {
+                let t = (w[v] - wa).dot(&(wb - wa)) / (length * length);
+                let off = (wb - wa).perp(&(w[v] - wa)).abs() / length;
+                if (0.0..=1.0).contains(&t) && off <= tolerance {
+                    points.push(point_of[v]);
+                }
+            }
+        }
+        points.sort_unstable();
+        points.dedup();
+        points
+    };
+    mesh.edges().iter().map(on_edge).collect()
 }
 
 /// §2.3 as rows: every contact of the starting flat-folded state

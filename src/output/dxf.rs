@@ -22,27 +22,46 @@ pub fn layer_of(kind: LineKind) -> (&'static str, u8) {
 /// The toolpath as DXF R12 text. The toolpath's y grows upward from the media's lower
 /// edge, as DXF's does (and HP-GL's and the PDF's), so coordinates go across unchanged.
 pub fn to_string(toolpath: &Toolpath) -> String {
-    let mut out = String::new();
-    let mut pair = |code: u16, value: &str| {
-        let _ = writeln!(out, "{code:>3}\n{value}");
-    };
-    pair(0, "SECTION");
-    pair(2, "HEADER");
-    pair(9, "$ACADVER");
-    pair(1, "AC1009");
-    pair(9, "$INSUNITS");
-    pair(70, "4"); // millimetres
-    pair(9, "$EXTMIN");
-    pair(10, "0.0");
-    pair(20, "0.0");
-    pair(9, "$EXTMAX");
-    pair(10, &num(toolpath.media.width));
-    pair(20, &num(toolpath.media.height));
-    pair(0, "ENDSEC");
-    pair(0, "SECTION");
-    pair(2, "TABLES");
-    pair(0, "TABLE");
-    pair(2, "LAYER");
+    let mut out = Pairs(String::new());
+    header(&mut out, toolpath);
+    layer_table(&mut out, toolpath);
+    entities(&mut out, toolpath);
+    out.pair(0, "EOF");
+    out.0
+}
+
+/// DXF text: each group code on its line, right-aligned in three columns, then its value.
+struct Pairs(String);
+
+impl Pairs {
+    fn pair(&mut self, code: u16, value: &str) {
+        let _ = writeln!(self.0, "{code:>3}\n{value}");
+    }
+}
+
+/// The header: R12, millimetres, the media's extent.
+fn header(out: &mut Pairs, toolpath: &Toolpath) {
+    out.pair(0, "SECTION");
+    out.pair(2, "HEADER");
+    out.pair(9, "$ACADVER");
+    out.pair(1, "AC1009");
+    out.pair(9, "$INSUNITS");
+    out.pair(70, "4"); // millimetres
+    out.pair(9, "$EXTMIN");
+    out.pair(10, "0.0");
+    out.pair(20, "0.0");
+    out.pair(9, "$EXTMAX");
+    out.pair(10, &num(toolpath.media.width));
+    out.pair(20, &num(toolpath.media.height));
+    out.pair(0, "ENDSEC");
+}
+
+/// The layer table: a layer for each kind of stroke the toolpath has, in its colour.
+fn layer_table(out: &mut Pairs, toolpath: &Toolpath) {
+    out.pair(0, "SECTION");
+    out.pair(2, "TABLES");
+    out.pair(0, "TABLE");
+    out.pair(2, "LAYER");
     // No empty layer: laser software lists each as an operation to set up.
     let kinds: Vec<LineKind> = [
         LineKind::Cut,
@@ -53,54 +72,56 @@ pub fn to_string(toolpath: &Toolpath) -> String {
     .into_iter()
     .filter(|&k| toolpath.strokes.iter().any(|s| s.kind == k))
     .collect();
-    pair(70, &kinds.len().to_string());
+    out.pair(70, &kinds.len().to_string());
     for kind in kinds {
         let (name, colour) = layer_of(kind);
-        pair(0, "LAYER");
-        pair(2, name);
-        pair(70, "0");
-        pair(62, &colour.to_string());
-        pair(6, "CONTINUOUS");
+        out.pair(0, "LAYER");
+        out.pair(2, name);
+        out.pair(70, "0");
+        out.pair(62, &colour.to_string());
+        out.pair(6, "CONTINUOUS");
     }
-    pair(0, "ENDTAB");
-    pair(0, "ENDSEC");
-    pair(0, "SECTION");
-    pair(2, "ENTITIES");
+    out.pair(0, "ENDTAB");
+    out.pair(0, "ENDSEC");
+}
+
+/// The entities: a LINE for each straight stroke, a POLYLINE for each dash of a curve.
+fn entities(out: &mut Pairs, toolpath: &Toolpath) {
+    out.pair(0, "SECTION");
+    out.pair(2, "ENTITIES");
     for s in &toolpath.strokes {
         let (layer, _) = layer_of(s.kind);
         if s.bend.is_some() {
             // A dash of a curved crease: an R12 POLYLINE through its chords (LWPOLYLINE
             // and SPLINE came later, and R12 readers skip them).
-            pair(0, "POLYLINE");
-            pair(8, layer);
-            pair(66, "1");
-            pair(10, "0.0");
-            pair(20, "0.0");
-            pair(30, "0.0");
-            pair(70, "0");
+            out.pair(0, "POLYLINE");
+            out.pair(8, layer);
+            out.pair(66, "1");
+            out.pair(10, "0.0");
+            out.pair(20, "0.0");
+            out.pair(30, "0.0");
+            out.pair(70, "0");
             for p in s.polyline() {
-                pair(0, "VERTEX");
-                pair(8, layer);
-                pair(10, &num(p.x));
-                pair(20, &num(p.y));
-                pair(30, "0.0");
+                out.pair(0, "VERTEX");
+                out.pair(8, layer);
+                out.pair(10, &num(p.x));
+                out.pair(20, &num(p.y));
+                out.pair(30, "0.0");
             }
-            pair(0, "SEQEND");
-            pair(8, layer);
+            out.pair(0, "SEQEND");
+            out.pair(8, layer);
             continue;
         }
-        pair(0, "LINE");
-        pair(8, layer);
-        pair(10, &num(s.from.x));
-        pair(20, &num(s.from.y));
-        pair(30, "0.0");
-        pair(11, &num(s.to.x));
-        pair(21, &num(s.to.y));
-        pair(31, "0.0");
+        out.pair(0, "LINE");
+        out.pair(8, layer);
+        out.pair(10, &num(s.from.x));
+        out.pair(20, &num(s.from.y));
+        out.pair(30, "0.0");
+        out.pair(11, &num(s.to.x));
+        out.pair(21, &num(s.to.y));
+        out.pair(31, "0.0");
     }
-    pair(0, "ENDSEC");
-    pair(0, "EOF");
-    out
+    out.pair(0, "ENDSEC");
 }
 
 /// Micrometre resolution, no exponent (R12 readers expect plain decimals).

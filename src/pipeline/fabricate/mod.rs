@@ -11,7 +11,7 @@ mod layout;
 
 use hinge::{hinge_of, hinge_report, panel_files, too_far_warning};
 use jobs::{cut_sheet, job_files};
-use layout::{lay_out_sheet, sizing_of, tube_of};
+use layout::{lay_out_sheet, sizing_of, tube_of, Laid};
 
 /// Everything a fabrication run produced, ready to write.
 pub struct FabOutput {
@@ -133,39 +133,18 @@ pub fn fabricate_verified(
             .as_ref()
             .map(crate::fab::print_and_cut::PrintLayout::report),
         hinge: hinge.as_ref().map(|g| hinge_report(g, mesh)),
-        seam: laid.seam,
+        seam: laid.seam.clone(),
     };
     let job_line = run.job_line(&figures);
     let mut warnings: Vec<String> = run.unscored_warning().into_iter().collect();
     warnings.extend(hinge.as_ref().and_then(too_far_warning));
     warnings.extend(material_unused_warning(machine));
-    let mut summary = run.summary(&verification.verdict(), &job_line, &warnings);
-    if let Some(seam) = &report.seam {
-        summary.push(format!(
-            "a tube: fold the glue tab under along its valley and glue the seam's {} numbered edges beside it onto the edges numbered alike across the sheet (report.json, seam)",
-            seam.pairs.len()
-        ));
-    }
     let template_note = template_note_of(&run, laid.print.is_some());
+    let mut summary = run.summary(&verification.verdict(), &job_line, &warnings);
+    summary.extend(report.seam.as_ref().map(seam_line));
     summary.extend(template_note.clone());
     summary.extend(motion.guide_line.clone());
-    let title = if mesh.title.is_empty() {
-        "crease pattern"
-    } else {
-        mesh.title.as_str()
-    };
-    let pdf = match &laid.print {
-        Some(p) => print_pdf(
-            p,
-            mesh,
-            &laid.sheet,
-            &cut.front,
-            title,
-            options,
-            guide.as_ref(),
-        ),
-        None => run.pdf(&laid.page, title, &summary, guide.as_ref()),
-    };
+    let pdf = sheet_pdf(mesh, &laid, &cut.front, &run, &summary, guide.as_ref());
     files.push(("sheet.pdf".to_string(), pdf));
     files.push(("report.json".to_string(), report.to_text().into_bytes()));
     Ok(FabOutput {
@@ -222,25 +201,41 @@ fn template_note_of(run: &Run, print_and_cut: bool) -> Option<String> {
     })
 }
 
-/// The print-and-cut sheet.pdf: the page to print with the family's marks and caption,
-/// then the page as cut.
-fn print_pdf(
-    print: &crate::fab::print_and_cut::PrintLayout,
+/// What the maker does with a tube's seam, under the PDF's title.
+fn seam_line(seam: &crate::pipeline::report_json::SeamReport) -> String {
+    format!(
+        "a tube: fold the glue tab under along its valley and glue the seam's {} numbered edges beside it onto the edges numbered alike across the sheet (report.json, seam)",
+        seam.pairs.len()
+    )
+}
+
+/// sheet.pdf, titled by the design: for print-and-cut, the page to print with the
+/// family's marks and caption, then the page as cut; else the template ([`Run::pdf`])
+/// under `summary`.
+fn sheet_pdf(
     mesh: &Mesh,
-    sheet: &crate::fab::Sheet,
-    toolpath: &crate::fab::Toolpath,
-    title: &str,
-    options: &FabOptions,
+    laid: &Laid,
+    front: &crate::fab::Toolpath,
+    run: &Run,
+    summary: &[String],
     guide: Option<&crate::output::pdf::FoldingGuide>,
 ) -> Vec<u8> {
+    let title = if mesh.title.is_empty() {
+        "crease pattern"
+    } else {
+        mesh.title.as_str()
+    };
+    let Some(print) = &laid.print else {
+        return run.pdf(&laid.page, title, summary, guide);
+    };
     let page = crate::output::pdf::PrintPage {
         frame: print.frame.as_ref(),
         faces: mesh.faces(),
-        fill: options.print_fill,
+        fill: run.options.print_fill,
         caption: print.family.caption(),
         guide,
     };
-    crate::output::pdf::to_bytes_print(sheet, title, &page, toolpath)
+    crate::output::pdf::to_bytes_print(&laid.sheet, title, &page, front)
 }
 
 /// The settings of the profile's material the machine does not take from crease (a
