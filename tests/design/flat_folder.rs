@@ -74,6 +74,12 @@ fn total(groups: &[GroupCount]) -> String {
     crease::fab::StateTotal::product(groups).to_string()
 }
 
+/// Whether `report` says it gave `count` unassigned creases the sides of a layer order.
+fn says_sides_found(report: &Report, count: usize) -> bool {
+    let said = format!("the {count} unassigned creases were given the sides");
+    report.notes.iter().any(|n| n.contains(&said))
+}
+
 #[test]
 fn every_grid_pattern_passes_with_its_layer_order_judged() {
     let files = folds("grids");
@@ -366,12 +372,10 @@ fn a_pattern_of_unassigned_creases_is_assigned_and_judged() {
     let report = verified(&pleat);
     assert_eq!(report.verdict(), Verdict::Pass, "{report}");
     assert!(layer_order_judged(&report), "{report}");
-    let note = report
-        .notes
-        .iter()
-        .find(|n| n.contains("unassigned creases were given the sides"))
-        .unwrap_or_else(|| panic!("the assignment is said:\n{report}"));
-    assert!(note.contains("the 9 unassigned creases"), "{note}");
+    assert!(
+        says_sides_found(&report, 9),
+        "the assignment is said:\n{report}"
+    );
     let (code, out, _) = run_crease(&["verify", pleat.to_str().unwrap()]);
     assert_eq!(code, 0, "{out}");
     // Out of budget before the search ends: undecided, naming the assignment.
@@ -435,13 +439,7 @@ fn a_pattern_with_some_creases_unassigned_counts_every_side_they_may_take() {
 
     let report = verify(&mixed, None, Tolerances::default());
     assert_passes_judged(&path, &report);
-    assert!(
-        report
-            .notes
-            .iter()
-            .any(|n| n.contains("the 6 unassigned creases were given the sides")),
-        "{report}"
-    );
+    assert!(says_sides_found(&report, 6), "{report}");
     let Some(crease::fab::SideSearch::Found { mesh: assigned, .. }) =
         crease::fab::assign_sides(&mixed, &Budget::default())
     else {
@@ -517,13 +515,7 @@ fn unassigned_creases_that_find_no_sides_fail_on_the_layer_order_alone() {
 fn the_box_pleating_gadget_with_unassigned_creases_passes_with_flat_folders_states() {
     let path = data("instagram-extra").join("319_boxhard_Unassigned_Solvable.fold");
     let (mesh, report) = passes_judged(&path);
-    assert!(
-        report
-            .notes
-            .iter()
-            .any(|n| n.contains("the 3736 unassigned creases were given the sides")),
-        "{report}"
-    );
+    assert!(says_sides_found(&report, 3736), "{report}");
     assert_eq!(total(&state_groups("the gadget", &mesh, 10_000)), "2");
 }
 
