@@ -278,7 +278,7 @@ fn pull(
     let placed = fitter.history[0];
     let max = stage.options.max_steps;
     let keep_order = solver.conditions().families.contains(&Family::LayerOrder);
-    let mut check = super::lost_layer_order;
+    let mut check = super::step_order::lost_layer_order;
     let check = keep_order.then_some(&mut check);
     let stop = fitter.run(solver, check, &mut |k, _| progress("fit", k, max))?;
     progress("fit", max, max);
