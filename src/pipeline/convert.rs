@@ -137,6 +137,15 @@ pub fn convert(
     })
 }
 
+/// What a pattern's unassigned creases became: the sentence `convert --assign`,
+/// `fold --flat` and `fab` say.
+pub(super) fn sides_given(mountains: usize, valleys: usize) -> String {
+    format!(
+        "its {} unassigned creases were given the sides of a layer order: {mountains} mountain(s), {valleys} valley(s)",
+        mountains + valleys
+    )
+}
+
 /// A crease pattern's unassigned creases with the sides of a layer order found for
 /// them, and a sentence saying so; any other design unchanged, with no sentence. Errors
 /// when no assignment folds flat or the search stops.
@@ -150,13 +159,7 @@ pub fn with_sides_found(
             mesh: assigned,
             mountains,
             valleys,
-        }) => Ok((
-            *assigned,
-            Some(format!(
-                "its {} unassigned creases were given the sides of a layer order: {mountains} mountain(s), {valleys} valley(s)",
-                mountains + valleys
-            )),
-        )),
+        }) => Ok((*assigned, Some(sides_given(mountains, valleys)))),
         Some(SideSearch::NoOrder { conflict, open }) => {
             Err(ConvertError::NoAssignment { conflict, open })
         }

@@ -686,6 +686,34 @@ fn the_sides_found_for_unassigned_creases_are_written() {
         !folded["faceOrders"].as_array().unwrap().is_empty(),
         "{err}"
     );
+    // fab makes it with those sides, as its verdict judged it: its creases are scored as
+    // mountains and valleys, not left unscored as unassigned lines, and it says so.
+    let made = dir.join("pleat-fab");
+    let (code, _, err) = run_crease(&[
+        "fab",
+        pleat.to_str().unwrap(),
+        "--width",
+        "150",
+        "-o",
+        made.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(made.join("report.json")).unwrap()).unwrap();
+    let scored = &report["sheet"]["line_length_mm"];
+    assert!(
+        scored["mountain"].as_f64() > Some(0.0) && scored["valley"].as_f64() > Some(0.0),
+        "{scored}"
+    );
+    let notes = report["verification"]["notes"].to_string();
+    assert!(
+        notes.contains("its 9 unassigned creases were given the sides"),
+        "{notes}"
+    );
+    let cut = crease::io::read(&made.join("crease-pattern.fold")).unwrap();
+    let sides = |a: Assignment| cut.edges().iter().filter(|e| e.assignment == a).count();
+    assert_eq!(sides(Assignment::Unassigned), 0);
+    assert_eq!(sides(Assignment::Mountain) + sides(Assignment::Valley), 9);
     // A pattern with mountains and valleys has nothing to assign: bad input.
     let kabuto = data("instagram-sample").join("002_traditional_Kabuto.fold");
     let (code, _, err) = run_crease(&[

@@ -1,5 +1,6 @@
 //! Fabrication: verify → unfold → lay out → score → route → SVG, PDF, HP-GL, report.
 
+use super::convert::sides_given;
 use super::fab_options::{FabOptions, TILE_OVERLAP_MM};
 use super::fab_report::Run;
 use crate::fab::{Advice, FabOption};
@@ -67,14 +68,30 @@ pub struct Rejected(pub Advice);
 
 /// Verify → unfold → lay out → score → route → SVG, PDF, HP-GL and a report (§ the
 /// fabrication half of the brief). Nothing is written here; see [`crate::io::write_all_atomic`].
+///
+/// A crease pattern with unassigned creases is made with the sides a layer order gives
+/// them (as `convert --assign` and `fold --flat` write them; a note in the verification
+/// says so): its verdict is that assigned pattern's, so its creases are scored as the
+/// mountains and valleys it was judged with. Where no sides are found it is made as
+/// drawn, and its verdict (FAIL or UNDECIDED) refuses it unless `--force`.
 pub fn fabricate(
     mesh: &Mesh,
     machine: &crate::machine::Machine,
     options: &FabOptions,
 ) -> Result<FabOutput, FabError> {
-    use crate::fab::{verify, Tolerances};
-    let verification = verify(mesh, None, Tolerances::default());
-    fabricate_verified(mesh, verification, machine, options)
+    use crate::fab::{verify, Budget, SideSearch, Tolerances};
+    use std::borrow::Cow;
+    let (mesh, sides) = match crate::fab::assign_sides(mesh, &Budget::default()) {
+        Some(SideSearch::Found {
+            mesh: assigned,
+            mountains,
+            valleys,
+        }) => (Cow::Owned(*assigned), Some(sides_given(mountains, valleys))),
+        _ => (Cow::Borrowed(mesh), None),
+    };
+    let mut verification = verify(&mesh, None, Tolerances::default());
+    verification.notes.extend(sides);
+    fabricate_verified(&mesh, verification, machine, options)
 }
 
 /// [`fabricate`] with the design's verification already done (it depends on the design
