@@ -71,10 +71,11 @@ pub fn verify_within(
 
 /// A crease pattern with unassigned creases (`U`, Flat-Folder's "unassigned" patterns,
 /// all or some of its creases: [`super::assign::unassigned_interior`]) says only where
-/// the paper folds there: its claim is that some mountain/valley folds it flat. The layer search is run with those creases' sides free
+/// the paper folds there: its claim is that some mountain/valley folds it flat. The
+/// layer search is run with those creases' sides free
 /// ([`super::layers::assign_unassigned`]); the pattern is verified with the sides found
-/// (a note says so), fails naming the faces no assignment orders, or is undecided when the
-/// search could not finish. `None` for any other design.
+/// (a note says so), fails naming the faces no assignment orders, or is undecided when
+/// the search could not finish. `None` for any other design.
 fn verify_assigning(
     mesh: &Mesh,
     conditions: Option<&ConstraintSet>,
