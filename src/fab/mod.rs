@@ -43,5 +43,6 @@ pub use route::{route, route_with, RouteSearch};
 pub use score::{score, score_lines};
 pub use toolpath::{dashes, DashCode, ScoreSettings, ShortFolds, Stroke, ToolSetting, Toolpath};
 pub use verify::{
-    count_flat_states, verify, verify_within, Excess, FamilyReport, Report, Tolerances, Verdict,
+    count_flat_states, verify, verify_searched, verify_within, Excess, FamilyReport, Report,
+    Tolerances, Verdict,
 };

@@ -82,7 +82,22 @@ fn verify_assigning(
     tol: Tolerances,
     budget: &Budget,
 ) -> Option<Report> {
-    let (assigned, mountains, valleys) = match super::assign::assign_sides(mesh, budget)? {
+    let search = super::assign::assign_sides(mesh, budget)?;
+    Some(verify_searched(mesh, search, conditions, tol, budget))
+}
+
+/// [`verify_within`] of a crease pattern whose unassigned creases' sides were already
+/// searched for (`search`, [`super::assign_sides`]'s answer), so that a caller that
+/// needs the search itself (`fab`, which makes the assigned pattern) does not run it
+/// twice.
+pub fn verify_searched(
+    mesh: &Mesh,
+    search: SideSearch,
+    conditions: Option<&ConstraintSet>,
+    tol: Tolerances,
+    budget: &Budget,
+) -> Report {
+    let (assigned, mountains, valleys) = match search {
         SideSearch::Found {
             mesh,
             mountains,
@@ -96,7 +111,7 @@ fn verify_assigning(
                 format!("no mountain/valley for the {open} unassigned creases gives a layer order");
             let mut report = verify_with_sides_open(mesh, conditions, tol, Some(row));
             report.families.retain(|f| f.name != "assignment");
-            return Some(report);
+            return report;
         }
         SideSearch::Stopped(e) => {
             let mut report = verify_with_sides_open(mesh, conditions, tol, None);
@@ -105,7 +120,7 @@ fn verify_assigning(
                 row.basis = format!("not judged: {why}");
                 row.undecided = Some(why);
             }
-            return Some(report);
+            return report;
         }
     };
     let mut report = verify_as_drawn(&assigned, conditions, tol, budget);
@@ -114,7 +129,7 @@ fn verify_assigning(
          {mountains} mountain(s), {valleys} valley(s); the verdict is the assigned pattern's",
         mountains + valleys
     ));
-    Some(report)
+    report
 }
 
 /// The report of a pattern whose unassigned creases found no sides, judged with them

@@ -79,19 +79,25 @@ pub fn fabricate(
     machine: &crate::machine::Machine,
     options: &FabOptions,
 ) -> Result<FabOutput, FabError> {
-    use crate::fab::{verify, Budget, SideSearch, Tolerances};
-    use std::borrow::Cow;
-    let (mesh, sides) = match crate::fab::assign_sides(mesh, &Budget::default()) {
+    use crate::fab::{verify, verify_searched, Budget, SideSearch, Tolerances};
+    let (tol, budget) = (Tolerances::default(), Budget::default());
+    match crate::fab::assign_sides(mesh, &budget) {
         Some(SideSearch::Found {
             mesh: assigned,
             mountains,
             valleys,
-        }) => (Cow::Owned(*assigned), Some(sides_given(mountains, valleys))),
-        _ => (Cow::Borrowed(mesh), None),
-    };
-    let mut verification = verify(&mesh, None, Tolerances::default());
-    verification.notes.extend(sides);
-    fabricate_verified(&mesh, verification, machine, options)
+        }) => {
+            let mut verification = verify(&assigned, None, tol);
+            verification.notes.push(sides_given(mountains, valleys));
+            fabricate_verified(&assigned, verification, machine, options)
+        }
+        // No sides: made as drawn, its verdict from the search already run.
+        Some(search) => {
+            let verification = verify_searched(mesh, search, None, tol, &budget);
+            fabricate_verified(mesh, verification, machine, options)
+        }
+        None => fabricate_verified(mesh, verify(mesh, None, tol), machine, options),
+    }
 }
 
 /// [`fabricate`] with the design's verification already done (it depends on the design
