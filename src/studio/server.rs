@@ -122,6 +122,10 @@ impl Drop for Studio {
 fn accept_loop(listener: &TcpListener, hub: &Arc<Hub>, site: &Arc<Site>, stopping: &AtomicBool) {
     let open = Arc::new(AtomicUsize::new(0));
     let closer = Closer::start();
+    // The connections' threads, joined once finished: a thread gives its slot back as its
+    // work ends but lives on a moment while the system tears it down, and on a loaded
+    // machine those moments add up past the cap unless the cap counts threads, not work.
+    let mut threads: Vec<JoinHandle<()>> = Vec::new();
     for stream in listener.incoming() {
         if stopping.load(Ordering::SeqCst) {
             return;
@@ -132,12 +136,13 @@ fn accept_loop(listener: &TcpListener, hub: &Arc<Hub>, site: &Arc<Site>, stoppin
             std::thread::sleep(Duration::from_millis(10));
             continue;
         };
-        if open.fetch_add(1, Ordering::SeqCst) >= MAX_CONNECTIONS {
-            open.fetch_sub(1, Ordering::SeqCst);
+        join_finished(&mut threads);
+        if threads.len() >= MAX_CONNECTIONS {
             refuse_busy(&mut stream, "the studio has too many connections open");
             closer.close(stream);
             continue;
         }
+        open.fetch_add(1, Ordering::SeqCst);
         let slot = Slot(Arc::clone(&open));
         let (hub, site) = (Arc::clone(hub), Arc::clone(site));
         // A second handle on the socket, to answer on if no thread can serve it.
@@ -148,17 +153,32 @@ fn accept_loop(listener: &TcpListener, hub: &Arc<Hub>, site: &Arc<Site>, stoppin
             .spawn(move || serve_connection(stream, &hub, &site, &slot));
         // A thread the system will not give drops the closure and gives the slot back;
         // the client is told to come back rather than left with a closed socket.
-        if let (Err(_), Some(mut spare)) = (spawned, spare) {
-            refuse_busy(
-                &mut spare,
-                "the studio could not start a thread to serve this",
-            );
-            closer.close(spare);
+        match (spawned, spare) {
+            (Ok(thread), _) => threads.push(thread),
+            (Err(_), Some(mut spare)) => {
+                refuse_busy(
+                    &mut spare,
+                    "the studio could not start a thread to serve this",
+                );
+                closer.close(spare);
+            }
+            (Err(_), None) => {}
         }
     }
 }
 
-/// One of the [`MAX_CONNECTIONS`] places, given back when its connection's thread ends.
+/// Joins the connection threads whose work has ended, which waits for the system to
+/// finish removing them (a moment at most), and keeps the rest.
+fn join_finished(threads: &mut Vec<JoinHandle<()>>) {
+    let (finished, running): (Vec<_>, Vec<_>) = threads.drain(..).partition(|t| t.is_finished());
+    for thread in finished {
+        let _ = thread.join();
+    }
+    *threads = running;
+}
+
+/// One of the open connections, counted while its thread serves it (the count decides
+/// whether replies keep their connection open).
 struct Slot(Arc<AtomicUsize>);
 
 impl Drop for Slot {

@@ -67,6 +67,20 @@ fn proc_status(pid: u32, field: &str) -> u64 {
         .unwrap_or_else(|| panic!("{field} in /proc/{pid}/status"))
 }
 
+/// The names of `pid`'s threads with how many carry each, for a failure message.
+fn thread_names(pid: u32) -> String {
+    let mut names = std::collections::BTreeMap::<String, usize>::new();
+    for task in std::fs::read_dir(format!("/proc/{pid}/task"))
+        .into_iter()
+        .flatten()
+        .flatten()
+    {
+        let comm = std::fs::read_to_string(task.path().join("comm")).unwrap_or_default();
+        *names.entry(comm.trim().to_string()).or_default() += 1;
+    }
+    format!("{names:?}")
+}
+
 #[test]
 fn a_body_announced_past_any_memory_is_refused_unread_and_the_studio_goes_on() {
     let mut studio = StudioProcess::start_limited(&["patterns/miura.fold"], address_space_kb());
@@ -135,7 +149,8 @@ fn a_thousand_held_long_polls_leave_it_answering_in_bounded_threads_and_memory()
         let threads = proc_status(pid, "Threads:");
         assert!(
             threads <= threads_before + crease::limits::MAX_CONNECTIONS as u64 + 2,
-            "{threads} threads (from {threads_before})"
+            "{threads} threads (from {threads_before}): {}",
+            thread_names(pid)
         );
         std::thread::sleep(Duration::from_millis(50));
     }
