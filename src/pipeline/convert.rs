@@ -137,8 +137,8 @@ pub fn convert(
     })
 }
 
-/// What a pattern's unassigned creases became: the sentence `convert --assign`,
-/// `fold --flat` and `fab` say.
+/// What a pattern's unassigned creases became: the sentence `convert --assign` and
+/// `fold --flat` say (`fab`'s report has `verify`'s).
 pub(super) fn sides_given(mountains: usize, valleys: usize) -> String {
     format!(
         "its {} unassigned creases were given the sides of a layer order: {mountains} mountain(s), {valleys} valley(s)",

@@ -705,9 +705,10 @@ fn the_sides_found_for_unassigned_creases_are_written() {
         scored["mountain"].as_f64() > Some(0.0) && scored["valley"].as_f64() > Some(0.0),
         "{scored}"
     );
+    // Its verification is verify's, note and all.
     let notes = report["verification"]["notes"].to_string();
     assert!(
-        notes.contains("its 9 unassigned creases were given the sides"),
+        notes.contains("the 9 unassigned creases were given the sides"),
         "{notes}"
     );
     let cut = crease::io::read(&made.join("crease-pattern.fold")).unwrap();

@@ -83,16 +83,16 @@ fn verify_assigning(
     budget: &Budget,
 ) -> Option<Report> {
     let search = super::assign::assign_sides(mesh, budget)?;
-    Some(verify_searched(mesh, search, conditions, tol, budget))
+    Some(verify_searched(mesh, &search, conditions, tol, budget))
 }
 
 /// [`verify_within`] of a crease pattern whose unassigned creases' sides were already
 /// searched for (`search`, [`super::assign_sides`]'s answer), so that a caller that
 /// needs the search itself (`fab`, which makes the assigned pattern) does not run it
-/// twice.
+/// twice, and reports what `verify` reports.
 pub fn verify_searched(
     mesh: &Mesh,
-    search: SideSearch,
+    search: &SideSearch,
     conditions: Option<&ConstraintSet>,
     tol: Tolerances,
     budget: &Budget,
@@ -102,11 +102,11 @@ pub fn verify_searched(
             mesh,
             mountains,
             valleys,
-        } => (*mesh, mountains, valleys),
+        } => (mesh.as_ref(), *mountains, *valleys),
         // Judged with its unassigned creases folded, their side open (Kawasaki's sums
         // and the rest hold or fail as for any side); the layer order is the search's.
         SideSearch::NoOrder { conflict, open } => {
-            let mut row = conflict_report(&conflict);
+            let mut row = conflict_report(conflict);
             row.basis =
                 format!("no mountain/valley for the {open} unassigned creases gives a layer order");
             let mut report = verify_with_sides_open(mesh, conditions, tol, Some(row));
@@ -123,7 +123,7 @@ pub fn verify_searched(
             return report;
         }
     };
-    let mut report = verify_as_drawn(&assigned, conditions, tol, budget);
+    let mut report = verify_as_drawn(assigned, conditions, tol, budget);
     report.notes.push(format!(
         "the {} unassigned creases were given the sides of a layer order found with them free: \
          {mountains} mountain(s), {valleys} valley(s); the verdict is the assigned pattern's",

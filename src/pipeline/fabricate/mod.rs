@@ -1,6 +1,5 @@
 //! Fabrication: verify → unfold → lay out → score → route → SVG, PDF, HP-GL, report.
 
-use super::convert::sides_given;
 use super::fab_options::{FabOptions, TILE_OVERLAP_MM};
 use super::fab_report::Run;
 use crate::fab::{Advice, FabOption};
@@ -81,23 +80,17 @@ pub fn fabricate(
 ) -> Result<FabOutput, FabError> {
     use crate::fab::{verify, verify_searched, Budget, SideSearch, Tolerances};
     let (tol, budget) = (Tolerances::default(), Budget::default());
-    match crate::fab::assign_sides(mesh, &budget) {
-        Some(SideSearch::Found {
-            mesh: assigned,
-            mountains,
-            valleys,
-        }) => {
-            let mut verification = verify(&assigned, None, tol);
-            verification.notes.push(sides_given(mountains, valleys));
-            fabricate_verified(&assigned, verification, machine, options)
-        }
-        // No sides: made as drawn, its verdict from the search already run.
-        Some(search) => {
-            let verification = verify_searched(mesh, search, None, tol, &budget);
-            fabricate_verified(mesh, verification, machine, options)
-        }
-        None => fabricate_verified(mesh, verify(mesh, None, tol), machine, options),
-    }
+    let Some(search) = crate::fab::assign_sides(mesh, &budget) else {
+        return fabricate_verified(mesh, verify(mesh, None, tol), machine, options);
+    };
+    // Judged as `verify` judges it, from the search already run; made with the sides
+    // found, or as drawn where none were.
+    let verification = verify_searched(mesh, &search, None, tol, &budget);
+    let made = match &search {
+        SideSearch::Found { mesh: assigned, .. } => assigned.as_ref(),
+        SideSearch::NoOrder { .. } | SideSearch::Stopped(_) => mesh,
+    };
+    fabricate_verified(made, verification, machine, options)
 }
 
 /// [`fabricate`] with the design's verification already done (it depends on the design
