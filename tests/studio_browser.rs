@@ -508,6 +508,31 @@ async fn a_new_design_starts_clean(client: &Client) {
         vec![],
     )
     .await;
+    // A frame arrives before the click, as frames do (the request the mode radio sends
+    // publishes one): it must leave the list as it was. It did not, once, in CI: every
+    // frame named the list afresh, New sent no pattern and the design never came.
+    let applied = eval(client, "return window.crease.framesApplied();", vec![]).await;
+    let status = eval(
+        client,
+        "return fetch('/api/settings', {method: 'POST', headers: {'Content-Type': 'application/json'}, \
+         body: JSON.stringify({mode: 'simulation'})}).then(r => r.status);",
+        vec![],
+    )
+    .await;
+    assert_eq!(status, json!(200));
+    wait_until(
+        client,
+        "a frame after the list was set",
+        &format!("return window.crease.framesApplied() > {applied};"),
+    )
+    .await;
+    let listed = eval(
+        client,
+        "return document.getElementById('pattern').value;",
+        vec![],
+    )
+    .await;
+    assert_eq!(listed, "waterbomb-tube", "a frame changed the list");
     client
         .find(fantoccini::Locator::Id("generate"))
         .await

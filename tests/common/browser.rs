@@ -118,13 +118,20 @@ pub async fn page_state(client: &Client) -> Value {
     eval(client, "return window.crease.state();", vec![]).await
 }
 
+/// Waits up to 60 s for `script` to return true; past that, fails naming `what` and the
+/// page's status line (where a refused request shows why).
 pub async fn wait_until(client: &Client, what: &str, script: &str) {
     let start = Instant::now();
     while eval(client, script, vec![]).await != Value::Bool(true) {
-        assert!(
-            start.elapsed() < Duration::from_secs(60),
-            "waiting for {what}"
-        );
+        if start.elapsed() >= Duration::from_secs(60) {
+            let status = eval(
+                client,
+                "const s = document.getElementById('status'); return s ? s.textContent : null;",
+                vec![],
+            )
+            .await;
+            panic!("waiting for {what}; the page's status line: {status}");
+        }
         tokio::time::sleep(Duration::from_millis(50)).await;
     }
 }

@@ -117,6 +117,28 @@ export class Panel {
     }
   }
 
+  /** Shows in the pattern list what the design titled `title` was made from. */
+  nameThePattern(title) {
+    const [kind, cells] = title.split(' ');
+    const made = /^\d+x\d+$/.test(cells || '')
+      ? this.meta.patterns.find((p) => p.name === kind) : undefined;
+    const list = $('pattern');
+    let opened = list.querySelector('option[data-opened]');
+    if (made) {
+      if (opened) opened.remove();
+      if (list.value !== made.name) { list.value = made.name; this.fillPattern(); }
+    } else {
+      if (!opened) {
+        opened = new Option('', '');
+        opened.dataset.opened = '1';
+        opened.disabled = true;
+        list.add(opened, 0);
+      }
+      opened.textContent = `(open: ${title})`;
+      list.value = '';
+    }
+  }
+
   update(model) {
     const live = model.live;
     if (!live) return;
@@ -125,23 +147,11 @@ export class Panel {
     // or, for an opened file, names the file.
     // A generated design is titled "KIND NXxNY"; the kind is matched whole
     // (waterbomb-tube is not waterbomb), and an opened file (miura-bent) matches none.
-    const [kind, cells] = live.title.split(' ');
-    const made = /^\d+x\d+$/.test(cells || '')
-      ? this.meta.patterns.find((p) => p.name === kind) : undefined;
-    const list = $('pattern');
-    let opened = list.querySelector('option[data-opened]');
-    if (!this.patternChosen && made) {
-      if (opened) opened.remove();
-      if (list.value !== made.name) { list.value = made.name; this.fillPattern(); }
-    } else if (!this.patternChosen && !made) {
-      if (!opened) {
-        opened = new Option('', '');
-        opened.dataset.opened = '1';
-        opened.disabled = true;
-        list.add(opened, 0);
-      }
-      opened.textContent = `(open: ${live.title})`;
-      list.value = '';
+    // The list is named once per design (when the title changes), not on every frame:
+    // a frame must not undo what the list shows between a choice and a click on New.
+    if (!this.patternChosen && live.title !== this.namedFor) {
+      this.namedFor = live.title;
+      this.nameThePattern(live.title);
     }
     $('vertex-count').textContent = live.vertices;
     $('steps').textContent = Math.round(live.stepsPerSecond);
