@@ -233,6 +233,7 @@ fn width_is_the_laid_out_width_and_fit_fills_the_media_within_the_margin() {
             fit: true,
             margin: Some(25.0),
             route: RouteSearch::Draft,
+            guide: crease::pipeline::Guide::Never,
             ..Default::default()
         };
         let out = fabricate(&mesh, &machine, &options).unwrap();
