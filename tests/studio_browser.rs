@@ -13,7 +13,7 @@ mod js;
 #[path = "common/studio.rs"]
 mod studio_process;
 
-use browser_support::{downloads, eval, open_page, page_state, wait_until, Driver};
+use browser_support::{downloads, eval, open_page, page_state, post_from_page, wait_until, Driver};
 use fantoccini::actions::{
     InputSource, KeyAction, KeyActions, MouseActions, PointerAction, MOUSE_BUTTON_LEFT,
 };
@@ -225,13 +225,7 @@ fn assert_saved_design_verifies(port: u16) {
 /// goal and the design still holds every condition.
 async fn fit_to_a_dome_by_pressing_fit(client: &Client, before: &Value) {
     // The pin of the Shift-click above would hold a corner off the dome.
-    let status = eval(
-        client,
-        "return fetch('/api/pin', {method: 'POST', headers: {'Content-Type': 'application/json'}, \
-         body: JSON.stringify({vertex: 0, pinned: false})}).then(r => r.status);",
-        vec![],
-    )
-    .await;
+    let status = post_from_page(client, "/api/pin", json!({"vertex": 0, "pinned": false})).await;
     assert_eq!(status, json!(200));
     assert_eq!(page_state(client).await["pinned"], json!([]));
     let dome = crease::surface::shapes::Shape::Cap { radius: 250.0 }
@@ -251,13 +245,7 @@ async fn fit_to_a_dome_by_pressing_fit(client: &Client, before: &Value) {
     )
     .await;
     assert_eq!(status, json!(200));
-    let status = eval(
-        client,
-        "return fetch('/api/target/place', {method: 'POST', headers: {'Content-Type': 'application/json'}, \
-         body: JSON.stringify({shift: arguments[0]})}).then(r => r.status);",
-        vec![json!(middle)],
-    )
-    .await;
+    let status = post_from_page(client, "/api/target/place", json!({"shift": middle})).await;
     assert_eq!(status, json!(200));
     wait_until(
         client,
@@ -512,13 +500,7 @@ async fn a_new_design_starts_clean(client: &Client) {
     // publishes one): it must leave the list as it was. It did not, once, in CI: every
     // frame named the list afresh, New sent no pattern and the design never came.
     let applied = eval(client, "return window.crease.framesApplied();", vec![]).await;
-    let status = eval(
-        client,
-        "return fetch('/api/settings', {method: 'POST', headers: {'Content-Type': 'application/json'}, \
-         body: JSON.stringify({mode: 'simulation'})}).then(r => r.status);",
-        vec![],
-    )
-    .await;
+    let status = post_from_page(client, "/api/settings", json!({"mode": "simulation"})).await;
     assert_eq!(status, json!(200));
     wait_until(
         client,

@@ -118,6 +118,18 @@ pub async fn page_state(client: &Client) -> Value {
     eval(client, "return window.crease.state();", vec![]).await
 }
 
+/// POSTs `body` as JSON to the studio's `path` from the page itself (same origin, as
+/// the page's own requests go); the reply's HTTP status.
+pub async fn post_from_page(client: &Client, path: &str, body: Value) -> Value {
+    eval(
+        client,
+        "return fetch(arguments[0], {method: 'POST', headers: {'Content-Type': 'application/json'}, \
+         body: JSON.stringify(arguments[1])}).then(r => r.status);",
+        vec![Value::from(path), body],
+    )
+    .await
+}
+
 /// Waits up to 60 s for `script` to return true; past that, fails naming `what` and the
 /// page's status line (where a refused request shows why).
 pub async fn wait_until(client: &Client, what: &str, script: &str) {
