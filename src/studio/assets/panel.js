@@ -8,6 +8,10 @@ export class Panel {
     this.api = api;
     this.say = showStatus;
     this.meta = null;
+    // Whether the user picked from the pattern list (then the page leaves it alone), and
+    // the title the list was last named from.
+    this.patternChosen = false;
+    this.namedFor = null;
   }
 
   /** Sends a request; a refusal shows in the status line. */
