@@ -111,6 +111,55 @@ fn dragging_moves_the_vertex_keeps_every_condition_and_saves_a_file_that_verifie
     hub.stop();
 }
 
+/// While a drag steps, `/api/state` answers with the verdict it has rather than waiting
+/// for one: a wait held the solver on every poll, for a verdict the next step made stale
+/// (polled every 20 ms, the layer-order drags of
+/// `a_pointer_drag_with_layer_order_keeps_the_order_and_still_moves` took 82 s, now 31 s).
+/// At rest it waits, and the verdict describes the positions it is sent with.
+#[test]
+fn state_polled_during_a_drag_does_not_hold_the_drag_for_a_verdict() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mesh = crease::io::read(&root.join("patterns/waterbomb-folded.fold")).unwrap();
+    let hub = Hub::start(mesh, "waterbomb");
+    let (status, r) = json_call(
+        &hub,
+        "POST",
+        "/api/drag",
+        json!({"vertex": 80, "target": [80.0, 80.0, -30.0]}),
+    );
+    assert_eq!(status, 200, "{r}");
+    let (mut stepping, mut judged) = (0, 0);
+    let began = Instant::now();
+    loop {
+        let s = state(&hub);
+        if s["settled"] == true {
+            break;
+        }
+        stepping += 1;
+        judged += usize::from(s["judged"] == true);
+        assert!(
+            began.elapsed() < Duration::from_secs(60),
+            "the drag settles"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    // Waiting, every answer was judged: the session stood still until the verdict of
+    // its positions came in (the miura's takes milliseconds).
+    assert!(
+        stepping >= 5,
+        "only {stepping} answers while the drag stepped"
+    );
+    assert!(
+        judged * 2 < stepping,
+        "{judged} of {stepping} answers during the drag waited for their verdict"
+    );
+    let (status, _) = json_call(&hub, "POST", "/api/release", json!({}));
+    assert_eq!(status, 200);
+    let at_rest = state(&hub);
+    assert_eq!(at_rest["judged"], true);
+    assert_eq!(at_rest["pass"], true, "{}", at_rest["residuals"]);
+}
+
 #[test]
 fn pinned_vertices_hold_still_and_refuse_to_be_dragged() {
     let hub = fresh_hub();
