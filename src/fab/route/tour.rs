@@ -80,20 +80,25 @@ impl<'a> Tour<'a> {
         before - after
     }
 
-    /// Or-opt: the gain of moving positions `a..a+len` to just before position `to`
-    /// (outside the run), turned round if `flip`.
-    fn or_opt_gain(&self, a: usize, len: usize, to: usize, flip: bool) -> f64 {
+    /// Or-opt, first half: the travel saved by taking positions `a..a+len` out of the
+    /// tour (the jumps into and out of the run, less the jump that closes the gap).
+    fn or_opt_removed(&self, a: usize, len: usize) -> f64 {
+        let b = a + len - 1;
+        self.gap(a) + self.to_next(self.strokes[b].to, b + 1) - self.to_next(self.before(a), b + 1)
+    }
+
+    /// Or-opt, second half: the travel added by putting the run `a..a+len` back just
+    /// before position `to` (outside the run), turned round if `flip`. The move gains
+    /// `or_opt_removed(a, len) - or_opt_inserted(a, len, to, flip)`.
+    fn or_opt_inserted(&self, a: usize, len: usize, to: usize, flip: bool) -> f64 {
         let b = a + len - 1;
         let (first, last) = if flip {
             (self.strokes[b].to, self.strokes[a].from)
         } else {
             (self.strokes[a].from, self.strokes[b].to)
         };
-        let removed = self.gap(a) + self.to_next(self.strokes[b].to, b + 1)
-            - self.to_next(self.before(a), b + 1);
         let p = self.before(to);
-        let inserted = (first - p).norm() + self.to_next(last, to) - self.to_next(p, to);
-        removed - inserted
+        (first - p).norm() + self.to_next(last, to) - self.to_next(p, to)
     }
 
     /// Tries, for each of the `count` longest jumps, every 2-opt that removes it with any
@@ -261,12 +266,14 @@ fn try_moves(
             if a + len > n || !(a..a + len).contains(&i) || (a..a + len).contains(&j) {
                 continue;
             }
+            // The same for every place the run might go: computed once.
+            let removed = tour.or_opt_removed(a, len);
             for to in [j, j + 1] {
                 if (a..=a + len).contains(&to) {
                     continue;
                 }
                 for flip in [false, true] {
-                    if tour.or_opt_gain(a, len, to, flip) > 1e-9 {
+                    if removed - tour.or_opt_inserted(a, len, to, flip) > 1e-9 {
                         tour.move_run(a, len, to, flip);
                         return true;
                     }
