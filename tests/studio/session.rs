@@ -39,8 +39,9 @@ fn state(hub: &Hub) -> Value {
     s
 }
 
-/// Drags `vertex` to `target` and waits until the solver has gone as far as it can.
-fn drag_to(hub: &Hub, vertex: usize, target: [f64; 3]) {
+/// Drags `vertex` to `target`, polling `/api/state` every 20 ms until the solver has gone
+/// as far as it can, then releases it; returns the answers polled while it stepped.
+fn drag_to(hub: &Hub, vertex: usize, target: [f64; 3]) -> Vec<Value> {
     let (status, r) = json_call(
         hub,
         "POST",
@@ -49,7 +50,13 @@ fn drag_to(hub: &Hub, vertex: usize, target: [f64; 3]) {
     );
     assert_eq!(status, 200, "{r}");
     let start = Instant::now();
-    while state(hub)["settled"] != true {
+    let mut stepping = Vec::new();
+    loop {
+        let s = state(hub);
+        if s["settled"] == true {
+            break;
+        }
+        stepping.push(s);
         assert!(
             start.elapsed() < Duration::from_secs(60),
             "the drag settles"
@@ -58,6 +65,7 @@ fn drag_to(hub: &Hub, vertex: usize, target: [f64; 3]) {
     }
     let (status, _) = json_call(hub, "POST", "/api/release", json!({}));
     assert_eq!(status, 200);
+    stepping
 }
 
 fn fresh_hub() -> Arc<Hub> {
@@ -121,40 +129,20 @@ fn state_polled_during_a_drag_does_not_hold_the_drag_for_a_verdict() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     let mesh = crease::io::read(&root.join("patterns/waterbomb-folded.fold")).unwrap();
     let hub = Hub::start(mesh, "waterbomb");
-    let (status, r) = json_call(
-        &hub,
-        "POST",
-        "/api/drag",
-        json!({"vertex": 80, "target": [80.0, 80.0, -30.0]}),
-    );
-    assert_eq!(status, 200, "{r}");
-    let (mut stepping, mut judged) = (0, 0);
-    let began = Instant::now();
-    loop {
-        let s = state(&hub);
-        if s["settled"] == true {
-            break;
-        }
-        stepping += 1;
-        judged += usize::from(s["judged"] == true);
-        assert!(
-            began.elapsed() < Duration::from_secs(60),
-            "the drag settles"
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    let stepping = drag_to(&hub, 80, [80.0, 80.0, -30.0]);
+    let judged = stepping.iter().filter(|s| s["judged"] == true).count();
     // Waiting, every answer was judged: the session stood still until the verdict of
-    // its positions came in (the miura's takes milliseconds).
+    // its positions came in.
     assert!(
-        stepping >= 5,
-        "only {stepping} answers while the drag stepped"
+        stepping.len() >= 5,
+        "only {} answers while the drag stepped",
+        stepping.len()
     );
     assert!(
-        judged * 2 < stepping,
-        "{judged} of {stepping} answers during the drag waited for their verdict"
+        judged * 2 < stepping.len(),
+        "{judged} of {} answers during the drag waited for their verdict",
+        stepping.len()
     );
-    let (status, _) = json_call(&hub, "POST", "/api/release", json!({}));
-    assert_eq!(status, 200);
     let at_rest = state(&hub);
     assert_eq!(at_rest["judged"], true);
     assert_eq!(at_rest["pass"], true, "{}", at_rest["residuals"]);

@@ -466,24 +466,21 @@ impl Session {
     /// every poll and bring a verdict the next step makes stale (polled every 20 ms, two
     /// layer-order drags of the waterbomb took 82 s, and 31 s without the wait).
     fn fresh_report(&mut self) -> Option<&Report> {
-        let waits = if self.wants_to_step() {
+        if self.wants_to_step() {
             // A finished analysis is still taken, and the next one started.
             self.unpublished |= self.analyse();
-            0
         } else {
-            2
-        };
-        for _ in 0..waits {
-            let now = self.stamp();
-            if self.report_stamp == Some(now) {
-                break;
-            }
-            if !self.analyst.busy() {
-                self.analyse();
-            }
-            if let Some(a) = self.analyst.collect(STATE_WAIT) {
-                // The page has not seen it either: the next frame carries it.
-                self.unpublished |= self.accept(a);
+            for _ in 0..2 {
+                if self.report_stamp == Some(self.stamp()) {
+                    break;
+                }
+                if !self.analyst.busy() {
+                    self.analyse();
+                }
+                if let Some(a) = self.analyst.collect(STATE_WAIT) {
+                    // The page has not seen it either: the next frame carries it.
+                    self.unpublished |= self.accept(a);
+                }
             }
         }
         let current = self.report_stamp == Some(self.stamp());
