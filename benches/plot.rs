@@ -73,4 +73,5 @@ fn main() {
             s.lost
         );
     }
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -1,4 +1,5 @@
-//! The command line: every command's options and errors, hostile input, and a seeded fuzz.
+//! The command line: every command's options and errors, hostile input, and a seeded fuzz;
+//! and the scratch folders all the test crates write in.
 //! One test crate per concept, each module a former crate of its own: compiled and
 //! linked once (see tests/run).
 
@@ -12,3 +13,5 @@ mod docs;
 mod fuzz;
 #[path = "cli/hostile.rs"]
 mod hostile;
+#[path = "cli/scratch.rs"]
+mod scratch;

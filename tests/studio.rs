@@ -4,6 +4,8 @@
 
 #[path = "common/hostile_inputs.rs"]
 mod hostile_inputs;
+#[path = "common/scratch.rs"]
+mod scratch;
 #[path = "common/studio.rs"]
 mod studio_process;
 

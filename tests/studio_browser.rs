@@ -10,6 +10,8 @@
 mod browser_support;
 #[path = "common/js.rs"]
 mod js;
+#[path = "common/scratch.rs"]
+mod scratch;
 #[path = "common/studio.rs"]
 mod studio_process;
 
@@ -70,7 +72,7 @@ fn out_dir() -> PathBuf {
 async fn dragging_a_vertex_with_the_mouse_moves_it_and_every_condition_still_holds() {
     let driver = Driver::start();
     let studio = StudioProcess::start(&["patterns/miura.fold"]);
-    let profile = std::env::temp_dir().join(format!("crease-chromium-{}", std::process::id()));
+    let profile = scratch::Scratch::new("chromium");
     let client = open_page(&driver, &profile, &studio.url).await;
     // The 3D view draws with WebGL (three.js asked the canvas for a WebGL 2 context).
     let webgl = eval(
@@ -134,7 +136,6 @@ async fn dragging_a_vertex_with_the_mouse_moves_it_and_every_condition_still_hol
     std::fs::write(out_dir().join("studio-fit.png"), png).unwrap();
     a_new_design_starts_clean(&client).await;
     let _ = client.close().await;
-    let _ = std::fs::remove_dir_all(&profile);
 }
 
 /// Presses the left button at `from`, moves to `to` over 400 ms, pauses and releases:

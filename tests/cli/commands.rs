@@ -4,9 +4,9 @@
 use crate::common;
 
 use common::run_crease;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-fn scratch(name: &str, content: &str) -> PathBuf {
+fn scratch(name: &str, content: &str) -> common::ScratchFile {
     common::scratch_file("cli", name, content)
 }
 
@@ -118,7 +118,8 @@ fn info_prints_counts() {
 fn bad_vertex_lists_thresholds_and_condition_lists_exit_2_with_one_line() {
     let miura = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura.fold");
     let m = miura.to_str().unwrap();
-    let out = std::env::temp_dir().join(format!("crease-cli-bad-{}.fold", std::process::id()));
+    let folder = common::Scratch::new("cli-bad");
+    let out = folder.join("cli-bad.fold");
     let o = out.to_str().unwrap();
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (
@@ -173,7 +174,8 @@ fn bad_vertex_lists_thresholds_and_condition_lists_exit_2_with_one_line() {
 #[test]
 fn fix_takes_commas_like_drag_and_a_fold_holds_what_is_fixed() {
     let miura = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/plane.fold");
-    let out = std::env::temp_dir().join(format!("crease-cli-fix-{}.fold", std::process::id()));
+    let folder = common::Scratch::new("cli-fix");
+    let out = folder.join("cli-fix.fold");
     let (code, _, err) = run_crease(&[
         "deform",
         miura.to_str().unwrap(),
@@ -194,7 +196,6 @@ fn fix_takes_commas_like_drag_and_a_fold_holds_what_is_fixed() {
             "vertex {v} is held"
         );
     }
-    let _ = std::fs::remove_file(out);
 }
 
 #[test]
@@ -206,8 +207,7 @@ fn machines_are_listed_and_found_in_the_working_folder() {
     }
     assert!(!list.contains("Cargo"), "only profiles are listed: {list}");
     // A profile beside the user's design is found by name.
-    let dir = std::env::temp_dir().join(format!("crease-cli-machine-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::Scratch::new("cli-machine");
     let profile = Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/generic-hpgl.toml");
     std::fs::copy(profile, dir.join("my-cutter.toml")).unwrap();
     let design = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura-bent.fold");
@@ -230,7 +230,6 @@ fn machines_are_listed_and_found_in_the_working_folder() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert!(dir.join("job/sheet.hpgl").is_file());
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 #[test]
@@ -283,7 +282,8 @@ fn svg_roots_that_scale_nothing_and_cut_short_files_are_refused() {
 #[test]
 fn a_3d_only_design_converts_to_svg_as_its_unfolding() {
     let simple = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fold/simple.fold");
-    let out = std::env::temp_dir().join(format!("crease-cli-3d-{}.svg", std::process::id()));
+    let folder = common::Scratch::new("cli-3d");
+    let out = folder.join("cli-3d.svg");
     let (code, _, err) = run_crease(&["convert", simple.to_str().unwrap(), out.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
     assert!(
@@ -316,7 +316,6 @@ fn a_3d_only_design_converts_to_svg_as_its_unfolding() {
     for (a, b) in l3.iter().zip(&l2) {
         assert!((a - b).abs() < 1e-3 * a, "{l3:?} vs {l2:?}");
     }
-    let _ = std::fs::remove_file(out);
 }
 
 #[test]
@@ -341,7 +340,8 @@ fn a_shape_drawn_four_thousand_times_imports_as_one() {
 #[test]
 fn a_fold_that_gets_nowhere_fails_and_writes_nothing() {
     let plane = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/plane.fold");
-    let out = std::env::temp_dir().join(format!("crease-cli-nowhere-{}.fold", std::process::id()));
+    let folder = common::Scratch::new("cli-nowhere");
+    let out = folder.join("cli-nowhere.fold");
     let (code, _, err) = run_crease(&[
         "fold",
         plane.to_str().unwrap(),
@@ -367,7 +367,6 @@ fn a_fold_that_gets_nowhere_fails_and_writes_nothing() {
         out.to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{err}");
-    let _ = std::fs::remove_file(out);
 }
 
 /// The option blocks of `crease SUB --help`: (long name, its whole description).
@@ -485,8 +484,8 @@ fn a_converted_file_gets_the_verdict_of_its_original() {
         "hypar",
     ] {
         let svg = data.join(format!("{name}.svg"));
-        let fold =
-            std::env::temp_dir().join(format!("crease-verdict-{}-{name}.fold", std::process::id()));
+        let folder = common::Scratch::new("verdict");
+        let fold = folder.join(format!("{name}.fold"));
         let (code, _, err) =
             run_crease(&["convert", svg.to_str().unwrap(), fold.to_str().unwrap()]);
         assert_eq!(code, 0, "{err}");
@@ -500,10 +499,10 @@ fn a_converted_file_gets_the_verdict_of_its_original() {
             rounded,
             "{name}"
         );
-        let _ = std::fs::remove_file(&fold);
     }
     // A recorded rounding past half a millimetre would excuse anything: refused.
-    let bad = std::env::temp_dir().join(format!("crease-precision-{}.fold", std::process::id()));
+    let folder = common::Scratch::new("precision");
+    let bad = folder.join("precision.fold");
     std::fs::write(
         &bad,
         r#"{"vertices_coords": [[0,0],[10,0],[0,10]], "faces_vertices": [[0,1,2]], "crease:coordinatePrecision": 1e308}"#,
@@ -512,7 +511,6 @@ fn a_converted_file_gets_the_verdict_of_its_original() {
     let (code, _, err) = run_crease(&["verify", bad.to_str().unwrap()]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("crease:coordinatePrecision"), "{err}");
-    let _ = std::fs::remove_file(&bad);
 }
 
 /// A command typed without one of its required arguments says which, on one line, with
@@ -600,11 +598,7 @@ fn a_negative_value_is_range_checked_not_taken_for_a_flag() {
 fn fab_takes_dash_o_and_output_like_the_other_commands() {
     let pattern = scratch("fab-o.fold", include_str!("../data/fold/simple.fold"));
     for flag in ["-o", "--output", "--out"] {
-        let dir = std::env::temp_dir().join(format!(
-            "crease-fab-o-{}-{}",
-            std::process::id(),
-            flag.trim_start_matches('-')
-        ));
+        let dir = common::Scratch::new(&format!("fab-o-{}", flag.trim_start_matches('-')));
         let (code, _, err) = run_crease(&[
             "fab",
             pattern.to_str().unwrap(),
@@ -631,7 +625,7 @@ fn fab_takes_dash_o_and_output_like_the_other_commands() {
 #[test]
 fn fab_prints_the_sheet_size_and_refuses_a_tab_on_a_sheet() {
     let pattern = format!("{}/patterns/miura.fold", env!("CARGO_MANIFEST_DIR"));
-    let dir = std::env::temp_dir().join(format!("crease-fab-size-{}", std::process::id()));
+    let dir = common::Scratch::new("fab-size");
     let (code, _, err) = run_crease(&[
         "fab",
         &pattern,
@@ -677,8 +671,7 @@ fn fab_prints_the_sheet_size_and_refuses_a_tab_on_a_sheet() {
 fn the_concentric_bowl_takes_a_20_mm_pull_with_a_twist_allowance_verifies_and_cuts() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let bowl = root.join("patterns/concentric.fold");
-    let dir = std::env::temp_dir().join(format!("crease-cli-bowl-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::Scratch::new("cli-bowl");
     let out = dir.join("bowl.fold");
     let (code, _, err) = run_crease(&[
         "deform",
@@ -711,7 +704,6 @@ fn the_concentric_bowl_takes_a_20_mm_pull_with_a_twist_allowance_verifies_and_cu
     assert_eq!(code, 0, "{err}");
     let job = std::fs::read_to_string(sheet.join("sheet.hpgl")).unwrap();
     assert!(job.matches("PD").count() > 20, "{job}");
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 /// Issue 47, item 2: a drag that cannot finish (the arc with rigid strips, whose
@@ -722,7 +714,8 @@ fn the_concentric_bowl_takes_a_20_mm_pull_with_a_twist_allowance_verifies_and_cu
 fn a_drag_that_cannot_finish_keeps_its_last_good_state_only_when_asked() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let arc = root.join("patterns/arc.fold");
-    let out = std::env::temp_dir().join(format!("crease-cli-partial-{}.fold", std::process::id()));
+    let folder = common::Scratch::new("cli-partial");
+    let out = folder.join("cli-partial.fold");
     let conditions = "developability,fold-angle-range,twist-range,boundary-angle,smoothness";
     let args = |partial: bool| {
         let mut a = vec![
@@ -770,7 +763,6 @@ fn a_drag_that_cannot_finish_keeps_its_last_good_state_only_when_asked() {
     // It went most of the way: the corner rose 20 mm or more of its 40.
     let z = crease::io::read(&out).unwrap().positions()[80].z;
     assert!(z > 20.0, "{z}");
-    let _ = std::fs::remove_file(out);
 }
 
 /// Issue 47, item 4: a fit cut short while it still comes nearer says to raise --steps
@@ -779,8 +771,7 @@ fn a_drag_that_cannot_finish_keeps_its_last_good_state_only_when_asked() {
 #[test]
 fn fit_tells_a_step_limit_from_a_block_and_writes_no_design_through_itself_unforced() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let dir = std::env::temp_dir().join(format!("crease-cli-fit-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::Scratch::new("cli-fit");
     let path = |name: &str| dir.join(name).to_str().unwrap().to_string();
     let (code, _, err) = run_crease(&["surface", "saddle", "-o", &path("saddle.obj")]);
     assert_eq!(code, 0, "{err}");
@@ -839,7 +830,6 @@ fn fit_tells_a_step_limit_from_a_block_and_writes_no_design_through_itself_unfor
     assert!(err.contains("pass through each other"), "{err}");
     let written = crease::io::read(&dir.join("through.fold")).unwrap();
     assert!(!crease::fab::self_intersections(&written).is_empty());
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 /// Issue 47, item 9: every command's --help is laid out alike, each option's help on its
@@ -882,8 +872,7 @@ fn every_help_puts_each_option_beside_its_help() {
 /// corner drag without it grows the sheet and says so, naming --keep-outline.
 #[test]
 fn the_deform_help_recipes_run_as_printed_and_keep_their_outline() {
-    let dir = std::env::temp_dir().join(format!("crease-cli-recipes-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::Scratch::new("cli-recipes");
     let at = |name: &str| dir.join(name).to_str().unwrap().to_string();
     let (code, _, err) = run_crease(&[
         "generate",
@@ -965,13 +954,13 @@ fn the_deform_help_recipes_run_as_printed_and_keep_their_outline() {
         err.contains("where it was") && err.contains("--keep-outline holds"),
         "{err}"
     );
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 #[test]
 fn an_unknown_pattern_is_refused_naming_every_pattern_there_is() {
     // One refusal for the command line and the studio (PatternKind::parse).
-    let out = std::env::temp_dir().join("crease-unknown-pattern.fold");
+    let folder = common::Scratch::new("unknown-pattern");
+    let out = folder.join("unknown-pattern.fold");
     let (code, _, err) = run_crease(&["generate", "origami", "-o", out.to_str().unwrap()]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("unknown pattern \"origami\""), "{err}");

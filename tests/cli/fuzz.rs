@@ -193,8 +193,7 @@ fn mutated_files_never_panic_on_import_verify_or_export() {
 fn mutated_files_through_the_binary_exit_0_1_or_2_and_write_all_or_nothing() {
     let seeds = seeds();
     let mut rng = Rng::new(0x2545_f491_4f6c_dd1d);
-    let dir = std::env::temp_dir().join(format!("crease-fuzz-bin-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::Scratch::new("fuzz-bin");
     for (k, (path, bytes)) in seeds.iter().enumerate() {
         for case in 0..3 {
             let input = dir.join(format!(
@@ -234,5 +233,4 @@ fn mutated_files_through_the_binary_exit_0_1_or_2_and_write_all_or_nothing() {
             }
         }
     }
-    let _ = std::fs::remove_dir_all(dir);
 }

@@ -6,7 +6,7 @@
 use crate::common;
 
 use common::Rng;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -67,10 +67,9 @@ fn run_with(args: &[&str], env: &[(&str, &str)]) -> Run {
     }
 }
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("crease-hostile-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+/// The path `name` in a scratch folder of its own, removed with the guard.
+fn scratch(name: &str) -> common::ScratchFile {
+    common::ScratchFile::at("hostile", name)
 }
 
 fn root(path: &str) -> String {
@@ -102,7 +101,7 @@ fn refused(args: &[&str], names: &str, out: Option<&Path>) {
     }
 }
 
-fn profile(name: &str, change: (&str, &str)) -> String {
+fn profile(name: &str, change: (&str, &str)) -> common::ScratchFile {
     let text = std::fs::read_to_string(root("machines/generic-hpgl.toml")).unwrap();
     let (key, value) = change;
     let changed: String = text
@@ -120,9 +119,7 @@ fn profile(name: &str, change: (&str, &str)) -> String {
         changed.contains(&format!("{key} = {value}")),
         "{key} in profile"
     );
-    let path = scratch(name);
-    std::fs::write(&path, changed).unwrap();
-    path.display().to_string()
+    common::ScratchFile::new("hostile", name, changed)
 }
 
 #[test]
@@ -208,17 +205,25 @@ fn impossible_profiles_name_the_file_and_the_key() {
         ("clearance_mm", "-1"),
         ("margin_mm", "1e308"),
     ] {
-        let p = profile(&format!("bad-{key}.toml"), (key, value));
-        let r = run(&["fab", &design, "--machine", &p, "--out", o]);
+        let profile = profile(&format!("bad-{key}.toml"), (key, value));
+        let p = profile.to_str().unwrap();
+        let r = run(&["fab", &design, "--machine", p, "--out", o]);
         assert_eq!(r.code, 2, "{key} = {value}: {}", r.stderr);
         let line = r.stderr.trim_end();
-        assert!(line.contains(&p) && line.contains(key), "{line}");
+        assert!(line.contains(p) && line.contains(key), "{line}");
         assert!(line.len() < 300 && line.lines().count() == 1, "{line}");
         assert!(!out.exists());
     }
     // A tiny clearance is a legal value: it must cost no more than a normal one.
-    let p = profile("tiny-clearance.toml", ("clearance_mm", "0.001"));
-    let r = run(&["fab", &design, "--machine", &p, "--out", o]);
+    let tiny = profile("tiny-clearance.toml", ("clearance_mm", "0.001"));
+    let r = run(&[
+        "fab",
+        &design,
+        "--machine",
+        tiny.to_str().unwrap(),
+        "--out",
+        o,
+    ]);
     assert_eq!(r.code, 0, "{}", r.stderr);
     assert!(r.peak_kb < MEMORY_KB, "peak {} kB", r.peak_kb);
 }
@@ -297,11 +302,8 @@ fn generators_and_deform_refuse_sizes_counts_and_steps_past_their_limits() {
 
 #[test]
 fn malformed_files_and_designs_too_small_to_cut_are_refused() {
-    let write = |name: &str, text: &str| {
-        let p = scratch(name);
-        std::fs::write(&p, text).unwrap();
-        p.display().to_string()
-    };
+    let dir = common::Scratch::new("hostile");
+    let write = |name: &str, text: &str| dir.file(name, text).display().to_string();
     let square = |side: f64, extra: &str| {
         format!(
             r#"{{"file_spec": 1.1, "vertices_coords": [[0,0],[{side},0],[{side},{side}],[0,{side}]],
@@ -346,11 +348,8 @@ fn malformed_files_and_designs_too_small_to_cut_are_refused() {
 /// lists that disagree: each one line, exit 2, nothing written (issue 50, item 5).
 #[test]
 fn fifos_nan_opacities_huge_strings_and_disagreeing_lists_are_refused() {
-    let write = |name: &str, text: &str| {
-        let p = scratch(name);
-        std::fs::write(&p, text).unwrap();
-        p.display().to_string()
-    };
+    let dir = common::Scratch::new("hostile");
+    let write = |name: &str, text: &str| dir.file(name, text).display().to_string();
     let out = scratch("smaller-holes.fold");
     let o = out.to_str().unwrap();
     // A FIFO nobody writes to (it blocked forever) and a device behind a .fold name
@@ -726,10 +725,10 @@ const ABSURD: &[&str] = &[
 
 /// One seeded command line with an absurd number in one place: a flag of fab, generate
 /// or deform, or a key of a machine profile.
-fn absurd_command(rng: &mut Rng, case: usize) -> Vec<String> {
+fn absurd_command(rng: &mut Rng, case: usize, dir: &Path) -> Vec<String> {
     let n = |rng: &mut Rng| ABSURD[rng.below(ABSURD.len())].to_string();
     let design = root("patterns/miura-bent.fold");
-    let out = scratch(&format!("sweep-{case}")).display().to_string();
+    let out = dir.join(format!("sweep-{case}")).display().to_string();
     let s = |x: &str| x.to_string();
     match rng.below(4) {
         0 => {
@@ -785,8 +784,16 @@ fn absurd_command(rng: &mut Rng, case: usize) -> Vec<String> {
             let key = key[rng.below(key.len())];
             // TOML reads nan and inf; a 20-digit integer is its own parse error.
             let value = n(rng);
-            let p = profile(&format!("sweep-{case}.toml"), (key, &value));
-            vec![s("fab"), design, s("--machine"), p, s("--out"), out]
+            let p = dir.join(format!("sweep-{case}.toml"));
+            std::fs::copy(profile("sweep.toml", (key, &value)), &p).unwrap();
+            vec![
+                s("fab"),
+                design,
+                s("--machine"),
+                p.display().to_string(),
+                s("--out"),
+                out,
+            ]
         }
     }
 }
@@ -799,7 +806,8 @@ fn a_seeded_sweep_of_absurd_numbers_through_flags_and_profiles_ends_cleanly() {
         .map_or(40, |n: usize| n.max(1));
     let mut rng = Rng::new(0x9e37_79b9_7f4a_7c15);
     for case in 0..cases {
-        let args = absurd_command(&mut rng, case);
+        let dir = common::Scratch::new("hostile-sweep");
+        let args = absurd_command(&mut rng, case, &dir);
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
         let r = run(&args);
         assert!(

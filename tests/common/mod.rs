@@ -10,6 +10,10 @@ pub mod js;
 pub mod order_check;
 #[allow(dead_code)] // only the plotting tests use it
 pub mod plotting;
+pub mod scratch;
+
+#[allow(unused_imports)] // not every test crate makes folders
+pub use scratch::{Scratch, ScratchFile};
 
 use std::process::Command;
 
@@ -27,15 +31,11 @@ pub fn run_crease(args: &[&str]) -> (i32, String, String) {
     )
 }
 
-/// Writes `content` to `name` in this process's scratch folder for `suite`, so test
-/// files of different suites and runs never share a path.
+/// Writes `content` to `name` in a scratch folder of its own for `suite`, removed with
+/// the returned guard (kept when the test fails).
 #[allow(dead_code)] // not every test crate that includes this module writes files
-pub fn scratch_file(suite: &str, name: &str, content: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("crease-{suite}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let p = dir.join(name);
-    std::fs::write(&p, content).unwrap();
-    p
+pub fn scratch_file(suite: &str, name: &str, content: &str) -> ScratchFile {
+    ScratchFile::new(suite, name, content)
 }
 
 /// The library's one seeded stream (xorshift64), for the fuzzing and noise tests.

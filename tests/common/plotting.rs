@@ -1,12 +1,10 @@
 //! Helpers for the plotting tests: scratch folders and real cutter jobs.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-/// A scratch folder of this process for `name`.
-pub fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("crease-plot-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A scratch folder of its own for the plotting test `name`.
+pub fn scratch(name: &str) -> super::Scratch {
+    super::Scratch::new(&format!("plot-{name}"))
 }
 
 /// A real job: a bundled design's cutter job (sheet.hpgl or sheet.gpgl, as `machine`

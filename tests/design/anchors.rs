@@ -180,7 +180,7 @@ fn svg_round_trip_keeps_the_crease_graph() {
             continue; // folded-only files have no crease pattern to draw
         }
         let text = io::to_string(&m, Format::Svg).unwrap();
-        let dir = std::env::temp_dir().join(format!("crease-anchor-{}", std::process::id()));
+        let dir = crate::common::Scratch::new("anchor");
         let out = dir.join(p.with_extension("svg").file_name().unwrap());
         io::write_atomic(&out, text.as_bytes()).unwrap();
         let back = io::read(&out).unwrap();

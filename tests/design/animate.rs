@@ -32,8 +32,9 @@ fn congruence_gap(a: &[Vec3], b: &[Vec3]) -> f64 {
     worst
 }
 
-/// Writes `motion` as `name` in a scratch folder; the main file's path.
-fn written(motion: &Motion, name: &str) -> PathBuf {
+/// Writes `motion` as `name` in a scratch folder; the main file's path (with the files
+/// beside it, removed with the guard).
+fn written(motion: &Motion, name: &str) -> common::ScratchFile {
     let path = common::scratch_file("animate", name, "");
     for (file, bytes) in motion_files(motion, &path).unwrap() {
         std::fs::write(file, bytes).unwrap();

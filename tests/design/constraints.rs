@@ -333,7 +333,7 @@ fn a_miura_with_one_vertex_moved_fails_and_names_it() {
     let mut x = m.positions().to_vec();
     x[v].z += 0.1;
     m.set_positions(x);
-    let dir = std::env::temp_dir().join(format!("crease-verify-{}", std::process::id()));
+    let dir = common::Scratch::new("verify");
     let path = dir.join("moved.fold");
     crease::io::write(&m, &path).unwrap();
     let (code, out) = crease_all(&["verify", path.to_str().unwrap()]);

@@ -113,7 +113,8 @@ fn bad_deform_arguments_exit_2_and_write_nothing() {
     let miura = patterns_dir().join("miura.fold");
     let kiri =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/origamisimulator/honeycombKiri.svg");
-    let out = std::env::temp_dir().join(format!("crease-deform-{}.fold", std::process::id()));
+    let folder = common::Scratch::new("deform");
+    let out = folder.join("deform.fold");
     let cases: Vec<(Vec<String>, &str)> = vec![
         (
             vec![
@@ -284,7 +285,8 @@ fn a_closed_resch_bends_with_its_tucks_closed_and_every_condition_held() {
 /// vertex) a relative drag of the middle of the Miura-ori brings the vertex to its target.
 #[test]
 fn a_relative_drag_with_the_default_anchor_reaches_its_target() {
-    let out = std::env::temp_dir().join(format!("crease-rel-{}.fold", std::process::id()));
+    let folder = common::Scratch::new("rel");
+    let out = folder.join("rel.fold");
     let miura = patterns_dir().join("miura.fold");
     let (code, _, err) = common::run_crease(&[
         "deform",
@@ -314,7 +316,6 @@ fn a_relative_drag_with_the_default_anchor_reaches_its_target() {
         .and_then(|d| d.parse().ok())
         .unwrap();
     assert!((reported - (end - target).norm()).abs() < 0.01, "{line}");
-    let _ = std::fs::remove_file(out);
 }
 
 #[test]
@@ -383,8 +384,8 @@ fn a_fold_amount_means_the_same_in_generate_and_in_fold() {
 fn a_fold_that_closes_the_sheet_through_itself_is_refused_unless_forced() {
     let bin = env!("CARGO_BIN_EXE_crease");
     let waterbomb = patterns_dir().join("waterbomb.fold");
-    let out = std::env::temp_dir().join(format!("crease-fold-through-{}.fold", std::process::id()));
-    let _ = std::fs::remove_file(&out);
+    let folder = common::Scratch::new("fold-through");
+    let out = folder.join("fold-through.fold");
     let fold = |amount: &str, force: bool| {
         let mut cmd = std::process::Command::new(bin);
         cmd.args([
@@ -424,7 +425,6 @@ fn a_fold_that_closes_the_sheet_through_itself_is_refused_unless_forced() {
     let clear = crease::io::read(&out).unwrap();
     assert!(crease::fab::self_intersections(&clear).is_empty());
     assert!(verify(&clear, None, Tolerances::default()).pass());
-    let _ = std::fs::remove_file(&out);
 }
 
 /// Issue 30's acceptance: the scripted drag of a curved crease keeps the crease smooth

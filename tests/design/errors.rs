@@ -76,7 +76,7 @@ fn an_absurd_size_is_a_range_error_with_its_value() {
 #[test]
 fn a_scripts_unreadable_base_is_a_file_error_and_bad_input() {
     let script = crease::pipeline::Script::parse("base = \"missing.fold\"\n").unwrap();
-    let dir = std::env::temp_dir().join(format!("crease-errors-{}", std::process::id()));
+    let dir = crate::common::Scratch::new("errors");
     let e = crease::pipeline::DesignJob::from_script(&script, &dir, None).expect_err("no base");
     assert!(matches!(e, PipelineError::File(_)), "{e:?}");
     assert!(e.is_input_error());
@@ -107,8 +107,7 @@ fn a_width_out_of_range_is_bad_input_not_a_refused_design() {
 #[test]
 fn profile_and_material_files_keep_what_went_wrong() {
     use crease::machine::{Machine, MachineError, Material, MaterialError};
-    let dir = std::env::temp_dir().join(format!("crease-errors-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::Scratch::new("errors");
     // Not UTF-8: the system's read refuses it, and that refusal is the cause.
     let binary = dir.join("binary.toml");
     std::fs::write(&binary, [0xff, 0xfe, 0x00]).unwrap();

@@ -8,17 +8,16 @@ use crate::common;
 use common::run_crease;
 use crease::mesh::{Vec2, Vec3};
 use crease::pipeline::FitReport;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("crease-fit-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+/// The path `name` in a scratch folder of its own, removed with the guard.
+fn scratch(name: &str) -> common::ScratchFile {
+    common::ScratchFile::at("fit", name)
 }
 
 /// The scratch file `name`, written by `crease <args> -o` it (a `generate` or `surface`
 /// command), which must succeed.
-fn made(name: &str, args: &[&str]) -> PathBuf {
+fn made(name: &str, args: &[&str]) -> common::ScratchFile {
     let path = scratch(name);
     let mut all = args.to_vec();
     all.extend(["-o", path.to_str().unwrap()]);
@@ -28,7 +27,7 @@ fn made(name: &str, args: &[&str]) -> PathBuf {
 }
 
 /// The 12 × 12 Miura-ori of the acceptance, through the binary.
-fn miura_12() -> (PathBuf, f64) {
+fn miura_12() -> (common::ScratchFile, f64) {
     let path = made(
         "miura12.fold",
         &["generate", "miura", "--nx", "12", "--ny", "12"],
@@ -85,7 +84,7 @@ fn fit(
     target: &Path,
     name: &str,
     extra: &[&str],
-) -> (i32, FitReport, PathBuf, String) {
+) -> (i32, FitReport, common::ScratchFile, String) {
     let out = scratch(&format!("{name}.fold"));
     let mut args = vec![
         "fit",
@@ -97,7 +96,8 @@ fn fit(
     ];
     args.extend(extra);
     let (code, _, err) = run_crease(&args);
-    let report_text = std::fs::read_to_string(scratch(&format!("{name}.fit.json")))
+    // The report is written beside the design.
+    let report_text = std::fs::read_to_string(out.with_file_name(format!("{name}.fit.json")))
         .unwrap_or_else(|e| panic!("no report ({e}): {err}"));
     let report: FitReport = serde_json::from_str(&report_text).unwrap();
     (code, report, out, err)
@@ -376,7 +376,7 @@ fn bad_targets_exit_2_with_one_line_naming_the_file_and_write_nothing() {
         assert_eq!(err.trim().lines().count(), 1, "{err}");
         assert!(err.contains(target.to_str().unwrap()), "{err}");
         assert!(err.contains(cause), "{cause}: {err}");
-        assert!(!out.exists() && !scratch("never.fit.json").exists());
+        assert!(!out.exists() && !out.with_file_name("never.fit.json").exists());
     }
     // Absurd options too.
     let cap = made("cap-for-options.obj", &["surface", "cap"]);

@@ -641,10 +641,7 @@ fn noise_is_judged_against_the_creases_not_a_sliver_of_boundary() {
 #[test]
 fn the_sides_found_for_unassigned_creases_are_written() {
     let pleat = data("instagram-sample").join("009_ku_Unassigned_Triangle_Pleat.fold");
-    let dir = common::scratch_file("assign", "placeholder", "")
-        .parent()
-        .unwrap()
-        .to_path_buf();
+    let dir = common::Scratch::new("assign");
     let assigned = dir.join("pleat-assigned.fold");
     let (code, _, err) = run_crease(&[
         "convert",

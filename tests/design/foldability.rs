@@ -4,9 +4,8 @@
 use crate::common;
 
 use common::run_crease;
-use std::path::PathBuf;
 
-fn scratch(name: &str, content: &str) -> PathBuf {
+fn scratch(name: &str, content: &str) -> common::ScratchFile {
     common::scratch_file("foldability", name, content)
 }
 

@@ -528,13 +528,9 @@ fn fold_files_name_the_edges_of_each_curved_crease_and_read_back_unchanged() {
                 );
             }
         }
-        let dir =
-            std::env::temp_dir().join(format!("crease-generate-curves-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let file = dir.join(format!("{kind:?}.fold"));
-        std::fs::write(&file, &text).unwrap();
+        let file =
+            crate::common::ScratchFile::new("generate-curves", &format!("{kind:?}.fold"), &text);
         let again = crease::io::fold::to_string(&crease::io::read(&file).unwrap());
         assert_eq!(again, text, "{kind:?}");
-        let _ = std::fs::remove_dir_all(&dir);
     }
 }

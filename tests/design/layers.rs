@@ -110,8 +110,7 @@ fn the_order_agrees_with_a_physical_fold() {
     // The order as `crease convert` writes it for the flat crease pattern (faceOrders of
     // the same faces, numbered alike).
     p.fold = None;
-    let dir = std::env::temp_dir().join(format!("crease-layers-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::Scratch::new("layers");
     let (cp, written) = (dir.join("miura-cp.fold"), dir.join("miura-ordered.fold"));
     crease::io::write(&generate(&p).unwrap(), &cp).unwrap();
     let status = std::process::Command::new(env!("CARGO_BIN_EXE_crease"))
@@ -166,8 +165,7 @@ fn the_order_agrees_with_a_physical_fold() {
 
 #[test]
 fn fold_flat_writes_the_flat_folded_state_with_its_order_or_names_the_conflict() {
-    let dir = std::env::temp_dir().join(format!("crease-layers-flat-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::Scratch::new("layers-flat");
     let run = |input: &Path, output: &Path| {
         std::process::Command::new(env!("CARGO_BIN_EXE_crease"))
             .args([
@@ -250,8 +248,7 @@ fn written_face_orders_read_by_the_fold_specification_stack_the_layers() {
     // below it). Read with f's normal instead, faces folded opposite ways disagree, and
     // stacks on the bird base and the Miura-ori turn cyclic.
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let dir = std::env::temp_dir().join(format!("crease-layers-stack-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::Scratch::new("layers-stack");
     for name in ["bird-base", "miura", "waterbomb"] {
         let out = dir.join(format!("{name}-flat.fold"));
         let input = root.join(format!("patterns/{name}.fold"));
@@ -373,8 +370,7 @@ fn a_budget_bounds_the_layer_problem_and_says_what_ran_out() {
     // layers, so the design is not passed, though every condition it judged holds. (Reaching the
     // cap takes about ten seconds of finding triples, so the fan is judged once.)
     let big_fan = fan(1200, true);
-    let dir = std::env::temp_dir().join(format!("crease-budget-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::Scratch::new("budget");
     let file = dir.join("fan.fold");
     crease::io::write(&big_fan, &file).unwrap();
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_crease"))
@@ -389,7 +385,6 @@ fn a_budget_bounds_the_layer_problem_and_says_what_ran_out() {
             && text.contains("every condition judged passes"),
         "{text}"
     );
-    std::fs::remove_dir_all(&dir).ok();
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let pyramid =
         crease::io::read(&root.join("tests/data/origamisimulator/BoxPleatPyramid.fold")).unwrap();
@@ -431,12 +426,9 @@ fn a_budget_bounds_the_layer_problem_and_says_what_ran_out() {
 /// The strip of panels 30 | 10 | 30 mm (10 mm tall) with creases at x = 30 and 40 of the
 /// given assignments, as a `.cp`, a 2D FOLD and a FOLD whose 3D frame is its flat-folded
 /// state (the middle panel reflected under, the last one out again).
-fn strip_files(first: &str, second: &str) -> Vec<std::path::PathBuf> {
-    let dir = std::env::temp_dir().join(format!(
-        "crease-strip-{}-{first}{second}",
-        std::process::id()
-    ));
-    std::fs::create_dir_all(&dir).unwrap();
+/// The files lie in the returned scratch folder.
+fn strip_files(first: &str, second: &str) -> (common::Scratch, Vec<std::path::PathBuf>) {
+    let dir = common::Scratch::new(&format!("strip-{first}{second}"));
     let angle = |a: &str| if a == "M" { -180 } else { 180 };
     let edges = "[[0,1],[1,2],[2,3],[3,7],[7,6],[6,5],[5,4],[4,0],[1,5],[2,6]]";
     let common = format!(
@@ -466,19 +458,17 @@ fn strip_files(first: &str, second: &str) -> Vec<std::path::PathBuf> {
         ("strip-2d.fold", two_d),
         ("strip-3d.fold", three_d),
     ];
-    files
+    let paths = files
         .into_iter()
-        .map(|(name, text)| {
-            let p = dir.join(name);
-            std::fs::write(&p, text).unwrap();
-            p
-        })
-        .collect()
+        .map(|(name, text)| dir.file(name, text))
+        .collect();
+    (dir, paths)
 }
 
 #[test]
 fn a_strip_whose_flaps_cross_each_others_hinges_fails_in_every_form_flat_3d_frames_included() {
-    for file in strip_files("M", "M") {
+    let (_dir, files) = strip_files("M", "M");
+    for file in files {
         let (code, report) = verify_json(&file, &[]);
         assert_eq!(code, 1, "{}: {report}", file.display());
         let layer = &report["families"]["layer-order"];
@@ -494,7 +484,8 @@ fn a_strip_whose_flaps_cross_each_others_hinges_fails_in_every_form_flat_3d_fram
         assert!(faces.iter().any(|&f| f == 2 || f == 3), "{worst}");
         assert!(faces.iter().any(|&f| f == 4 || f == 5), "{worst}");
     }
-    for file in strip_files("M", "V") {
+    let (_dir, files) = strip_files("M", "V");
+    for file in files {
         let (code, report) = verify_json(&file, &[]);
         assert_eq!(code, 0, "{}: {report}", file.display());
         assert_eq!(report["families"]["layer-order"]["violations"], 0);
@@ -529,8 +520,7 @@ fn flat_foldable_inputs(dir: &Path) -> Vec<std::path::PathBuf> {
 
 #[test]
 fn every_face_order_written_passes_an_independent_order_checker() {
-    let dir = std::env::temp_dir().join(format!("crease-orders-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::Scratch::new("orders");
     let mut checked = Vec::new();
     let mut failures = Vec::new();
     for input in flat_foldable_inputs(&dir) {
@@ -648,8 +638,7 @@ fn a_miura_reassigned_so_no_order_exists_fails_on_layer_order_and_its_mirror_too
     // reassigned M V V M M M M M M V V M: Kawasaki and Maekawa hold at all four vertices,
     // yet Rabbit Ear 0.9.4 and an exhaustive search find no layer order. The regular
     // assignment, and the same file with M and V swapped back, fold.
-    let dir = std::env::temp_dir().join(format!("crease-miura3-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::Scratch::new("miura3");
     let cp = dir.join("m.cp");
     let (code, _, err) = common::run_crease(&[
         "generate",
@@ -937,9 +926,10 @@ fn the_path_from_flat_is_clear_for_the_folded_waterbomb_and_names_where_two_flap
 
 /// Runs `deform --script` on `script` (written under `name`): exit code, stderr, the
 /// design written.
-fn deform_script(name: &str, script: &str) -> (i32, String, std::path::PathBuf) {
-    let toml = common::scratch_file("layers-keep", name, script);
-    let out = toml.with_extension("fold");
+fn deform_script(name: &str, script: &str) -> (i32, String, common::ScratchFile) {
+    let out = common::ScratchFile::at("layers-keep", &name.replace(".toml", ".fold"));
+    let toml = out.with_file_name(name);
+    std::fs::write(&toml, script).unwrap();
     let (code, _, err) = common::run_crease(&[
         "deform",
         "--script",

@@ -221,7 +221,7 @@ fn the_crease_pattern_svg_reimports_to_the_same_graph() {
     let mesh = crease::io::read(&path).unwrap();
     let out = fabricate(&mesh, &machine, &a3()).unwrap();
     let svg = output(&out, "crease-pattern.svg");
-    let dir = std::env::temp_dir().join(format!("crease-fab-cp-{}", std::process::id()));
+    let dir = common::Scratch::new("fab-cp");
     crease::io::write_atomic(&dir.join("cp.svg"), svg).unwrap();
     let back = crease::io::read(&dir.join("cp.svg")).unwrap();
     assert_eq!(back.vertex_count(), mesh.vertex_count());
@@ -309,7 +309,8 @@ fn the_pdf_page_is_the_media_and_its_scale_bar_is_100_mm() {
 #[test]
 fn bad_fabrication_input_is_refused_and_leaves_nothing() {
     let root = env!("CARGO_MANIFEST_DIR");
-    let out = std::env::temp_dir().join(format!("crease-fab-bad-{}", std::process::id()));
+    let folder = common::Scratch::new("fab-bad");
+    let out = folder.join("job");
     let miura = format!("{root}/patterns/miura.fold");
     let (code, _, err) = run_crease(&[
         "fab",
@@ -343,7 +344,7 @@ fn bad_fabrication_input_is_refused_and_leaves_nothing() {
         .unwrap();
     x[v].z += 0.5;
     m.set_positions(x);
-    let broken = out.with_extension("fold");
+    let broken = folder.join("broken.fold");
     crease::io::write(&m, &broken).unwrap();
     let (code, _, err) = run_crease(&[
         "fab",
@@ -384,7 +385,6 @@ fn bad_fabrication_input_is_refused_and_leaves_nothing() {
         .file_name()
         .to_string_lossy()
         .ends_with(".tmp")));
-    let _ = std::fs::remove_dir_all(&out);
 }
 
 #[test]
@@ -474,8 +474,7 @@ fn a_draft_route_cuts_the_same_strokes_with_no_less_travel() {
 /// and leaves no temporary file behind.
 #[test]
 fn a_folder_in_the_way_leaves_the_output_folder_untouched() {
-    let dir = std::env::temp_dir().join(format!("crease-fab-blocked-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
+    let dir = common::Scratch::new("fab-blocked");
     std::fs::create_dir_all(dir.join("report.json")).unwrap();
     let design = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura-bent.fold");
     let (code, _, err) = run_crease(&[
@@ -496,13 +495,11 @@ fn a_folder_in_the_way_leaves_the_output_folder_untouched() {
         vec!["report.json".to_string()],
         "only the folder stays"
     );
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 #[test]
 fn a_later_run_leaves_no_files_of_an_earlier_one_and_a_failed_run_touches_nothing() {
-    let dir = std::env::temp_dir().join(format!("crease-fab-stale-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
+    let dir = common::Scratch::new("fab-stale");
     let design = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura.fold");
     let fab = |extra: &[&str]| {
         let mut args = vec![
@@ -550,7 +547,6 @@ fn a_later_run_leaves_no_files_of_an_earlier_one_and_a_failed_run_touches_nothin
     for stale in ["sheet-back.gpgl", "sheet-back.gpgl.journal"] {
         assert!(!dir.join(stale).exists(), "{stale} left over");
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// What `fab` writes depends on the design and the machine only: the same bytes on one
@@ -562,7 +558,7 @@ fn a_later_run_leaves_no_files_of_an_earlier_one_and_a_failed_run_touches_nothin
 #[test]
 fn fab_writes_the_same_bytes_on_one_thread_as_on_four() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let dir = std::env::temp_dir().join(format!("crease-same-bytes-{}", std::process::id()));
+    let dir = common::Scratch::new("same-bytes");
     for (design, machine) in [("waterbomb-tube", "laser-dxf"), ("miura", "graphtec-ce")] {
         let written: Vec<std::collections::BTreeMap<String, Vec<u8>>> = ["1", "4"]
             .iter()
@@ -599,5 +595,4 @@ fn fab_writes_the_same_bytes_on_one_thread_as_on_four() {
             );
         }
     }
-    std::fs::remove_dir_all(&dir).ok();
 }

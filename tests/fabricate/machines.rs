@@ -164,8 +164,7 @@ fn a_closed_set_in_a_profile_is_its_type_and_anything_else_is_refused_with_file_
         loaded.serial_line().unwrap().flow_control,
         crease::machine::FlowMode::RtsCts
     );
-    let dir = std::env::temp_dir().join(format!("crease-closed-sets-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::Scratch::new("closed-sets");
     let cases = [
         (
             "protocol = \"gpgl\"",
@@ -224,7 +223,6 @@ fn a_closed_set_in_a_profile_is_its_type_and_anything_else_is_refused_with_file_
         assert!(err.contains(key) && err.contains(choices), "{to}: {err}");
         assert!(!err.contains('\n'), "{to}: one line: {err}");
     }
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]
@@ -238,8 +236,7 @@ fn a_file_only_machine_has_a_job_file_and_plot_refuses_it_by_name() {
     )
     .unwrap()
     .replace("connection = \"usb\"", "connection = \"file\"");
-    let dir = std::env::temp_dir().join(format!("crease-file-only-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::Scratch::new("file-only");
     let profile = dir.join("cameo-file.toml");
     std::fs::write(&profile, text).unwrap();
     let file_only = Machine::load(profile.to_str().unwrap()).unwrap();
@@ -255,13 +252,11 @@ fn a_file_only_machine_has_a_job_file_and_plot_refuses_it_by_name() {
     ]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("cameo-file") && err.contains("file"), "{err}");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn a_bad_profile_stops_fab_with_one_line_naming_the_file() {
-    let dir = std::env::temp_dir().join(format!("crease-machines-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::Scratch::new("machines");
     let profile = dir.join("tiny-dash.toml");
     std::fs::write(
         &profile,
@@ -285,7 +280,6 @@ fn a_bad_profile_stops_fab_with_one_line_naming_the_file() {
         "{err}"
     );
     assert!(!out.exists(), "nothing written");
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 #[test]
@@ -400,8 +394,7 @@ fn a_bad_material_file_is_refused_naming_its_key() {
         assert!(!err.contains('\n'), "{to}: one line: {err}");
     }
     // Through the command line: exit 2, the file and the key named, nothing written.
-    let dir = std::env::temp_dir().join(format!("crease-material-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::Scratch::new("material");
     let bad = dir.join("bad.toml");
     std::fs::write(
         &bad,
@@ -424,7 +417,6 @@ fn a_bad_material_file_is_refused_naming_its_key() {
         "{err}"
     );
     assert!(!out.exists());
-    let _ = std::fs::remove_dir_all(&dir);
     // `crease materials` lists each shipped material by name.
     let (code, list, _) = run_crease(&["materials"]);
     assert_eq!(code, 0);

@@ -471,7 +471,7 @@ fn print_and_cut_is_refused_clearly_where_it_cannot_work() {
 /// types it (they said `crease plot OUT`, a placeholder the maker had to replace).
 #[test]
 fn next_steps_name_the_output_folder_to_plot() {
-    let dir = std::env::temp_dir().join(format!("crease-pc-steps-{}", std::process::id()));
+    let dir = common::Scratch::new("pc-steps");
     let design = format!("{}/patterns/miura.fold", env!("CARGO_MANIFEST_DIR"));
     let (code, _, err) = common::run_crease(&[
         "fab",

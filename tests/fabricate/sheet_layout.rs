@@ -165,7 +165,7 @@ fn small_sheets_and_huge_media_fabricate_without_a_panic() {
         ],
     ];
     for (k, mut args) in cases.into_iter().enumerate() {
-        let out = std::env::temp_dir().join(format!("crease-fab-small-{}-{k}", std::process::id()));
+        let out = common::Scratch::new(&format!("fab-small-{k}"));
         args.insert(0, "fab".into());
         args.extend(["--out".into(), out.display().to_string()]);
         let refs: Vec<&str> = args.iter().map(String::as_str).collect();
@@ -174,14 +174,14 @@ fn small_sheets_and_huge_media_fabricate_without_a_panic() {
         assert_eq!(code, 0, "{args:?}: {err}");
         let hpgl = std::fs::read_to_string(out.join("sheet.hpgl")).unwrap();
         assert!(hpgl.contains("PD"), "{args:?}: the job cuts something");
-        let _ = std::fs::remove_dir_all(out);
     }
 }
 
 #[test]
 fn a_width_too_small_to_cut_is_refused() {
     let miura = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/miura.fold");
-    let out = std::env::temp_dir().join(format!("crease-fab-tiny-{}", std::process::id()));
+    let folder = common::Scratch::new("fab-tiny");
+    let out = folder.join("job");
     for w in ["0.01", "0", "NaN"] {
         let (code, _, err) = run_crease(&[
             "fab",

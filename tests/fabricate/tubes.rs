@@ -256,8 +256,7 @@ fn the_template_numbers_each_seam_edge_on_the_tab_and_across_the_sheet() {
 
 #[test]
 fn fab_tells_the_maker_how_to_glue_a_tube_and_takes_the_tab_width() {
-    let dir = std::env::temp_dir().join(format!("crease-fab-tube-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
+    let dir = common::Scratch::new("fab-tube");
     let design = Path::new(env!("CARGO_MANIFEST_DIR")).join("patterns/waterbomb-tube-bent.fold");
     let (code, _, err) = common::run_crease(&[
         "fab",
@@ -291,7 +290,6 @@ fn fab_tells_the_maker_how_to_glue_a_tube_and_takes_the_tab_width() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--tab"), "{err}");
     assert!(!bad.exists());
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// A run of text on the page and its box (lower left, upper right), mm.

@@ -6,11 +6,12 @@
 use crate::common;
 
 use common::plotting::{cutter_job, scratch};
+use common::Scratch;
 use crease::output::hpgl;
 use crease::plotter::{
     stream, Emulator, EmulatorConfig, Flow, FlowMode, Language, StreamError, StreamOptions,
 };
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
@@ -268,13 +269,13 @@ fn bad_ports_and_speeds_exit_2_with_a_clear_message() {
 
 /// Makes a `crease fab` job folder for `design` on `machine` (A3 for the generic plotter,
 /// the profile's own media otherwise).
-fn fab_job(design: &str, machine: &str, name: &str) -> PathBuf {
+fn fab_job(design: &str, machine: &str, name: &str) -> Scratch {
     fab_job_with(design, machine, name, &[])
 }
 
 /// [`fab_job`] with more `fab` options.
-fn fab_job_with(design: &str, machine: &str, name: &str, extra: &[&str]) -> PathBuf {
-    let dir = scratch(name).join("job");
+fn fab_job_with(design: &str, machine: &str, name: &str, extra: &[&str]) -> Scratch {
+    let dir = scratch(name);
     let input = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("patterns")
         .join(design);
@@ -338,7 +339,7 @@ fn a_job_is_plotted_over_the_line_of_the_machine_it_was_made_for() {
     // a_sender_that_ignores_flow_control_loses_bytes shows).
     let dir = fab_job("miura.fold", "roland-cutter", "own-machine");
     let text = std::fs::read_to_string(dir.join("sheet.hpgl")).unwrap();
-    let link = scratch("own-machine").join("plotter");
+    let link = dir.join("plotter");
     let emulator = Emulator::start(
         &link,
         EmulatorConfig {
@@ -371,7 +372,7 @@ fn a_graphtec_job_is_plotted_as_gpgl_from_its_folder() {
     // with the profile's RTS/CTS, and the cutter cuts exactly the file.
     let dir = fab_job("miura.fold", "graphtec-ce", "graphtec");
     let text = std::fs::read_to_string(dir.join("sheet.gpgl")).unwrap();
-    let link = scratch("graphtec").join("cutter");
+    let link = dir.join("cutter");
     let emulator = Emulator::start(
         &link,
         EmulatorConfig {
@@ -420,7 +421,7 @@ fn a_graphtec_job_is_plotted_as_gpgl_from_its_folder() {
 fn a_plain_plot_of_an_unfinished_job_sends_nothing_and_exits_2() {
     let dir = fab_job("miura.fold", "generic-hpgl", "unfinished");
     let text = std::fs::read_to_string(dir.join("sheet.hpgl")).unwrap();
-    let link = scratch("unfinished").join("plotter");
+    let link = dir.join("plotter");
     let plotter = |fail_after: Option<usize>| fast_plotter(&link, fail_after);
     let plain = ["--baud", "115200", "--flow", "xonxoff"];
     // Interrupt a real plot: the cable is pulled a third of the way in.
@@ -462,7 +463,7 @@ fn after_the_front_of_a_two_sided_job_plot_says_how_to_go_on() {
         "two-sided",
         &["--mountains-from-back"],
     );
-    let link = scratch("two-sided").join("plotter");
+    let link = dir.join("plotter");
     let fast = ["--baud", "115200", "--flow", "xonxoff"];
     let plotter = || fast_plotter(&link, None);
     let emulator = plotter();
@@ -497,7 +498,7 @@ fn a_cameo_job_is_written_to_its_usb_device_node_with_status_polled() {
     // emulator's pty stands in for /dev/usb/lp0.
     let dir = fab_job("miura.fold", "silhouette-cameo", "cameo-usb");
     let text = std::fs::read_to_string(dir.join("sheet.gpgl")).unwrap();
-    let link = scratch("cameo-usb").join("lp0");
+    let link = dir.join("lp0");
     let emulator = Emulator::start(
         &link,
         EmulatorConfig {
@@ -553,7 +554,7 @@ fn a_print_and_cut_job_cuts_only_after_the_cutter_finds_its_marks() {
         "the search comes before any cut"
     );
     for found in [true, false] {
-        let link = scratch("print-and-cut-plot").join(format!("lp-{found}"));
+        let link = dir.join(format!("lp-{found}"));
         let emulator = Emulator::start(
             &link,
             EmulatorConfig {

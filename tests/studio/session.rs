@@ -99,10 +99,8 @@ fn dragging_moves_the_vertex_keeps_every_condition_and_saves_a_file_that_verifie
     let saved = call(&hub, "GET", "/api/design.fold", b"");
     assert_eq!(saved.status, 200);
     assert_eq!(saved.download.as_deref(), Some("miura.fold"));
-    let dir = std::env::temp_dir().join(format!("crease-studio-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join("dragged.fold");
-    std::fs::write(&file, &saved.body).unwrap();
+    let dir = crate::scratch::Scratch::new("studio");
+    let file = dir.file("dragged.fold", &saved.body);
     let mesh = crease::io::read(&file).unwrap();
     let report = crease::fab::verify(&mesh, None, Default::default());
     assert!(report.pass(), "{report}");
@@ -928,10 +926,8 @@ fn saved_layer_order(hub: &Hub, dir: &std::path::Path, name: &str) -> (usize, us
     (layer.violations, layer.rows)
 }
 
-fn scratch_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("crease-studio-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch_dir(name: &str) -> crate::scratch::Scratch {
+    crate::scratch::Scratch::new(&format!("studio-{name}"))
 }
 
 /// Issue 29: with `layer-order` among the conditions, a pointer drag keeps the
@@ -980,7 +976,6 @@ fn a_pointer_drag_with_layer_order_keeps_the_order_and_still_moves() {
     );
     assert_eq!(saved_layer_order(&hub, &dir, "free.fold").0, 1);
     hub.stop();
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// Issue 29: a pointer drag that would lose the layer order in a way no contact of the
@@ -1033,7 +1028,6 @@ fn a_pointer_drag_that_would_lose_the_layer_order_is_held_when_it_is_kept() {
         hub.stop();
     }
     assert!(widths[1] > widths[0] + 5.0, "{widths:?}");
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]

@@ -163,8 +163,7 @@ fn every_reply_forbids_framing_sniffing_and_foreign_scripts() {
 
 #[test]
 fn fabricate_takes_machine_names_only_and_never_opens_a_path() {
-    let dir = std::env::temp_dir().join(format!("crease-canary-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::scratch::Scratch::new("canary");
     let canary = "canary-7f3a91";
     // A file that would fail as a profile and be quoted back if it were read.
     let planted = dir.join("cutter.toml");
@@ -211,7 +210,6 @@ fn fabricate_takes_machine_names_only_and_never_opens_a_path() {
     }
     let (status, _) = studio.json("POST", "/api/fabricate", r#"{"machine": "generic-hpgl"}"#);
     assert_eq!(status, 200, "a listed machine still works");
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// A fan of `n` triangles at one vertex, creases alternating mountain and valley (a FOLD).
