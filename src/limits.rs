@@ -405,6 +405,16 @@ pub const SEARCH_TIME: Range = Range {
     max: 86_400.0,
 };
 
+/// The memory the layer-order problem may take (`verify --memory`, and `convert
+/// --assign`'s and `fold --flat`'s), in MB: from what a small design needs to a terabyte;
+/// the default is [`crate::fab::budget::DEFAULT_LAYER_MEMORY_MB`].
+pub const LAYER_MEMORY: Range = Range {
+    what: "the layer search's memory",
+    unit: "MB",
+    min: 10.0,
+    max: 1e6,
+};
+
 /// The states `verify --count` enumerates in one independent group before it stops
 /// (Flat-Folder stops at 10,000).
 pub const STATE_CAP: Range = Range {

@@ -100,6 +100,9 @@ enum Command {
         /// (crease writes the 3D form first by default and reads both).
         #[arg(long)]
         crease_pattern_first: bool,
+        /// The layer search's time and memory (with --assign).
+        #[command(flatten)]
+        search: cli::SearchArgs,
     },
 }
 
@@ -190,6 +193,7 @@ fn run(cli: Cli) -> Result<u8, String> {
             output,
             assign,
             crease_pattern_first,
-        } => cli::convert(&input, &output, assign, crease_pattern_first),
+            search,
+        } => cli::convert(&input, &output, assign, crease_pattern_first, &search),
     }
 }

@@ -33,6 +33,9 @@ pub struct FoldArgs {
     /// Output FOLD file.
     #[arg(short, long)]
     output: PathBuf,
+    /// The layer search's time and memory (with --flat).
+    #[command(flatten)]
+    search: super::SearchArgs,
 }
 
 pub fn fold(args: FoldArgs) -> Result<u8, String> {
@@ -43,10 +46,12 @@ pub fn fold(args: FoldArgs) -> Result<u8, String> {
         force,
         fix,
         output,
+        search,
     } = args;
+    let budget = search.budget()?;
     let mesh = io::read(&file).map_err(|e| e.to_string())?;
     if flat {
-        return fold_flat(mesh, &file, &output);
+        return fold_flat(mesh, &file, &output, &budget);
     }
     let amount = amount.expect("clap requires --amount without --flat");
     let mut job = DesignJob::new(mesh);
@@ -92,10 +97,14 @@ pub fn fold(args: FoldArgs) -> Result<u8, String> {
 
 /// The flat-folded state as a FOLD folded form (z = 0, layers in `faceOrders`) beside
 /// the crease pattern ([`crease::pipeline::flat_folded_file`]).
-fn fold_flat(mesh: Mesh, file: &std::path::Path, output: &std::path::Path) -> Result<u8, String> {
+fn fold_flat(
+    mesh: Mesh,
+    file: &std::path::Path,
+    output: &std::path::Path,
+    budget: &crease::fab::Budget,
+) -> Result<u8, String> {
     let name = file.display();
-    let budget = crease::fab::Budget::search(crease::limits::DEFAULT_SEARCH_TIME);
-    let flat = match crease::pipeline::flat_folded_file(mesh, &budget) {
+    let flat = match crease::pipeline::flat_folded_file(mesh, budget) {
         Ok(flat) => flat,
         Err(e) => {
             eprintln!("error: {name}: {e}; nothing was written");

@@ -17,6 +17,37 @@ use crease::solver::Move;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 
+/// How long and how large the layer-order search may grow: `verify`'s, `convert
+/// --assign`'s and `fold --flat`'s, each past them UNDECIDED (exit 3) naming what ran out.
+#[derive(clap::Args)]
+pub struct SearchArgs {
+    /// Seconds the layer-order search may take; past them the verdict is UNDECIDED
+    /// (exit 3), saying what was left.
+    #[arg(long, default_value_t = crease::limits::DEFAULT_SEARCH_TIME.as_secs_f64())]
+    budget: f64,
+    /// Megabytes the layer-order problem may take (about 6,000 constraints a MB); past
+    /// them the verdict is UNDECIDED (exit 3). The default keeps the process under about
+    /// 2 GB.
+    #[arg(long, value_name = "MB", default_value_t = crease::fab::budget::DEFAULT_LAYER_MEMORY_MB as f64)]
+    memory: f64,
+}
+
+impl SearchArgs {
+    /// The search's budget, both quantities range-checked ([`crease::limits`]).
+    pub fn budget(&self) -> Result<crease::fab::Budget, String> {
+        let seconds = crease::limits::SEARCH_TIME
+            .check("--budget", self.budget)
+            .map_err(|e| e.to_string())?;
+        let memory = crease::limits::LAYER_MEMORY
+            .check("--memory", self.memory)
+            .map_err(|e| e.to_string())?;
+        Ok(crease::fab::Budget::search(
+            std::time::Duration::from_secs_f64(seconds),
+            memory,
+        ))
+    }
+}
+
 #[derive(clap::Args)]
 pub struct GenerateArgs {
     /// Pattern: miura, waterbomb, yoshimura, resch, plane, curved, arc (one curved
@@ -251,7 +282,9 @@ pub fn convert(
     output: &Path,
     assign: bool,
     crease_pattern_first: bool,
+    search: &SearchArgs,
 ) -> Result<u8, String> {
+    let budget = search.budget()?;
     let imported = io::read_with_notes(input).map_err(|e| e.to_string())?;
     for note in &imported.notes {
         eprintln!("note: {note}");
@@ -270,7 +303,6 @@ pub fn convert(
         eprintln!("wrote {} (frame 0 the crease pattern)", output.display());
         return Ok(0);
     }
-    let budget = crease::fab::Budget::search(crease::limits::DEFAULT_SEARCH_TIME);
     let converted = match crease::pipeline::convert(imported.mesh, format, assign, &budget) {
         Ok(c) => c,
         Err(e) if e.exit_code() == 2 => return Err(format!("{}: {e}", input.display())),

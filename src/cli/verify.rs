@@ -29,10 +29,9 @@ pub struct VerifyArgs {
     /// (exit 1), or that the path is clear.
     #[arg(long)]
     path: bool,
-    /// Seconds the layer-order search may take; past them the verdict is UNDECIDED
-    /// (exit 3), saying what was left.
-    #[arg(long, default_value_t = crease::limits::DEFAULT_SEARCH_TIME.as_secs_f64())]
-    budget: f64,
+    /// The layer search's time and memory.
+    #[command(flatten)]
+    search: super::SearchArgs,
     /// Also count the flat-folded states (layer orders): each independent group of
     /// overlapping faces enumerated up to CAP states (default 10000, as Flat-Folder), and
     /// their product.
@@ -82,15 +81,12 @@ pub fn verify(args: VerifyArgs) -> Result<u8, String> {
             .map_err(|e| e.to_string())?;
         tolerances = fab::Tolerances::exactly(t);
     }
-    let seconds = crease::limits::SEARCH_TIME
-        .check("--budget", args.budget)
-        .map_err(|e| e.to_string())?;
+    let budget = args.search.budget()?;
     let imported = io::read_with_notes(&args.file).map_err(|e| e.to_string())?;
     for note in &imported.notes {
         eprintln!("note: {note}");
     }
     let mesh = imported.mesh;
-    let budget = fab::Budget::search(std::time::Duration::from_secs_f64(seconds));
     let report = fab::verify_within(&mesh, set.as_ref(), tolerances, &budget);
     // The file was read: a path the solver cannot follow is undecided, not bad input.
     let path = args.path.then(|| {

@@ -56,10 +56,10 @@ impl ConvertError {
     /// question left open (the search stopped) or the input unfit (nothing to assign).
     pub fn exit_code(&self) -> u8 {
         match self {
-            // A gap around a vertex or a crease hinged to itself answers the question.
-            ConvertError::NoAssignment { .. }
-            | ConvertError::SearchStopped(LayerError::Open { .. } | LayerError::SelfHinged(_)) => 1,
-            ConvertError::SearchStopped(_) => 3,
+            // No assignment exists, or (the search's own code) the faces do not close
+            // up, a crease cannot fold: each answers the question.
+            ConvertError::NoAssignment { .. } => 1,
+            ConvertError::SearchStopped(e) => e.exit_code(),
             ConvertError::Unfold { .. } | ConvertError::NothingToAssign => 2,
         }
     }

@@ -4,7 +4,7 @@
 
 use super::{ConvertError, DesignOutcome};
 use crate::fab::budget::Budget;
-use crate::fab::{flat_folded, layer_order, LayerConflict, LayerError, LayerOrder};
+use crate::fab::{flat_folded, layer_order_within, LayerConflict, LayerError, LayerOrder};
 use crate::mesh::{Mesh, Vec3};
 
 /// A fold that reached less than this share of the amount asked got nowhere: a pattern
@@ -90,7 +90,8 @@ impl FlatFoldError {
         match self {
             FlatFoldError::Sides(e) => e.exit_code(),
             FlatFoldError::NoOrder(_) => 1,
-            FlatFoldError::NotFlat(_) | FlatFoldError::Search(_) => 2,
+            FlatFoldError::Search(e) => e.exit_code(),
+            FlatFoldError::NotFlat(_) => 2,
         }
     }
 }
@@ -102,7 +103,7 @@ pub fn flat_folded_file(mut mesh: Mesh, budget: &Budget) -> Result<FlatFoldedFil
     let (assigned, note) = super::with_sides_found(mesh, budget)?;
     mesh = assigned;
     let folded = flat_folded(&mesh, None).map_err(|e| FlatFoldError::NotFlat(e.to_string()))?;
-    let orders = match layer_order(&mesh)? {
+    let orders = match layer_order_within(&mesh, budget)? {
         LayerOrder::Found(orders) => orders,
         LayerOrder::Conflict(c) => return Err(FlatFoldError::NoOrder(c)),
     };

@@ -160,6 +160,18 @@ fn bad_vertex_lists_thresholds_and_condition_lists_exit_2_with_one_line() {
             vec!["verify", m, "--conditions", "developability,developability"],
             "twice",
         ),
+        // The layer search's time and memory, on each command that searches.
+        (vec!["verify", m, "--budget", "0"], "--budget"),
+        (vec!["verify", m, "--memory", "NaN"], "--memory"),
+        (vec!["verify", m, "--memory", "1"], "from 10 to 1e6 MB"),
+        (
+            vec!["fold", m, "--flat", "--memory", "1e9", "-o", o],
+            "--memory",
+        ),
+        (
+            vec!["convert", m, o, "--assign", "--budget", "-3"],
+            "--budget",
+        ),
     ];
     for (args, cause) in cases {
         let (code, _, err) = run_crease(&args);

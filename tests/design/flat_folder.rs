@@ -117,7 +117,7 @@ fn every_unsatisfiable_design_fails() {
     for path in &files {
         // A search that cannot finish within its budget says so: never a PASS.
         let mesh = crease::io::read(path).unwrap();
-        let budget = Budget::search(Duration::from_secs(5));
+        let budget = Budget::search(Duration::from_secs(5), 2_000.0);
         let report = verify_within(&mesh, None, Tolerances::default(), &budget);
         let verdict = report.verdict();
         if let Verdict::Undecided { condition, why } = &verdict {

@@ -385,7 +385,32 @@ fn a_budget_bounds_the_layer_problem_and_says_what_ran_out() {
             && text.contains("every condition judged passes"),
         "{text}"
     );
+    // The cap is the command line's --memory, and running out of it says to raise that,
+    // not the time: the waterbomb's problem outgrows 10 MB (60,000 constraints) and fits
+    // in the default.
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let waterbomb = root.join("patterns/waterbomb.fold");
+    let w = waterbomb.to_str().unwrap();
+    let (code, text, _) = common::run_crease(&["verify", w, "--memory", "10"]);
+    assert_eq!(code, 3, "{text}");
+    assert!(
+        text.contains("more than 60000 layer constraints, about 10 MB")
+            && text.contains("raise --memory")
+            && !text.contains("raise --budget"),
+        "{text}"
+    );
+    let (code, text, _) = common::run_crease(&["verify", w, "--memory", "2000"]);
+    assert_eq!(code, 0, "{text}");
+    // `fold --flat` orders its layers within the same budget: undecided, nothing written.
+    let flat = dir.join("waterbomb-flat.fold");
+    let o = flat.to_str().unwrap();
+    let (code, _, err) = common::run_crease(&["fold", w, "--flat", "--memory", "10", "-o", o]);
+    assert_eq!(code, 3, "{err}");
+    assert!(
+        err.contains("raise --memory") && err.contains("nothing was written"),
+        "{err}"
+    );
+    assert!(!flat.exists());
     let pyramid =
         crease::io::read(&root.join("tests/data/origamisimulator/BoxPleatPyramid.fold")).unwrap();
     let unlimited = layer_order(&pyramid).unwrap();

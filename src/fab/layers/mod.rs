@@ -118,6 +118,18 @@ pub enum LayerError {
     OverBudget(#[from] OverBudget),
 }
 
+impl LayerError {
+    /// The command line's exit code for a search that ended so: 1 when it answers the
+    /// question (the faces do not close up, a crease cannot fold), 3 when it stopped
+    /// undecided (a budget ran out, the search gave up, no flat state to order).
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            LayerError::Open { .. } | LayerError::SelfHinged(_) => 1,
+            LayerError::NotFlat(_) | LayerError::GaveUp(_) | LayerError::OverBudget(_) => 3,
+        }
+    }
+}
+
 /// The most search work ([`Budget::work`]) a verdict spends naming fewer faces of a
 /// conflict already proved: about 4 s on the machine the benchmarks run on (80 million
 /// units a second). Work, not time, so the faces named are the same on any machine and
