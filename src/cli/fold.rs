@@ -48,9 +48,10 @@ pub fn fold(args: FoldArgs) -> Result<u8, String> {
         output,
         search,
     } = args;
-    let budget = search.budget()?;
+    let (time, memory) = search.checked()?;
     let mesh = io::read(&file).map_err(|e| e.to_string())?;
     if flat {
+        let budget = crease::fab::Budget::search(time, memory);
         return fold_flat(mesh, &file, &output, &budget);
     }
     let amount = amount.expect("clap requires --amount without --flat");

@@ -33,18 +33,17 @@ pub struct SearchArgs {
 }
 
 impl SearchArgs {
-    /// The search's budget, both quantities range-checked ([`crease::limits`]).
-    pub fn budget(&self) -> Result<crease::fab::Budget, String> {
+    /// The search's time and memory (MB), range-checked ([`crease::limits`]) before any
+    /// work; the caller starts the clock ([`crease::fab::Budget::search`]) when the
+    /// search is about to begin, so reading the file does not count against it.
+    pub fn checked(&self) -> Result<(std::time::Duration, f64), String> {
         let seconds = crease::limits::SEARCH_TIME
             .check("--budget", self.budget)
             .map_err(|e| e.to_string())?;
         let memory = crease::limits::LAYER_MEMORY
             .check("--memory", self.memory)
             .map_err(|e| e.to_string())?;
-        Ok(crease::fab::Budget::search(
-            std::time::Duration::from_secs_f64(seconds),
-            memory,
-        ))
+        Ok((std::time::Duration::from_secs_f64(seconds), memory))
     }
 }
 
@@ -284,7 +283,7 @@ pub fn convert(
     crease_pattern_first: bool,
     search: &SearchArgs,
 ) -> Result<u8, String> {
-    let budget = search.budget()?;
+    let (time, memory) = search.checked()?;
     let imported = io::read_with_notes(input).map_err(|e| e.to_string())?;
     for note in &imported.notes {
         eprintln!("note: {note}");
@@ -303,6 +302,7 @@ pub fn convert(
         eprintln!("wrote {} (frame 0 the crease pattern)", output.display());
         return Ok(0);
     }
+    let budget = crease::fab::Budget::search(time, memory);
     let converted = match crease::pipeline::convert(imported.mesh, format, assign, &budget) {
         Ok(c) => c,
         Err(e) if e.exit_code() == 2 => return Err(format!("{}: {e}", input.display())),

@@ -81,12 +81,13 @@ pub fn verify(args: VerifyArgs) -> Result<u8, String> {
             .map_err(|e| e.to_string())?;
         tolerances = fab::Tolerances::exactly(t);
     }
-    let budget = args.search.budget()?;
+    let (time, memory) = args.search.checked()?;
     let imported = io::read_with_notes(&args.file).map_err(|e| e.to_string())?;
     for note in &imported.notes {
         eprintln!("note: {note}");
     }
     let mesh = imported.mesh;
+    let budget = fab::Budget::search(time, memory);
     let report = fab::verify_within(&mesh, set.as_ref(), tolerances, &budget);
     // The file was read: a path the solver cannot follow is undecided, not bad input.
     let path = args.path.then(|| {
