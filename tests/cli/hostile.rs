@@ -101,7 +101,8 @@ fn refused(args: &[&str], names: &str, out: Option<&Path>) {
     }
 }
 
-fn profile(name: &str, change: (&str, &str)) -> common::ScratchFile {
+/// The generic HP-GL profile's text with `change` = (key, value) made.
+fn profile_text(change: (&str, &str)) -> String {
     let text = std::fs::read_to_string(root("machines/generic-hpgl.toml")).unwrap();
     let (key, value) = change;
     let changed: String = text
@@ -119,7 +120,12 @@ fn profile(name: &str, change: (&str, &str)) -> common::ScratchFile {
         changed.contains(&format!("{key} = {value}")),
         "{key} in profile"
     );
-    common::ScratchFile::new("hostile", name, changed)
+    changed
+}
+
+/// [`profile_text`] written as `name` in a scratch folder of its own.
+fn profile(name: &str, change: (&str, &str)) -> common::ScratchFile {
+    common::scratch_file("hostile", name, &profile_text(change))
 }
 
 #[test]
@@ -216,14 +222,8 @@ fn impossible_profiles_name_the_file_and_the_key() {
     }
     // A tiny clearance is a legal value: it must cost no more than a normal one.
     let tiny = profile("tiny-clearance.toml", ("clearance_mm", "0.001"));
-    let r = run(&[
-        "fab",
-        &design,
-        "--machine",
-        tiny.to_str().unwrap(),
-        "--out",
-        o,
-    ]);
+    let t = tiny.to_str().unwrap();
+    let r = run(&["fab", &design, "--machine", t, "--out", o]);
     assert_eq!(r.code, 0, "{}", r.stderr);
     assert!(r.peak_kb < MEMORY_KB, "peak {} kB", r.peak_kb);
 }
@@ -785,7 +785,7 @@ fn absurd_command(rng: &mut Rng, case: usize, dir: &Path) -> Vec<String> {
             // TOML reads nan and inf; a 20-digit integer is its own parse error.
             let value = n(rng);
             let p = dir.join(format!("sweep-{case}.toml"));
-            std::fs::copy(profile("sweep.toml", (key, &value)), &p).unwrap();
+            std::fs::write(&p, profile_text((key, &value))).unwrap();
             vec![
                 s("fab"),
                 design,

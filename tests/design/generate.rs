@@ -528,8 +528,7 @@ fn fold_files_name_the_edges_of_each_curved_crease_and_read_back_unchanged() {
                 );
             }
         }
-        let file =
-            crate::common::ScratchFile::new("generate-curves", &format!("{kind:?}.fold"), &text);
+        let file = crate::common::scratch_file("generate-curves", &format!("{kind:?}.fold"), &text);
         let again = crease::io::fold::to_string(&crease::io::read(&file).unwrap());
         assert_eq!(again, text, "{kind:?}");
     }
