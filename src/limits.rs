@@ -406,13 +406,15 @@ pub const SEARCH_TIME: Range = Range {
 };
 
 /// The memory the layer-order problem may take (`verify --memory`, and `convert
-/// --assign`'s and `fold --flat`'s), in MB: from what a small design needs to a terabyte;
-/// the default is [`crate::fab::budget::DEFAULT_LAYER_MEMORY_MB`].
+/// --assign`'s and `fold --flat`'s), in MB: from what a small design needs to 200 GB,
+/// below where the problem's 32-bit numbering of its constraints would end (4.3 billion
+/// at [`crate::fab::budget::BYTES_PER_CONSTRAINT`] each, 275 GB); the default is
+/// [`crate::fab::budget::DEFAULT_LAYER_MEMORY_MB`].
 pub const LAYER_MEMORY: Range = Range {
     what: "the layer search's memory",
     unit: "MB",
     min: 10.0,
-    max: 1e6,
+    max: 2e5,
 };
 
 /// The states `verify --count` enumerates in one independent group before it stops

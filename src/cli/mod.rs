@@ -25,9 +25,8 @@ pub struct SearchArgs {
     /// (exit 3), saying what was left.
     #[arg(long, default_value_t = crease::limits::DEFAULT_SEARCH_TIME.as_secs_f64())]
     budget: f64,
-    /// Megabytes the layer-order problem may take (about 6,000 constraints a MB); past
-    /// them the verdict is UNDECIDED (exit 3). The default keeps the process under about
-    /// 2 GB.
+    /// Megabytes the layer-order problem may take (10 – 200,000); past them the verdict
+    /// is UNDECIDED (exit 3). The default keeps the process under about 2 GB.
     #[arg(long, value_name = "MB", default_value_t = crease::fab::budget::DEFAULT_LAYER_MEMORY_MB as f64)]
     memory: f64,
 }

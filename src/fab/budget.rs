@@ -9,25 +9,40 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-/// Layer-order constraints a problem may hold by default: [`CONSTRAINTS_PER_MB`] times
-/// [`DEFAULT_LAYER_MEMORY_MB`]. A flat 16 × 16 waterbomb (79 million triples) fits.
-pub const MAX_LAYER_CONSTRAINTS: usize = CONSTRAINTS_PER_MB * DEFAULT_LAYER_MEMORY_MB;
-
 /// The memory, in MB, the layer-order problem may take by default (`--memory`'s
 /// default): the process stays under about 2 GB on the largest designs.
 pub const DEFAULT_LAYER_MEMORY_MB: usize = 2_000;
 
-/// Constraints (counted as the cap counts them) that one MB of the process's peak
-/// memory holds. A constraint takes about 72 bytes plus its watch lists, and a
-/// transitivity triple twelve bytes in three lists that grow by doubling; with the
-/// overlapping pairs, their index and the mesh, the peak was measured at about 168 bytes
-/// a constraint: `verify` of the Japanese Spiny Lobster v2 (Flat-Folder's community set)
-/// stops at the cap of 12 million with 1.97 GB resident (19.3 s on one core).
-pub const CONSTRAINTS_PER_MB: usize = 6_000;
+/// Bytes the layer-order problem may take by default ([`DEFAULT_LAYER_MEMORY_MB`]). A
+/// flat 16 × 16 waterbomb (79 million triples) fits.
+pub const MAX_LAYER_BYTES: usize = DEFAULT_LAYER_MEMORY_MB * 1_000_000;
 
-/// Transitivity triples that count as one constraint against the cap (by memory: twelve
-/// bytes against about a hundred).
-pub const TRIPLES_PER_CONSTRAINT: usize = 8;
+/// Memory of each overlapping pair of pieces (a variable): its faces' overlap records,
+/// its place in the pair index, its watch lists and the search's state for it.
+pub const BYTES_PER_PAIR: usize = 300;
+
+/// Memory of each taco–tortilla or taco–taco constraint: four literals of 8 bytes and
+/// its watch entries, in a list that grows by doubling.
+pub const BYTES_PER_CONSTRAINT: usize = 64;
+
+/// Memory of each transitivity triple: its third piece under each of its three pairs
+/// (`layers::thirds`, 4 bytes each, allocated to size), and a little for what finding
+/// it leaves behind.
+pub const BYTES_PER_TRIPLE: usize = 13;
+
+/// The memory a layer problem of `pairs` variables, `constraints` constraints and
+/// `triples` triples takes, as the cap counts it ([`Budget::check_size`]). Fitted to the
+/// peak resident memory of `verify` on Flat-Folder's largest community designs (after the
+/// mesh, about 80 MB, is read): the Japanese Spiny Lobster v2 (1.01 million pairs, 1.36
+/// million constraints, 134 million triples) peaks at 2.14 GB against an estimate of 2.15
+/// GB, Kamiya's Ryujin 2.1 at 645 MB against 636 MB and the new Flying Mantis at 895 MB
+/// against 897 MB.
+pub fn layer_bytes(pairs: usize, constraints: usize, triples: usize) -> usize {
+    pairs
+        .saturating_mul(BYTES_PER_PAIR)
+        .saturating_add(constraints.saturating_mul(BYTES_PER_CONSTRAINT))
+        .saturating_add(triples.saturating_mul(BYTES_PER_TRIPLE))
+}
 
 /// A bound on an analysis's time and memory.
 #[derive(Clone, Debug)]
@@ -36,8 +51,8 @@ pub struct Budget {
     pub deadline: Option<(Instant, Duration)>,
     /// Give up once this is set.
     pub cancel: Option<Arc<AtomicBool>>,
-    /// Layer-order constraints the problem may hold.
-    pub max_constraints: usize,
+    /// Bytes the layer-order problem may take, as [`layer_bytes`] counts them.
+    pub max_layer_bytes: usize,
     /// Units of search work left (a unit is a constraint or triple the layer search
     /// visits), shared by every search under this budget. Unlike a deadline it ends at
     /// the same point on any machine and under any load, so what it bounds (naming fewer
@@ -45,18 +60,18 @@ pub struct Budget {
     pub work: Option<Arc<AtomicU64>>,
     /// What to tell the user when the budget runs out (e.g. "run `crease verify`").
     pub advice: &'static str,
-    /// What to tell the user when the problem outgrows [`Budget::max_constraints`], when
+    /// What to tell the user when the problem outgrows [`Budget::max_layer_bytes`], when
     /// that differs from [`Budget::advice`] (the command line's `--memory`).
     pub memory_advice: &'static str,
 }
 
 impl Default for Budget {
-    /// No deadline, no cancel flag, [`MAX_LAYER_CONSTRAINTS`].
+    /// No deadline, no cancel flag, [`MAX_LAYER_BYTES`].
     fn default() -> Self {
         Budget {
             deadline: None,
             cancel: None,
-            max_constraints: MAX_LAYER_CONSTRAINTS,
+            max_layer_bytes: MAX_LAYER_BYTES,
             work: None,
             advice: "",
             memory_advice: "",
@@ -69,9 +84,9 @@ impl Default for Budget {
 pub enum Exceeded {
     /// Past the deadline.
     Time(Duration),
-    /// More constraints than the cap.
+    /// A layer problem larger than the cap.
     Size {
-        /// The cap.
+        /// The cap, in bytes.
         limit: usize,
     },
     /// The answer is no longer wanted.
@@ -93,18 +108,11 @@ impl fmt::Display for OverBudget {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match &self.exceeded {
             Exceeded::Time(d) => write!(f, "over its time budget of {:.1} s", d.as_secs_f64())?,
-            Exceeded::Size { limit } => {
-                let count = if *limit >= 1_000_000 {
-                    format!("{} million", (*limit as f64 / 1e5).round() / 10.0)
-                } else {
-                    limit.to_string()
-                };
-                write!(
-                    f,
-                    "too large: more than {count} layer constraints, about {} MB (faces stacked too deep)",
-                    limit.div_ceil(CONSTRAINTS_PER_MB)
-                )?
-            }
+            Exceeded::Size { limit } => write!(
+                f,
+                "too large: its layer constraints would take more than {} MB (faces stacked too deep)",
+                limit.div_ceil(1_000_000)
+            )?,
             Exceeded::Cancelled => write!(f, "cancelled: the design changed")?,
             Exceeded::Work => write!(f, "over its budget of search work")?,
         }
@@ -119,12 +127,12 @@ impl std::error::Error for OverBudget {}
 
 impl Budget {
     /// The command line's budget: `time` from now for the layer search and `memory_mb`
-    /// for its problem ([`CONSTRAINTS_PER_MB`] constraints a MB), with the advice to
-    /// raise whichever runs out (`--budget`, `--memory`).
+    /// for its problem ([`layer_bytes`]), with the advice to raise whichever runs out
+    /// (`--budget`, `--memory`).
     pub fn search(time: Duration, memory_mb: f64) -> Budget {
         Budget {
             deadline: Some((Instant::now() + time, time)),
-            max_constraints: (memory_mb * CONSTRAINTS_PER_MB as f64) as usize,
+            max_layer_bytes: (memory_mb * 1e6) as usize,
             advice: "raise --budget to search longer",
             memory_advice: "raise --memory (MB) if the machine has it to give",
             ..Budget::default()
@@ -136,7 +144,7 @@ impl Budget {
         Budget {
             deadline: Some((Instant::now() + time, time)),
             cancel: Some(cancel),
-            max_constraints: MAX_LAYER_CONSTRAINTS / 3,
+            max_layer_bytes: MAX_LAYER_BYTES / 3,
             work: None,
             advice,
             memory_advice: "",
@@ -188,11 +196,11 @@ impl Budget {
         }
     }
 
-    /// Fails when `constraints` is past the cap.
-    pub fn check_size(&self, constraints: usize) -> Result<(), OverBudget> {
-        if constraints > self.max_constraints {
+    /// Fails when a layer problem of `bytes` ([`layer_bytes`]) is past the cap.
+    pub fn check_size(&self, bytes: usize) -> Result<(), OverBudget> {
+        if bytes > self.max_layer_bytes {
             return Err(self.over(Exceeded::Size {
-                limit: self.max_constraints,
+                limit: self.max_layer_bytes,
             }));
         }
         Ok(())
@@ -203,17 +211,16 @@ impl Budget {
 mod tests {
     use super::*;
 
-    /// The command line's budget caps the problem at its MB times
-    /// [`CONSTRAINTS_PER_MB`], and each way of running out names the option that
-    /// raises it.
+    /// The command line's budget caps the problem at its MB, and each way of running
+    /// out names the option that raises it.
     #[test]
     fn each_way_a_search_runs_out_names_the_option_that_raises_it() {
         let budget = Budget::search(Duration::from_secs(60), 10.0);
-        assert_eq!(budget.max_constraints, 60_000);
-        assert!(budget.check_size(60_000).is_ok());
-        let size = budget.check_size(60_001).unwrap_err().to_string();
+        assert_eq!(budget.max_layer_bytes, 10_000_000);
+        assert!(budget.check_size(10_000_000).is_ok());
+        let size = budget.check_size(10_000_001).unwrap_err().to_string();
         assert!(
-            size.contains("more than 60000 layer constraints, about 10 MB")
+            size.contains("would take more than 10 MB")
                 && size.ends_with("raise --memory (MB) if the machine has it to give"),
             "{size}"
         );
@@ -221,15 +228,21 @@ mod tests {
         std::thread::sleep(Duration::from_millis(2));
         let time = late.check().unwrap_err().to_string();
         assert!(time.ends_with("raise --budget to search longer"), "{time}");
-        // The default cap is the default memory's, read as millions past one.
+        // The default cap is the default memory's.
         assert_eq!(
-            Budget::search(Duration::from_secs(1), DEFAULT_LAYER_MEMORY_MB as f64).max_constraints,
-            MAX_LAYER_CONSTRAINTS
+            Budget::search(Duration::from_secs(1), DEFAULT_LAYER_MEMORY_MB as f64).max_layer_bytes,
+            MAX_LAYER_BYTES
         );
-        let default = Budget::default().check_size(MAX_LAYER_CONSTRAINTS + 1);
+        let default = Budget::default().check_size(MAX_LAYER_BYTES + 1);
         assert!(default
             .unwrap_err()
             .to_string()
-            .starts_with("too large: more than 12 million layer constraints, about 2000 MB"),);
+            .starts_with("too large: its layer constraints would take more than 2000 MB"),);
+        // The estimate adds each part's memory, and saturates rather than wraps.
+        assert_eq!(
+            layer_bytes(2, 3, 5),
+            2 * BYTES_PER_PAIR + 3 * BYTES_PER_CONSTRAINT + 5 * BYTES_PER_TRIPLE
+        );
+        assert_eq!(layer_bytes(usize::MAX, 1, 1), usize::MAX);
     }
 }

@@ -381,7 +381,7 @@ fn a_pattern_of_unassigned_creases_is_assigned_and_judged() {
     // Out of budget before the search ends: undecided, naming the assignment.
     let mesh = crease::io::read(&pleat).unwrap();
     let tiny = Budget {
-        max_constraints: 1,
+        max_layer_bytes: 1,
         ..Budget::default()
     };
     let verdict = verify_within(&mesh, None, Tolerances::default(), &tiny).verdict();

@@ -368,7 +368,7 @@ fn a_budget_bounds_the_layer_problem_and_says_what_ran_out() {
     // gigabytes. `verify` says so ("too large": `Exceeded::Size`, which the small cap
     // below checks by its variant) and exits 3, undecided: nothing was shown about the
     // layers, so the design is not passed, though every condition it judged holds. (Reaching the
-    // cap takes about ten seconds of finding triples, so the fan is judged once.)
+    // cap takes about fifteen seconds of finding triples, so the fan is judged once.)
     let big_fan = fan(1200, true);
     let dir = common::Scratch::new("budget");
     let file = dir.join("fan.fold");
@@ -381,20 +381,19 @@ fn a_budget_bounds_the_layer_problem_and_says_what_ran_out() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(3), "{text}");
     assert!(
-        text.contains("verdict: UNDECIDED — layer-order: too large: more than")
+        text.contains("verdict: UNDECIDED — layer-order: too large: its layer constraints would take more than 2000 MB")
             && text.contains("every condition judged passes"),
         "{text}"
     );
     // The cap is the command line's --memory, and running out of it says to raise that,
-    // not the time: the waterbomb's problem outgrows 10 MB (60,000 constraints) and fits
-    // in the default.
+    // not the time: the waterbomb's problem outgrows 10 MB and fits in the default.
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let waterbomb = root.join("patterns/waterbomb.fold");
     let w = waterbomb.to_str().unwrap();
     let (code, text, _) = common::run_crease(&["verify", w, "--memory", "10"]);
     assert_eq!(code, 3, "{text}");
     assert!(
-        text.contains("more than 60000 layer constraints, about 10 MB")
+        text.contains("would take more than 10 MB")
             && text.contains("raise --memory")
             && !text.contains("raise --budget"),
         "{text}"
@@ -426,7 +425,7 @@ fn a_budget_bounds_the_layer_problem_and_says_what_ran_out() {
     let cancelled = Budget::live(Duration::from_secs(60), cancel, "");
     assert_eq!(exceeded(&pyramid, &cancelled), Exceeded::Cancelled);
     let small = Budget {
-        max_constraints: 1000,
+        max_layer_bytes: 1000,
         ..Budget::default()
     };
     assert_eq!(exceeded(&pyramid, &small), Exceeded::Size { limit: 1000 });

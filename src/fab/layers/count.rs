@@ -28,10 +28,10 @@ impl Problem {
         budget: &Budget,
         cap: u64,
     ) -> Result<Option<Vec<GroupCount>>, LayerError> {
-        let mut watching: Vec<Vec<usize>> = vec![Vec::new(); self.pairs.len()];
+        let mut watching: Vec<Vec<u32>> = vec![Vec::new(); self.pairs.len()];
         for (k, c) in self.constraints.iter().enumerate() {
             for v in c.vars() {
-                watching[v].push(k);
+                watching[v].push(k as u32);
             }
         }
         let mut search = Search::new(self, None, watching, budget);
@@ -62,8 +62,8 @@ impl Problem {
         let mut equal = Relations::new(self.pairs.len());
         for c in &self.constraints {
             if let Constraint::Same(x, y) = c {
-                if open(x.var) && open(y.var) {
-                    equal.relate(x.var, y.var, x.value != y.value);
+                if open(x.var()) && open(y.var()) {
+                    equal.relate(x.var(), y.var(), x.value != y.value);
                 }
             }
         }

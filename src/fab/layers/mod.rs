@@ -24,6 +24,7 @@ mod geometry;
 mod pair_index;
 mod problem;
 mod search;
+mod thirds;
 
 pub use count::{GroupCount, StateTotal};
 

@@ -124,10 +124,7 @@ impl SpreadRow {
         }
         match self.slot[c] {
             0 => None,
-            v => Some(Lit {
-                var: v as usize - 1,
-                value: piece < c,
-            }),
+            v => Some(Lit::new(v as usize - 1, piece < c)),
         }
     }
 }

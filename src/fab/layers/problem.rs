@@ -5,8 +5,9 @@
 use super::geometry::{collinear_overlap, crosses, overlap_depth, ClipScratch, PairOverlap};
 use super::pair_index::{PairIndex, SpreadRow};
 use super::search::Search;
+use super::thirds::{Thirds, ThirdsBuilder};
 use super::{contact_allowance, folds_completely, LayerConflict, LayerError};
-use crate::fab::budget::{Budget, OverBudget, TRIPLES_PER_CONSTRAINT};
+use crate::fab::budget::{layer_bytes, Budget, OverBudget};
 use crate::fab::flat_fold::FlatFolded;
 use crate::mesh::bounds;
 use crate::mesh::{Assignment, Mesh, UnionFind, Vec2};
@@ -37,7 +38,7 @@ pub(super) struct Problem {
     /// which a and b share a region. The two "no cycle" constraints of each triple are
     /// checked when one of its variables is set, never built (a deep stack of n pieces has
     /// n³/6 triples: twelve bytes each here, not two boxed constraints).
-    pub(super) thirds: Vec<Vec<u32>>,
+    pub(super) thirds: Thirds,
     /// Whether each face's front (its normal) faces +z once folded.
     front_up: Vec<bool>,
     /// A folded crease with one piece on both sides (it would have to fold onto itself).
@@ -46,14 +47,29 @@ pub(super) struct Problem {
     eps: f64,
 }
 
-/// A literal: variable `var` equals `value`.
+/// A literal: variable `var` equals `value`. The variable is kept in 32 bits: a large
+/// design's constraints and learnt clauses hold millions of literals.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Lit {
-    pub(super) var: usize,
+    var: u32,
     pub(super) value: bool,
 }
 
 impl Lit {
+    /// The statement "variable `var` is `value`".
+    pub(super) fn new(var: usize, value: bool) -> Lit {
+        debug_assert!(var <= u32::MAX as usize, "variables are counted in 32 bits");
+        Lit {
+            var: var as u32,
+            value,
+        }
+    }
+
+    /// The variable.
+    pub(super) fn var(self) -> usize {
+        self.var as usize
+    }
+
     /// The opposite statement ("b above a" for "a above b").
     pub(super) fn negated(self) -> Lit {
         Lit {
@@ -74,8 +90,8 @@ pub(super) enum Constraint {
 impl Constraint {
     pub(super) fn vars(&self) -> Vec<usize> {
         match self {
-            Constraint::Same(a, b) => vec![a.var, b.var],
-            Constraint::Parity(l) => l.iter().map(|x| x.var).collect(),
+            Constraint::Same(a, b) => vec![a.var(), b.var()],
+            Constraint::Parity(l) => l.iter().map(|x| x.var()).collect(),
         }
     }
 }
@@ -90,7 +106,7 @@ impl Problem {
     /// The literal "piece a lies above piece b" (a ≠ b, the pair overlapping), looked up
     /// in a's row of the index.
     pub(super) fn above(&self, a: usize, b: usize) -> Option<Lit> {
-        self.index.get(a, b).map(|var| Lit { var, value: a < b })
+        self.index.get(a, b).map(|var| Lit::new(var, a < b))
     }
 
     pub(super) fn build(
@@ -124,7 +140,7 @@ impl Problem {
             index,
             fixed: Vec::new(),
             constraints: Vec::new(),
-            thirds: Vec::new(),
+            thirds: Thirds::default(),
             front_up,
             self_hinged: None,
             eps,
@@ -141,7 +157,7 @@ impl Problem {
     fn push(&mut self, c: Constraint, budget: &Budget) -> Result<(), OverBudget> {
         self.constraints.push(c);
         if self.constraints.len().is_multiple_of(4096) {
-            budget.check_size(self.constraints.len())?;
+            budget.check_size(layer_bytes(self.pairs.len(), self.constraints.len(), 0))?;
             budget.check()?;
         }
         Ok(())
@@ -179,7 +195,7 @@ impl Problem {
                     .above(pb, pa)
                     .filter(|_| edge.assignment != Assignment::Unassigned)
                 {
-                    self.fixed.push((l.var, l.value == b_above));
+                    self.fixed.push((l.var(), l.value == b_above));
                 }
                 hinges.push(Hinge {
                     pieces: (pa, pb),
@@ -266,8 +282,7 @@ impl Problem {
                 .expect("a pair of overlapping faces is a variable");
             touching[var].push(if p < q { (f, g) } else { (g, f) });
         }
-        let mut thirds: Vec<Vec<u32>> = vec![Vec::new(); self.pairs.len()];
-        let mut triples = 0usize;
+        let mut found_so_far = ThirdsBuilder::new(self.pairs.len());
         let mut block = 0;
         while block < self.pairs.len() {
             budget.check()?;
@@ -285,21 +300,22 @@ impl Problem {
                     self.triples_of(ab, tri, &touching, scratch)
                 })
                 .collect();
-            for (ab, list) in (block..end).zip(found) {
-                let (a, b) = self.pairs[ab];
-                for &[c, ac, bc] in &list {
-                    thirds[ab].push(c);
-                    thirds[ac as usize].push(b as u32);
-                    thirds[bc as usize].push(a as u32);
-                }
-                triples += list.len();
-            }
+            found_so_far.add_block(&found);
             // Triples count against the cap by their memory; their time (a clipping
             // to find, a check at every decision) is the deadline's to bound.
-            budget.check_size(self.constraints.len() + triples / TRIPLES_PER_CONSTRAINT)?;
+            budget.check_size(layer_bytes(
+                self.pairs.len(),
+                self.constraints.len(),
+                found_so_far.triples(),
+            ))?;
             block = end;
         }
-        self.thirds = thirds;
+        // Each triple is filed under its other two pairs once all are found, so their
+        // lists are allocated once, to their size.
+        let (upper, mut lower) = found_so_far.finish_upper();
+        self.thirds = upper;
+        self.for_each_triple(None, |vars| lower.add(&self.pairs, vars));
+        self.thirds.set_lower(lower);
         Ok(())
     }
 
@@ -354,44 +370,44 @@ impl Problem {
     }
 
     /// Calls `f` with the variables of (a, b), (b, c) and (a, c), for each triple of
-    /// pieces a, b, c (all three in `only`, when given), from each pair (a, b): so three
-    /// times a triple, once per pair.
+    /// pieces a < b < c (all three in `only`, when given): once a triple, from its pair
+    /// (a, b), in pair order.
     pub(super) fn for_each_triple(&self, only: Option<&[bool]>, mut f: impl FnMut([usize; 3])) {
         let kept = |p: usize| only.is_none_or(|keep| keep[p]);
         let mut rows = [0, 1].map(|_| SpreadRow::new(self.members.len()));
         let overlap = "a triple's pairs overlap";
-        for (ab, thirds) in self.thirds.iter().enumerate() {
-            let (a, b) = self.pairs[ab];
-            if !(kept(a) && kept(b)) {
+        for (ab, &(a, b)) in self.pairs.iter().enumerate() {
+            let upper = self.thirds.upper(ab);
+            if upper.is_empty() || !(kept(a) && kept(b)) {
                 continue;
             }
             // Pairs are sorted by their first piece, so a's row is loaded once per piece.
             if self.index.table.is_none() {
                 rows[0].load(self, a);
             }
-            if self.worth_spreading(ab) {
+            if self.worth_spreading(ab, upper.len()) {
                 rows[1].load(self, b);
             }
-            for c in thirds.iter().map(|&c| c as usize).filter(|&c| kept(c)) {
-                let bc = rows[1].above(self, b, c).expect(overlap).var;
-                let ac = rows[0].above(self, a, c).expect(overlap).var;
+            for c in upper.iter().map(|&c| c as usize).filter(|&c| kept(c)) {
+                let bc = rows[1].above(self, b, c).expect(overlap).var();
+                let ac = rows[0].above(self, a, c).expect(overlap).var();
                 f([ab, bc, ac]);
             }
         }
     }
 
-    /// Whether the triples of pair `ab` are looked up faster in its pieces' spread rows
+    /// Whether `triples` of pair `ab` are looked up faster in its pieces' spread rows
     /// than by a binary search each (never when the index has its table). Loading a row
     /// costs its length, but a row stays loaded while its piece keeps coming back, so the
     /// rows pay from a sixteenth of their length in triples (measured on Ryujin 2.1: 4
     /// was slower by a second, 16 and 64 alike).
-    pub(super) fn worth_spreading(&self, ab: usize) -> bool {
+    pub(super) fn worth_spreading(&self, ab: usize, triples: usize) -> bool {
         if self.index.table.is_some() {
             return false;
         }
         let (a, b) = self.pairs[ab];
         let rows = self.index.row(a).len() + self.index.row(b).len();
-        16 * self.thirds[ab].len() >= rows
+        16 * triples >= rows
     }
 
     /// Values for every variable, or the pieces of a group of variables with none. With
@@ -407,23 +423,21 @@ impl Problem {
                 keep[a] && keep[b]
             })
         };
-        let mut watching: Vec<Vec<usize>> = vec![Vec::new(); self.pairs.len()];
+        let mut watching: Vec<Vec<u32>> = vec![Vec::new(); self.pairs.len()];
         let mut group = UnionFind::new(self.pairs.len());
         for (k, c) in self.constraints.iter().enumerate() {
             let vars = c.vars();
             if vars.iter().all(|&v| active(v)) {
                 for &v in &vars {
-                    watching[v].push(k);
+                    watching[v].push(k as u32);
                     group.union(vars[0], v);
                 }
             }
         }
-        self.for_each_triple(
-            only,
-            // (a, c) from (a, b), (a, b) from (a, c), (a, b) from (b, c): one
-            // union a pair joins the three.
-            |[ab, _, ac]| group.union(ab, ac),
-        );
+        self.for_each_triple(only, |[ab, bc, ac]| {
+            group.union(ab, bc);
+            group.union(ab, ac);
+        });
         let mut search = Search::new(self, only, watching, budget);
         let pieces_of = |vars: &[usize]| {
             let mut f: Vec<usize> = vars
@@ -566,7 +580,7 @@ impl Problem {
                     return None;
                 };
                 let lit = self.above(self.piece_of[b], self.piece_of[a])?;
-                let b_above = values[lit.var] == lit.value;
+                let b_above = values[lit.var()] == lit.value;
                 Some((
                     e,
                     if b_above == self.front_up[a] {
@@ -589,7 +603,7 @@ impl Problem {
                 let lit = self
                     .above(self.piece_of[f], self.piece_of[g])
                     .expect("overlapping faces make overlapping pieces");
-                let f_higher = values[lit.var] == lit.value;
+                let f_higher = values[lit.var()] == lit.value;
                 let s = if f_higher == self.front_up[g] { 1 } else { -1 };
                 [f as i64, g as i64, s]
             })
@@ -639,9 +653,8 @@ fn overlapping_pairs(
     let mut pairs = Vec::new();
     for (k, &a) in order.iter().enumerate() {
         budget.check()?;
-        // Each pair is a variable, and each becomes at least one constraint; its
-        // index, watch list and overlap record cost about twice a constraint's memory.
-        budget.check_size(2 * pairs.len())?;
+        // Pairs of faces become pairs of pieces, variables, at most one each.
+        budget.check_size(layer_bytes(pairs.len(), 0, 0))?;
         for &b in &order[k + 1..] {
             if boxes[b].0.x >= boxes[a].1.x - eps {
                 break;

@@ -40,7 +40,7 @@ pub(super) struct Search<'a> {
     /// The pieces taken into account (all when `None`).
     only: Option<&'a [bool]>,
     /// Per variable, the constraints it takes part in.
-    watching: Vec<Vec<usize>>,
+    watching: Vec<Vec<u32>>,
     pub(super) value: Vec<Option<bool>>,
     /// Variables in the order they were set.
     trail: Vec<usize>,
@@ -74,7 +74,7 @@ impl<'a> Search<'a> {
     pub(super) fn new(
         problem: &'a Problem,
         only: Option<&'a [bool]>,
-        watching: Vec<Vec<usize>>,
+        watching: Vec<Vec<u32>>,
         budget: &'a Budget,
     ) -> Search<'a> {
         let n = problem.pairs.len();
@@ -108,7 +108,7 @@ impl<'a> Search<'a> {
     }
 
     fn lit(&self, l: Lit) -> Option<bool> {
-        self.value[l.var].map(|v| v == l.value)
+        self.value[l.var()].map(|v| v == l.value)
     }
 
     /// Of some literals: how many are true, how many unknown, and the last unknown one
@@ -156,7 +156,7 @@ impl<'a> Search<'a> {
             self.propagated += 1;
             self.unspent += (1
                 + self.watching[x].len()
-                + self.problem.thirds[x].len()
+                + self.problem.thirds.len(x)
                 + self.learnt_watch[x].len()) as u64;
             if let Some(conflict) = self
                 .transitive(x)
@@ -173,21 +173,21 @@ impl<'a> Search<'a> {
     fn constraints_of(&mut self, x: usize) -> Option<Vec<usize>> {
         for i in 0..self.watching[x].len() {
             let k = self.watching[x][i];
-            let why = Reason::Constraint(k as u32);
-            match self.problem.constraints[k] {
+            let why = Reason::Constraint(k);
+            match self.problem.constraints[k as usize] {
                 Constraint::Same(a, b) => {
                     for (p, q) in [(a, b), (b, a)] {
                         let Some(t) = self.lit(p) else { continue };
                         match self.lit(q) {
-                            None => self.set(q.var, t == q.value, why),
-                            Some(u) if u != t => return Some(vec![a.var, b.var]),
+                            None => self.set(q.var(), t == q.value, why),
+                            Some(u) if u != t => return Some(vec![a.var(), b.var()]),
                             Some(_) => {}
                         }
                     }
                 }
                 Constraint::Parity(l) => match self.tally(&l) {
-                    (ones, 0, _) if ones % 2 == 1 => return Some(l.map(|x| x.var).to_vec()),
-                    (ones, 1, Some(u)) => self.set(u.var, (ones % 2 == 1) == u.value, why),
+                    (ones, 0, _) if ones % 2 == 1 => return Some(l.map(|x| x.var()).to_vec()),
+                    (ones, 1, Some(u)) => self.set(u.var(), (ones % 2 == 1) == u.value, why),
                     _ => {}
                 },
             }
@@ -203,10 +203,7 @@ impl<'a> Search<'a> {
         let (a, b) = p.pairs[x];
         let overlap = "a triple's pairs overlap";
         [
-            Lit {
-                var: x,
-                value: true,
-            },
+            Lit::new(x, true),
             self.rows[1].above(p, b, c).expect(overlap),
             // "c above a", looked up in a's row (a and b are this loop's, c varies).
             self.rows[0].above(p, a, c).expect(overlap).negated(),
@@ -217,26 +214,23 @@ impl<'a> Search<'a> {
     /// above b above c above a, nor the reverse), setting what they force.
     fn transitive(&mut self, x: usize) -> Option<Vec<usize>> {
         let problem = self.problem;
-        if problem.worth_spreading(x) {
+        if problem.worth_spreading(x, problem.thirds.len(x)) {
             let (a, b) = problem.pairs[x];
             self.rows[0].load(problem, a);
             self.rows[1].load(problem, b);
         }
-        for &c in &problem.thirds[x] {
+        for &c in problem.thirds.of(x).into_iter().flatten() {
             let c = c as usize;
             if self.only.is_some_and(|keep| !keep[c]) {
                 continue;
             }
             let lits = self.triple(x, c);
             for negate in [false, true] {
-                let l = lits.map(|l| Lit {
-                    var: l.var,
-                    value: l.value != negate,
-                });
+                let l = lits.map(|l| Lit::new(l.var(), l.value != negate));
                 match self.tally(&l) {
-                    (3, _, _) => return Some(l.map(|x| x.var).to_vec()),
+                    (3, _, _) => return Some(l.map(|x| x.var()).to_vec()),
                     (2, 1, Some(u)) => {
-                        self.set(u.var, !u.value, Reason::Triple(x as u32, c as u32))
+                        self.set(u.var(), !u.value, Reason::Triple(x as u32, c as u32))
                     }
                     _ => {}
                 }
@@ -253,9 +247,9 @@ impl<'a> Search<'a> {
         let mut i = 0;
         while i < watchers.len() {
             let k = watchers[i] as usize;
-            let value = |l: Lit| self.value[l.var].map(|v| v == l.value);
+            let value = |l: Lit| self.value[l.var()].map(|v| v == l.value);
             let clause = &mut self.learnt[k];
-            if clause[0].var == x {
+            if clause[0].var() == x {
                 clause.swap(0, 1);
             }
             let first = clause[0];
@@ -265,16 +259,16 @@ impl<'a> Search<'a> {
             }
             if let Some(j) = (2..clause.len()).find(|&j| value(clause[j]) != Some(false)) {
                 clause.swap(1, j);
-                let moved_to = clause[1].var;
+                let moved_to = clause[1].var();
                 self.learnt_watch[moved_to].push(k as u32);
                 watchers.swap_remove(i);
                 continue;
             }
             if value(first).is_some() {
-                conflict = Some(clause.iter().map(|l| l.var).collect());
+                conflict = Some(clause.iter().map(|l| l.var()).collect());
                 break;
             }
-            self.set(first.var, first.value, Reason::Learnt(k as u32));
+            self.set(first.var(), first.value, Reason::Learnt(k as u32));
             i += 1;
         }
         // Watches moved onto x itself while it was taken out stay too.
@@ -289,12 +283,12 @@ impl<'a> Search<'a> {
         match self.reason[var] {
             Reason::Decision => Vec::new(),
             Reason::Constraint(k) => match self.problem.constraints[k as usize] {
-                Constraint::Same(a, b) => others(&[a.var, b.var]),
-                Constraint::Parity(l) => others(&l.map(|x| x.var)),
+                Constraint::Same(a, b) => others(&[a.var(), b.var()]),
+                Constraint::Parity(l) => others(&l.map(|x| x.var())),
             },
-            Reason::Triple(x, c) => others(&self.triple(x as usize, c as usize).map(|l| l.var)),
+            Reason::Triple(x, c) => others(&self.triple(x as usize, c as usize).map(|l| l.var())),
             Reason::Learnt(k) => {
-                let vars: Vec<usize> = self.learnt[k as usize].iter().map(|l| l.var).collect();
+                let vars: Vec<usize> = self.learnt[k as usize].iter().map(|l| l.var()).collect();
                 others(&vars)
             }
         }
@@ -346,10 +340,7 @@ impl<'a> Search<'a> {
             self.bump *= 1e-100;
         }
         // The clause says: not all of these values again.
-        let negated = |v: usize| Lit {
-            var: v,
-            value: !self.value[v].expect("a cause is set"),
-        };
+        let negated = |v: usize| Lit::new(v, !self.value[v].expect("a cause is set"));
         let mut clause = vec![negated(uip)];
         earlier.sort_by_key(|&v| std::cmp::Reverse(self.level[v]));
         let back_to = earlier.first().map_or(0, |&v| self.level[v] as usize);
@@ -462,11 +453,11 @@ impl<'a> Search<'a> {
                 }
                 let (clause, level) = self.analyse(conflict);
                 self.back_to(level, &mut free);
-                let (var, value) = (clause[0].var, clause[0].value);
+                let (var, value) = (clause[0].var(), clause[0].value);
                 let k = self.learnt.len() as u32;
                 if clause.len() > 1 {
-                    self.learnt_watch[clause[0].var].push(k);
-                    self.learnt_watch[clause[1].var].push(k);
+                    self.learnt_watch[clause[0].var()].push(k);
+                    self.learnt_watch[clause[1].var()].push(k);
                 }
                 self.learnt.push(clause);
                 self.set(var, value, Reason::Learnt(k));

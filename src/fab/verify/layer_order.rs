@@ -6,9 +6,9 @@ use crate::constraints::Element;
 use crate::fab::budget::Budget;
 use crate::mesh::Mesh;
 
-/// The layer-order problem's cap (pairs and constraints) when only reported, for a
-/// freeform 3D design.
-const FREEFORM_LAYER_CAP: usize = 2_000_000;
+/// The layer-order problem's cap (bytes, as [`crate::fab::budget::layer_bytes`] counts
+/// them) when only reported, for a freeform 3D design.
+const FREEFORM_LAYER_CAP: usize = 300_000_000;
 
 /// The time the freeform report may take within a deadline (the studio's live analysis).
 const FREEFORM_LIVE: std::time::Duration = std::time::Duration::from_millis(150);
@@ -110,14 +110,14 @@ fn unjudged(basis: String, undecided: Option<String>) -> FamilyReport {
     }
 }
 
-/// The budget of a layer order only reported, not gating (a freeform design's): a third
-/// of the cap, and under a deadline (the studio's) at most [`FREEFORM_LIVE`] of it, so
+/// The budget of a layer order only reported, not gating (a freeform design's): at most
+/// [`FREEFORM_LAYER_CAP`], and under a deadline (the studio's) at most [`FREEFORM_LIVE`] of it, so
 /// verifying a large 3D design costs little more than it did before its flat state was
 /// judged and the studio's verdict is not held up by it.
 fn reported_budget(budget: &Budget) -> Budget {
     let now = std::time::Instant::now();
     Budget {
-        max_constraints: budget.max_constraints.min(FREEFORM_LAYER_CAP),
+        max_layer_bytes: budget.max_layer_bytes.min(FREEFORM_LAYER_CAP),
         // Only a live analysis (one that can be cancelled: the studio's) holds the
         // report to FREEFORM_LIVE; the command line's deadline stands as given.
         deadline: budget.deadline.map(|(at, given)| match budget.cancel {
