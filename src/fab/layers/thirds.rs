@@ -34,15 +34,15 @@ impl Packed {
         &chunk[start as usize..end]
     }
 
-    /// Appends `rows` as one chunk of their size.
-    fn push_chunk<'r>(&mut self, rows: impl Iterator<Item = &'r [u32]> + Clone) {
-        let size = rows.clone().map(<[u32]>::len).sum();
+    /// Appends `rows`, `size` entries in all, as one chunk of that size.
+    fn push_chunk(&mut self, size: usize, rows: impl Iterator<Item = impl Iterator<Item = u32>>) {
         let mut chunk = Vec::with_capacity(size);
         let k = self.chunks.len() as u32;
         for row in rows {
             self.at.push((k, chunk.len() as u32));
-            chunk.extend_from_slice(row);
+            chunk.extend(row);
         }
+        debug_assert_eq!(chunk.len(), size, "a chunk is allocated to its size");
         self.chunks.push(chunk);
     }
 
@@ -134,12 +134,10 @@ impl ThirdsBuilder {
             self.lower_count[ac as usize] += 1;
             self.lower_count[bc as usize] += 1;
         }
-        let thirds: Vec<Vec<u32>> = found
-            .iter()
-            .map(|list| list.iter().map(|t| t[0]).collect())
-            .collect();
-        self.upper.push_chunk(thirds.iter().map(Vec::as_slice));
-        self.triples += thirds.iter().map(Vec::len).sum::<usize>();
+        let size = found.iter().map(Vec::len).sum();
+        self.upper
+            .push_chunk(size, found.iter().map(|list| list.iter().map(|t| t[0])));
+        self.triples += size;
     }
 
     /// How many triples have been added.

@@ -111,9 +111,9 @@ fn unjudged(basis: String, undecided: Option<String>) -> FamilyReport {
 }
 
 /// The budget of a layer order only reported, not gating (a freeform design's): at most
-/// [`FREEFORM_LAYER_CAP`], and under a deadline (the studio's) at most [`FREEFORM_LIVE`] of it, so
-/// verifying a large 3D design costs little more than it did before its flat state was
-/// judged and the studio's verdict is not held up by it.
+/// [`FREEFORM_LAYER_CAP`], and under a deadline (the studio's) at most [`FREEFORM_LIVE`]
+/// of it, so verifying a large 3D design costs little more than it did before its flat
+/// state was judged and the studio's verdict is not held up by it.
 fn reported_budget(budget: &Budget) -> Budget {
     let now = std::time::Instant::now();
     Budget {
