@@ -25,23 +25,23 @@ pub const BYTES_PER_PAIR: usize = 300;
 /// its watch entries, in a list that grows by doubling.
 pub const BYTES_PER_CONSTRAINT: usize = 64;
 
-/// Memory of each transitivity triple: its third piece under each of its three pairs
-/// (`layers::thirds`, 4 bytes each, allocated to size), and a little for what finding
-/// it leaves behind.
-pub const BYTES_PER_TRIPLE: usize = 13;
+/// Memory of each transitivity triple beside its three entries (its third piece under
+/// each of its pairs, `layers::thirds`, allocated to size): what finding it leaves behind.
+pub const BYTES_PER_TRIPLE_FOUND: usize = 1;
 
 /// The memory a layer problem of `pairs` variables, `constraints` constraints and
-/// `triples` triples takes, as the cap counts it ([`Budget::check_size`]). Fitted to the
-/// peak resident memory of `verify` on Flat-Folder's largest community designs (after the
-/// mesh, about 80 MB, is read): the Japanese Spiny Lobster v2 (1.01 million pairs, 1.36
-/// million constraints, 134 million triples) peaks at 2.14 GB against an estimate of 2.15
-/// GB, Kamiya's Ryujin 2.1 at 645 MB against 636 MB and the new Flying Mantis at 895 MB
-/// against 897 MB.
-pub fn layer_bytes(pairs: usize, constraints: usize, triples: usize) -> usize {
+/// `triples` triples takes, as the cap counts it ([`Budget::check_size`]), where a
+/// triple's entry takes `entry_bytes` (2 or 4, by how many pieces it numbers). Fitted to
+/// the peak resident memory of `verify` on Flat-Folder's largest community designs (after
+/// the mesh, about 80 MB, is read), with entries of 2 bytes: the Japanese Spiny Lobster v2
+/// (1.01 million pairs, 1.36 million constraints, 134 million triples) peaks at 1.25 GB
+/// against an estimate of 1.33 GB, the new Flying Mantis at 576 MB against 578 MB and
+/// Kamiya's Ryujin 2.1 at 433 MB against 402 MB.
+pub fn layer_bytes(pairs: usize, constraints: usize, triples: usize, entry_bytes: usize) -> usize {
     pairs
         .saturating_mul(BYTES_PER_PAIR)
         .saturating_add(constraints.saturating_mul(BYTES_PER_CONSTRAINT))
-        .saturating_add(triples.saturating_mul(BYTES_PER_TRIPLE))
+        .saturating_add(triples.saturating_mul(3 * entry_bytes + BYTES_PER_TRIPLE_FOUND))
 }
 
 /// A bound on an analysis's time and memory.
@@ -240,9 +240,9 @@ mod tests {
             .starts_with("too large: its layer constraints would take more than 2000 MB"),);
         // The estimate adds each part's memory, and saturates rather than wraps.
         assert_eq!(
-            layer_bytes(2, 3, 5),
-            2 * BYTES_PER_PAIR + 3 * BYTES_PER_CONSTRAINT + 5 * BYTES_PER_TRIPLE
+            layer_bytes(2, 3, 5, 2),
+            2 * BYTES_PER_PAIR + 3 * BYTES_PER_CONSTRAINT + 5 * (6 + BYTES_PER_TRIPLE_FOUND)
         );
-        assert_eq!(layer_bytes(usize::MAX, 1, 1), usize::MAX);
+        assert_eq!(layer_bytes(usize::MAX, 1, 1, 4), usize::MAX);
     }
 }

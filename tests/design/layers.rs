@@ -368,7 +368,7 @@ fn a_budget_bounds_the_layer_problem_and_says_what_ran_out() {
     // gigabytes. `verify` says so ("too large": `Exceeded::Size`, which the small cap
     // below checks by its variant) and exits 3, undecided: nothing was shown about the
     // layers, so the design is not passed, though every condition it judged holds. (Reaching the
-    // cap takes about fifteen seconds of finding triples, so the fan is judged once.)
+    // cap takes about twenty seconds of finding triples, so the fan is judged once.)
     let big_fan = fan(1200, true);
     let dir = common::Scratch::new("budget");
     let file = dir.join("fan.fold");

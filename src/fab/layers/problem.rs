@@ -5,7 +5,7 @@
 use super::geometry::{collinear_overlap, crosses, overlap_depth, ClipScratch, PairOverlap};
 use super::pair_index::{PairIndex, SpreadRow};
 use super::search::Search;
-use super::thirds::{Thirds, ThirdsBuilder};
+use super::thirds::{entry_bytes, Thirds, ThirdsBuilder};
 use super::{contact_allowance, folds_completely, LayerConflict, LayerError};
 use crate::fab::budget::{layer_bytes, Budget, OverBudget};
 use crate::fab::flat_fold::FlatFolded;
@@ -157,7 +157,7 @@ impl Problem {
     fn push(&mut self, c: Constraint, budget: &Budget) -> Result<(), OverBudget> {
         self.constraints.push(c);
         if self.constraints.len().is_multiple_of(4096) {
-            budget.check_size(layer_bytes(self.pairs.len(), self.constraints.len(), 0))?;
+            budget.check_size(layer_bytes(self.pairs.len(), self.constraints.len(), 0, 0))?;
             budget.check()?;
         }
         Ok(())
@@ -282,7 +282,7 @@ impl Problem {
                 .expect("a pair of overlapping faces is a variable");
             touching[var].push(if p < q { (f, g) } else { (g, f) });
         }
-        let mut found_so_far = ThirdsBuilder::new(self.pairs.len());
+        let mut found_so_far = ThirdsBuilder::new(self.pairs.len(), self.members.len());
         let mut block = 0;
         while block < self.pairs.len() {
             budget.check()?;
@@ -307,6 +307,7 @@ impl Problem {
                 self.pairs.len(),
                 self.constraints.len(),
                 found_so_far.triples(),
+                entry_bytes(self.members.len()),
             ))?;
             block = end;
         }
@@ -378,7 +379,7 @@ impl Problem {
         let overlap = "a triple's pairs overlap";
         for (ab, &(a, b)) in self.pairs.iter().enumerate() {
             let upper = self.thirds.upper(ab);
-            if upper.is_empty() || !(kept(a) && kept(b)) {
+            if upper.len() == 0 || !(kept(a) && kept(b)) {
                 continue;
             }
             // Pairs are sorted by their first piece, so a's row is loaded once per piece.
@@ -388,7 +389,7 @@ impl Problem {
             if self.worth_spreading(ab, upper.len()) {
                 rows[1].load(self, b);
             }
-            for c in upper.iter().map(|&c| c as usize).filter(|&c| kept(c)) {
+            for c in upper.filter(|&c| kept(c)) {
                 let bc = rows[1].above(self, b, c).expect(overlap).var();
                 let ac = rows[0].above(self, a, c).expect(overlap).var();
                 f([ab, bc, ac]);
@@ -654,7 +655,7 @@ fn overlapping_pairs(
     for (k, &a) in order.iter().enumerate() {
         budget.check()?;
         // Pairs of faces become pairs of pieces, variables, at most one each.
-        budget.check_size(layer_bytes(pairs.len(), 0, 0))?;
+        budget.check_size(layer_bytes(pairs.len(), 0, 0, 0))?;
         for &b in &order[k + 1..] {
             if boxes[b].0.x >= boxes[a].1.x - eps {
                 break;

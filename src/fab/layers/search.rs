@@ -219,8 +219,7 @@ impl<'a> Search<'a> {
             self.rows[0].load(problem, a);
             self.rows[1].load(problem, b);
         }
-        for &c in problem.thirds.of(x).into_iter().flatten() {
-            let c = c as usize;
+        for c in problem.thirds.of(x) {
             if self.only.is_some_and(|keep| !keep[c]) {
                 continue;
             }

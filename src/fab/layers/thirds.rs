@@ -6,25 +6,58 @@
 //! hundreds of millions of such entries. A list per pair, grown as triples were found,
 //! left a third of its memory unused, and the allocator keeps what a grown array leaves
 //! behind (`allocator::keep_freed_memory`): the Japanese Spiny Lobster v2's 403 million
-//! entries took 2.5 GB. Here every array is allocated once, to its size: four bytes an
-//! entry.
+//! entries took 2.5 GB. Here every array is allocated once, to its size, and an entry
+//! takes two bytes where the pieces are fewer than 65,537 (four beyond): 0.8 GB.
 
 /// Entries at most in one chunk of a [`Packed`] that is allocated whole (a row's start
 /// within its chunk is a `u32`).
 const CHUNK: usize = 1 << 30;
 
-/// Rows of `u32`s packed one after another in chunks, each chunk allocated once to its
+/// Pieces that a two-byte entry numbers: below this many, [`Thirds`] keeps its entries
+/// as `u16`s, half the memory of `u32`s (every design in Flat-Folder's community set has
+/// at most a few thousand pieces).
+const NARROW_PIECES: usize = 1 << 16;
+
+/// Bytes one entry of a [`Thirds`] takes in a problem of `pieces` pieces (a triple has
+/// three entries, one under each of its pairs).
+pub(super) fn entry_bytes(pieces: usize) -> usize {
+    if pieces <= NARROW_PIECES {
+        2
+    } else {
+        4
+    }
+}
+
+/// A piece number as a [`Thirds`] entry keeps it.
+trait Entry: Copy + Default {
+    fn new(piece: u32) -> Self;
+}
+
+impl Entry for u16 {
+    fn new(piece: u32) -> u16 {
+        debug_assert!(piece < NARROW_PIECES as u32);
+        piece as u16
+    }
+}
+
+impl Entry for u32 {
+    fn new(piece: u32) -> u32 {
+        piece
+    }
+}
+
+/// Rows of entries packed one after another in chunks, each chunk allocated once to its
 /// size; a row lies within one chunk.
 #[derive(Default)]
-struct Packed {
-    chunks: Vec<Vec<u32>>,
+struct Packed<E> {
+    chunks: Vec<Vec<E>>,
     /// Per row, its chunk and where it starts there. It ends where the next row starts,
     /// or at its chunk's end.
     at: Vec<(u32, u32)>,
 }
 
-impl Packed {
-    fn row(&self, i: usize) -> &[u32] {
+impl<E: Entry> Packed<E> {
+    fn row(&self, i: usize) -> &[E] {
         let (k, start) = self.at[i];
         let chunk = &self.chunks[k as usize];
         let end = match self.at.get(i + 1) {
@@ -40,7 +73,7 @@ impl Packed {
         let k = self.chunks.len() as u32;
         for row in rows {
             self.at.push((k, chunk.len() as u32));
-            chunk.extend(row);
+            chunk.extend(row.map(E::new));
         }
         debug_assert_eq!(chunk.len(), size, "a chunk is allocated to its size");
         self.chunks.push(chunk);
@@ -48,8 +81,11 @@ impl Packed {
 
     /// Rows of the lengths `lens`, zeroed, in chunks of at most [`CHUNK`] entries (or
     /// one row, where a row is longer).
-    fn zeroed(lens: &[u32]) -> Packed {
-        let mut packed = Packed::default();
+    fn zeroed(lens: &[u32]) -> Packed<E> {
+        let mut packed = Packed {
+            chunks: Vec::new(),
+            at: Vec::with_capacity(lens.len()),
+        };
         let mut sizes = Vec::new();
         let mut size = 0usize;
         for &n in lens {
@@ -60,16 +96,89 @@ impl Packed {
             size += n as usize;
         }
         sizes.push(size);
-        packed.chunks = sizes.into_iter().map(|n| vec![0; n]).collect();
+        packed.chunks = sizes.into_iter().map(|n| vec![E::default(); n]).collect();
         packed
     }
 
-    /// Entry `j` of row `i`.
-    fn entry_mut(&mut self, i: usize, j: u32) -> &mut u32 {
+    /// Sets entry `j` of row `i`.
+    fn set(&mut self, i: usize, j: u32, piece: u32) {
         let (k, start) = self.at[i];
-        &mut self.chunks[k as usize][(start + j) as usize]
+        self.chunks[k as usize][(start + j) as usize] = E::new(piece);
     }
 }
+
+/// A [`Packed`] of two-byte entries where the pieces allow ([`entry_bytes`]), else of
+/// four.
+enum Rows {
+    Narrow(Packed<u16>),
+    Wide(Packed<u32>),
+}
+
+impl Rows {
+    fn new(pieces: usize) -> Rows {
+        match entry_bytes(pieces) {
+            2 => Rows::Narrow(Packed::default()),
+            _ => Rows::Wide(Packed::default()),
+        }
+    }
+
+    fn row(&self, i: usize) -> Pieces<'_> {
+        match self {
+            Rows::Narrow(p) => Pieces::Narrow(p.row(i).iter()),
+            Rows::Wide(p) => Pieces::Wide(p.row(i).iter()),
+        }
+    }
+
+    fn push_chunk(&mut self, size: usize, rows: impl Iterator<Item = impl Iterator<Item = u32>>) {
+        match self {
+            Rows::Narrow(p) => p.push_chunk(size, rows),
+            Rows::Wide(p) => p.push_chunk(size, rows),
+        }
+    }
+
+    /// Zeroed rows of the lengths `lens`, as wide as the pieces need.
+    fn zeroed(pieces: usize, lens: &[u32]) -> Rows {
+        match entry_bytes(pieces) {
+            2 => Rows::Narrow(Packed::zeroed(lens)),
+            _ => Rows::Wide(Packed::zeroed(lens)),
+        }
+    }
+
+    fn set(&mut self, i: usize, j: u32, piece: u32) {
+        match self {
+            Rows::Narrow(p) => p.set(i, j, piece),
+            Rows::Wide(p) => p.set(i, j, piece),
+        }
+    }
+}
+
+/// The pieces of one row of a [`Thirds`], in order.
+#[derive(Clone)]
+pub(super) enum Pieces<'a> {
+    Narrow(std::slice::Iter<'a, u16>),
+    Wide(std::slice::Iter<'a, u32>),
+}
+
+impl Iterator for Pieces<'_> {
+    type Item = usize;
+
+    fn next(&mut self) -> Option<usize> {
+        match self {
+            Pieces::Narrow(i) => i.next().map(|&c| c as usize),
+            Pieces::Wide(i) => i.next().map(|&c| c as usize),
+        }
+    }
+
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        let n = match self {
+            Pieces::Narrow(i) => i.len(),
+            Pieces::Wide(i) => i.len(),
+        };
+        (n, Some(n))
+    }
+}
+
+impl ExactSizeIterator for Pieces<'_> {}
 
 /// For each pair variable (a, b), the third pieces of the triples it takes part in, in
 /// two parts: `upper`, the pieces c > b of the triples found from the pair itself (its
@@ -77,16 +186,24 @@ impl Packed {
 /// from a lower pair (a, b′) or (a′, a), where this pair is the triple's (a, c) or
 /// (b, c). A pair's lower part lists what earlier pairs found, in their order, so the two
 /// parts read lower then upper are the order in which the triples were found.
-#[derive(Default)]
 pub(super) struct Thirds {
-    upper: Packed,
-    lower: Packed,
+    upper: Rows,
+    lower: Rows,
+}
+
+impl Default for Thirds {
+    fn default() -> Thirds {
+        Thirds {
+            upper: Rows::new(0),
+            lower: Rows::new(0),
+        }
+    }
 }
 
 impl Thirds {
-    /// The third pieces of every triple through pair `ab`, as two slices.
-    pub(super) fn of(&self, ab: usize) -> [&[u32]; 2] {
-        [self.lower.row(ab), self.upper.row(ab)]
+    /// The third pieces of every triple through pair `ab`.
+    pub(super) fn of(&self, ab: usize) -> impl Iterator<Item = usize> + '_ {
+        self.lower.row(ab).chain(self.upper.row(ab))
     }
 
     /// How many triples pass through pair `ab`.
@@ -95,7 +212,7 @@ impl Thirds {
     }
 
     /// The pieces c > b of the triples found from pair `ab` = (a, b): each triple once.
-    pub(super) fn upper(&self, ab: usize) -> &[u32] {
+    pub(super) fn upper(&self, ab: usize) -> Pieces<'_> {
         self.upper.row(ab)
     }
 
@@ -112,16 +229,19 @@ impl Thirds {
 /// each block's upper rows one chunk; then [`ThirdsBuilder::finish_upper`] sizes the
 /// lower part, filled from each triple once.
 pub(super) struct ThirdsBuilder {
-    upper: Packed,
+    pieces: usize,
+    upper: Rows,
     /// Per pair, how many triples found so far will list it in their lower part.
     lower_count: Vec<u32>,
     triples: usize,
 }
 
 impl ThirdsBuilder {
-    pub(super) fn new(pairs: usize) -> ThirdsBuilder {
+    /// A builder for the triples of `pairs` pair variables over `pieces` pieces.
+    pub(super) fn new(pairs: usize, pieces: usize) -> ThirdsBuilder {
         ThirdsBuilder {
-            upper: Packed::default(),
+            pieces,
+            upper: Rows::new(pieces),
             lower_count: vec![0; pairs],
             triples: 0,
         }
@@ -150,23 +270,23 @@ impl ThirdsBuilder {
     pub(super) fn finish_upper(self) -> (Thirds, LowerFill) {
         let thirds = Thirds {
             upper: self.upper,
-            lower: Packed::default(),
+            lower: Rows::new(self.pieces),
         };
-        (thirds, LowerFill::new(self.lower_count))
+        (thirds, LowerFill::new(self.pieces, self.lower_count))
     }
 }
 
 /// The lower part of a [`Thirds`], allocated to its size and filled a triple at a time,
 /// in the order the upper part lists them ([`Thirds::set_lower`]).
 pub(super) struct LowerFill {
-    rows: Packed,
+    rows: Rows,
     /// Per pair, how many entries of its row are filled.
     filled: Vec<u32>,
 }
 
 impl LowerFill {
-    fn new(count: Vec<u32>) -> LowerFill {
-        let rows = Packed::zeroed(&count);
+    fn new(pieces: usize, count: Vec<u32>) -> LowerFill {
+        let rows = Rows::zeroed(pieces, &count);
         let mut filled = count;
         filled.fill(0);
         LowerFill { rows, filled }
@@ -177,7 +297,7 @@ impl LowerFill {
     pub(super) fn add(&mut self, pairs: &[(usize, usize)], [ab, bc, ac]: [usize; 3]) {
         let (a, b) = pairs[ab];
         for (var, third) in [(ac, b), (bc, a)] {
-            *self.rows.entry_mut(var, self.filled[var]) = third as u32;
+            self.rows.set(var, self.filled[var], third as u32);
             self.filled[var] += 1;
         }
     }
@@ -192,9 +312,17 @@ mod tests {
     /// triples it is in, lower parts first in the order their triples were found.
     #[test]
     fn every_pair_lists_the_third_piece_of_each_of_its_triples_in_the_order_found() {
+        // Numbered in two bytes, and in four as a problem of more pieces would be.
+        for pieces in [4, NARROW_PIECES + 1] {
+            assert_eq!(entry_bytes(pieces), if pieces == 4 { 2 } else { 4 });
+            lists_every_triple_in_the_order_found(pieces);
+        }
+    }
+
+    fn lists_every_triple_in_the_order_found(pieces: usize) {
         let pairs = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
         let var = |p: usize, q: usize| pairs.iter().position(|&x| x == (p, q)).unwrap();
-        let mut builder = ThirdsBuilder::new(pairs.len());
+        let mut builder = ThirdsBuilder::new(pairs.len(), pieces);
         let found: Vec<Vec<[u32; 3]>> = pairs
             .iter()
             .map(|&(a, b)| {
@@ -209,15 +337,15 @@ mod tests {
         assert_eq!(builder.triples(), 4);
         let (mut thirds, mut lower) = builder.finish_upper();
         for (ab, &(a, b)) in pairs.iter().enumerate() {
-            for &c in thirds.upper(ab) {
-                lower.add(&pairs, [ab, var(b, c as usize), var(a, c as usize)]);
+            for c in thirds.upper(ab) {
+                lower.add(&pairs, [ab, var(b, c), var(a, c)]);
             }
         }
         thirds.set_lower(lower);
         // Brute force: the thirds of (p, q) are the other pieces, each once, those below
         // q (from lower pairs, found in pair order) before those above.
         for (ab, &(p, q)) in pairs.iter().enumerate() {
-            let listed: Vec<u32> = thirds.of(ab).concat();
+            let listed: Vec<u32> = thirds.of(ab).map(|c| c as u32).collect();
             let mut below: Vec<(usize, u32)> = (0..4)
                 .filter(|&r| r != p && r != q && r < q)
                 .map(|r| {
