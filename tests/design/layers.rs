@@ -364,25 +364,40 @@ fn a_budget_bounds_the_layer_problem_and_says_what_ran_out() {
         Err(LayerError::OverBudget(e)) => e.exceeded,
         other => panic!("expected the budget to run out, got {other:?}"),
     };
-    // 1,200 faces on one point that crimp flat: past the default cap instead of
-    // gigabytes. `verify` says so ("too large": `Exceeded::Size`, which the small cap
-    // below checks by its variant) and exits 3, undecided: nothing was shown about the
-    // layers, so the design is not passed, though every condition it judged holds. (Reaching the
-    // cap takes about twenty seconds of finding triples, so the fan is judged once.)
-    let big_fan = fan(1200, true);
+    // 4,000 faces on one point that crimp flat: past the default cap instead of
+    // gigabytes (its 8 million overlapping pairs alone are past it). `verify` says so
+    // ("too large": `Exceeded::Size`, which the small cap below checks by its variant)
+    // and exits 3, undecided: nothing was shown about the layers, so the design is not
+    // passed, though every condition it judged holds.
     let dir = common::Scratch::new("budget");
-    let file = dir.join("fan.fold");
-    crease::io::write(&big_fan, &file).unwrap();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_crease"))
-        .arg("verify")
-        .arg(&file)
-        .output()
-        .unwrap();
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert_eq!(out.status.code(), Some(3), "{text}");
+    let verify_fan = |faces: usize, memory: Option<&str>| {
+        let file = dir.join(&format!("fan{faces}.fold"));
+        crease::io::write(&fan(faces, true), &file).unwrap();
+        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_crease"));
+        command.arg("verify").arg(&file);
+        if let Some(mb) = memory {
+            command.args(["--memory", mb]);
+        }
+        let out = command.output().unwrap();
+        (
+            out.status.code(),
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+        )
+    };
+    let (code, text) = verify_fan(4000, None);
+    assert_eq!(code, Some(3), "{text}");
     assert!(
         text.contains("verdict: UNDECIDED — layer-order: too large: its layer constraints would take more than 2000 MB")
             && text.contains("every condition judged passes"),
+        "{text}"
+    );
+    // 1,200 faces: their pairs and constraints fit in 300 MB (about 240 MB), and the
+    // cap stops the transitivity triples as they are found. (Past the default cap
+    // that takes about twenty seconds of finding triples.)
+    let (code, text) = verify_fan(1200, Some("300"));
+    assert_eq!(code, Some(3), "{text}");
+    assert!(
+        text.contains("too large: its layer constraints would take more than 300 MB"),
         "{text}"
     );
     // The cap is the command line's --memory, and running out of it says to raise that,
