@@ -371,7 +371,7 @@ fn a_budget_bounds_the_layer_problem_and_says_what_ran_out() {
     // passed, though every condition it judged holds.
     let dir = common::Scratch::new("budget");
     let verify_fan = |faces: usize, memory: Option<&str>| {
-        let file = dir.join(&format!("fan{faces}.fold"));
+        let file = dir.join(format!("fan{faces}.fold"));
         crease::io::write(&fan(faces, true), &file).unwrap();
         let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_crease"));
         command.arg("verify").arg(&file);
