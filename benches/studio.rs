@@ -107,6 +107,7 @@ fn measure(
 
 fn main() {
     crease::allocator::keep_freed_memory();
+    crease::allocator::no_huge_pages();
     println!(
         "{:>9} {:>14} {:>16} {:>11}",
         "vertices", "solver steps/s", "frames shown/s", "KiB/frame"
