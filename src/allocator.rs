@@ -30,8 +30,9 @@ pub fn keep_freed_memory() {
 /// Lobster v2 (1.2 GB) 49 s against 30 s (`crease verify`, one core, 2-core VM). The
 /// solver's steps, whose memory is reused from step to step, take about as long either
 /// way (10k vertices: 26–29 against 30–31 ms a step), and the studio's bench shows a
-/// 10k-vertex drag at 6.0–7.4 frames a second against 2.9–4.1. Returns whether the
-/// setting took.
+/// 10k-vertex drag at 6.0–7.4 frames a second against 2.9–4.1. The kernel passes the
+/// setting on to child processes (the browser `crease studio` opens), where it changes
+/// only the size of their pages. Returns whether the setting took.
 pub fn no_huge_pages() -> bool {
     #[cfg(target_os = "linux")]
     {
