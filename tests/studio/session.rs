@@ -55,6 +55,9 @@ fn judged_state(hub: &Hub) -> Value {
             start.elapsed() < Duration::from_secs(60),
             "no verdict at rest within 60 s: {s}"
         );
+        // At rest an answer waits for the verdict itself; this pause only keeps the
+        // loop from spinning should the session still be stepping.
+        std::thread::sleep(Duration::from_millis(20));
     }
 }
 
