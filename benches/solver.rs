@@ -17,8 +17,7 @@ use std::time::Instant;
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 fn main() {
-    crease::allocator::keep_freed_memory();
-    crease::allocator::no_huge_pages();
+    crease::allocator::set_up();
     // (cells, steps a window, windows): a 10k or 100k window holds one refactorisation,
     // as one in PREDICTED_FACTOR_AGE = 48 steps of a long drag does.
     let mut sizes = vec![(15usize, 400usize, 5usize), (99, 48, 5)];

@@ -106,8 +106,7 @@ fn measure(
 }
 
 fn main() {
-    crease::allocator::keep_freed_memory();
-    crease::allocator::no_huge_pages();
+    crease::allocator::set_up();
     println!(
         "{:>9} {:>14} {:>16} {:>11}",
         "vertices", "solver steps/s", "frames shown/s", "KiB/frame"

@@ -44,6 +44,14 @@ pub fn no_huge_pages() -> bool {
     }
 }
 
+/// What a process that allocates through mimalloc (the binary, the solver and studio
+/// benches) sets first: [`keep_freed_memory`] and [`no_huge_pages`], so the benches
+/// measure the allocation the binary does.
+pub fn set_up() {
+    keep_freed_memory();
+    no_huge_pages();
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -107,8 +107,7 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    crease::allocator::keep_freed_memory();
-    crease::allocator::no_huge_pages();
+    crease::allocator::set_up();
     // A negative number is a value (`--width -3` is out of range, not an unknown flag).
     let command = Cli::command().mut_subcommands(|sub| sub.allow_negative_numbers(true));
     let cli = match command
