@@ -81,23 +81,68 @@ pub(super) fn collinear_overlap(p: Vec2, q: Vec2, r: Vec2, s: Vec2, eps: f64) ->
     b.min(len) - a.max(0.0) > eps
 }
 
+/// A folded face as [`PairOverlap::shares_with`] reads it: its corners, and what its
+/// quick tests read (bounding box, incircle), computed once per face rather than once per
+/// candidate triple.
+pub(super) struct FoldedTriangle {
+    corners: [Vec2; 3],
+    lo: Vec2,
+    hi: Vec2,
+    incentre: Vec2,
+    inradius: f64,
+}
+
+impl FoldedTriangle {
+    pub(super) fn new(t: &[Vec2; 3]) -> FoldedTriangle {
+        let (lo, hi) = bounds(t);
+        // The incentre weighs each corner by the length of the side facing it.
+        let facing = [0, 1, 2].map(|k| (t[(k + 2) % 3] - t[(k + 1) % 3]).norm());
+        let perimeter: f64 = facing.iter().sum();
+        let (incentre, inradius) = if perimeter > 0.0 {
+            let centre = (t[0] * facing[0] + t[1] * facing[1] + t[2] * facing[2]) / perimeter;
+            (centre, 2.0 * area(t) / perimeter)
+        } else {
+            (t[0], 0.0)
+        };
+        FoldedTriangle {
+            corners: *t,
+            lo,
+            hi,
+            incentre,
+            inradius,
+        }
+    }
+}
+
 /// The region two triangles share (a convex polygon, possibly empty): computed once per
 /// overlapping pair and then clipped by each candidate third face, the loop that finds the
 /// transitivity triples.
 pub(super) struct PairOverlap {
     corners: [Vec2; 6],
     len: usize,
+    sides: Sides,
+    lo: Vec2,
+    hi: Vec2,
 }
 
 impl PairOverlap {
     /// The part of `a` inside `b` (two triangles share at most a hexagon).
-    pub(super) fn new(a: &[Vec2; 3], b: &[Vec2; 3]) -> PairOverlap {
+    pub(super) fn new(a: &FoldedTriangle, b: &FoldedTriangle) -> PairOverlap {
         let mut buffers = [[Vec2::zeros(); MAX_CORNERS]; 2];
-        let (k, len) = clip_by_triangle(a, b, &mut buffers);
+        let (k, len) = clip_by_triangle(&a.corners, &b.corners, &mut buffers);
         let mut corners = [Vec2::zeros(); 6];
         let len = len.min(6);
         corners[..len].copy_from_slice(&buffers[k][..len]);
-        PairOverlap { corners, len }
+        let shape = &corners[..len];
+        let sides = Sides::new(shape);
+        let (lo, hi) = bounds(shape);
+        PairOverlap {
+            corners,
+            len,
+            sides,
+            lo,
+            hi,
+        }
     }
 
     /// The shared region's area (mm²).
@@ -109,13 +154,79 @@ impl PairOverlap {
     /// The shared region and triangle `c` have a common area above `eps`² (`scratch`
     /// is the clip's working space, kept by the caller: filling it afresh for every
     /// candidate cost more than the clip).
-    pub(super) fn shares_with(&self, c: &[Vec2; 3], eps: f64, scratch: &mut ClipScratch) -> bool {
+    ///
+    /// Half the candidates are decided without clipping (on Ryujin 2.1, 22 of 45 million):
+    /// when the two bounding boxes share less than `eps`² (8.5 million), or when a disc of
+    /// radius 0.6 `eps` (area 1.13 `eps`²) about `c`'s incentre lies in the region (13.4
+    /// million). Each quick answer is the clip's own, with room to spare for rounding.
+    /// (A disc about the region's centre, tried next, took 3 million more clips but cost
+    /// what it saved.)
+    pub(super) fn shares_with(
+        &self,
+        c: &FoldedTriangle,
+        eps: f64,
+        scratch: &mut ClipScratch,
+    ) -> bool {
         if self.len < 3 {
             return false;
         }
-        let (k, len) = clip_by_triangle(&self.corners[..self.len], c, &mut scratch.0);
+        let box_area = (self.hi.x.min(c.hi.x) - self.lo.x.max(c.lo.x)).max(0.0)
+            * (self.hi.y.min(c.hi.y) - self.lo.y.max(c.lo.y)).max(0.0);
+        if box_area < eps * eps * (1.0 - 1e-9) {
+            return false;
+        }
+        let disc = 0.6 * eps;
+        if c.inradius > disc && self.sides.hold(c.incentre, disc) {
+            return true;
+        }
+        let (k, len) = clip_by_triangle(&self.corners[..self.len], &c.corners, &mut scratch.0);
         area(&scratch.0[k][..len]) > eps * eps
     }
+}
+
+/// The sides of a convex polygon of at most six corners, as inward unit normals `n` and
+/// offsets `o`: a point x lies `n·x − o` inside a side.
+struct Sides {
+    normals: [Vec2; 6],
+    offsets: [f64; 6],
+    len: usize,
+}
+
+impl Sides {
+    fn new(corners: &[Vec2]) -> Sides {
+        let len = corners.len().min(6);
+        let mut sides = Sides {
+            normals: [Vec2::zeros(); 6],
+            offsets: [0.0; 6],
+            len,
+        };
+        // Inward is left of each side for a counter-clockwise polygon, right for a
+        // clockwise one (the shoelace sum's sign tells which).
+        let turn: f64 = (0..len)
+            .map(|i| corners[i].perp(&corners[(i + 1) % len]))
+            .sum();
+        for i in 0..len {
+            let (a, b) = (corners[i], corners[(i + 1) % len]);
+            let d = (b - a) * turn.signum();
+            let n = Vec2::new(-d.y, d.x) / d.norm().max(1e-300);
+            sides.normals[i] = n;
+            sides.offsets[i] = n.dot(&a);
+        }
+        sides
+    }
+
+    /// Whether a disc of radius `r` about `x` lies inside every side.
+    fn hold(&self, x: Vec2, r: f64) -> bool {
+        (0..self.len).all(|i| self.normals[i].dot(&x) - self.offsets[i] > r)
+    }
+}
+
+/// The bounding box of some points.
+fn bounds(points: &[Vec2]) -> (Vec2, Vec2) {
+    let far = Vec2::repeat(f64::INFINITY);
+    points
+        .iter()
+        .fold((far, -far), |(lo, hi), p| (lo.inf(p), hi.sup(p)))
 }
 
 /// Working space for clipping: two polygons of up to [`MAX_CORNERS`] corners.
@@ -187,31 +298,90 @@ mod tests {
         p.map(|[x, y]| Vec2::new(x, y))
     }
 
+    fn face(p: [[f64; 2]; 3]) -> FoldedTriangle {
+        FoldedTriangle::new(&tri(p))
+    }
+
     /// The shared region of two triangles against its closed form, and the third-face
     /// test on each side of its threshold.
     #[test]
     fn pair_overlap_matches_closed_forms() {
         // a = (0,0),(2,0),(0,2) and b = (0,0),(2,0),(2,2) share (0,0),(2,0),(1,1):
         // area 1.
-        let a = tri([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]]);
-        let b = tri([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0]]);
+        let a = face([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]]);
+        let b = face([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0]]);
         let shared = PairOverlap::new(&a, &b);
         assert!((shared.area() - 1.0).abs() < 1e-12, "{}", shared.area());
         // Clockwise order changes nothing.
-        let b_cw = tri([[0.0, 0.0], [2.0, 2.0], [2.0, 0.0]]);
+        let b_cw = face([[0.0, 0.0], [2.0, 2.0], [2.0, 0.0]]);
         assert!((PairOverlap::new(&a, &b_cw).area() - 1.0).abs() < 1e-12);
         // A third face over the apex (1,1): its sides y = 1 − h + 2|x − 1| meet the
         // apex's y = 1 − |x − 1| at |x − 1| = h/3, leaving a common area of h²/3. It
         // shares when eps² is below that, not when above.
         let h = 0.1;
-        let c = tri([[1.0 - h, 1.0 + h], [1.0 + h, 1.0 + h], [1.0, 1.0 - h]]);
+        let c = face([[1.0 - h, 1.0 + h], [1.0 + h, 1.0 + h], [1.0, 1.0 - h]]);
         let mut scratch = ClipScratch::default();
         assert!(shared.shares_with(&c, 0.5 * h, &mut scratch));
         assert!(!shared.shares_with(&c, h, &mut scratch));
         // Disjoint triangles share nothing.
-        let far = tri([[5.0, 5.0], [6.0, 5.0], [5.0, 6.0]]);
+        let far = face([[5.0, 5.0], [6.0, 5.0], [5.0, 6.0]]);
         assert_eq!(PairOverlap::new(&a, &far).area(), 0.0);
         assert!(!shared.shares_with(&far, 1e-9, &mut scratch));
+    }
+
+    /// The quick answers of `shares_with` (bounding boxes, a disc about the third face's
+    /// incentre) are the clip's own: brute force over random triangles of either
+    /// orientation and all sizes, many of them near the `eps`² threshold.
+    #[test]
+    fn quick_answers_agree_with_the_clip() {
+        let mut rng = crate::random::Rng::new(46);
+        let corner = |rng: &mut crate::random::Rng, at: Vec2, size: f64| {
+            at + Vec2::new(rng.range(-size, size), rng.range(-size, size))
+        };
+        let (mut shared, mut apart) = (0, 0);
+        for _ in 0..40_000 {
+            let eps = [1e-3, 1e-2, 5e-2][rng.below(3)];
+            // The third face as large as the sheet, or a few eps across: its whole area
+            // then lies near the threshold.
+            let size = [0.2, 1.0, eps, 2.0 * eps][rng.below(4)];
+            let at = Vec2::zeros();
+            let face = |rng: &mut crate::random::Rng, at: Vec2, size: f64| {
+                FoldedTriangle::new(&[0, 1, 2].map(|_| corner(rng, at, size)))
+            };
+            let (a, b) = (face(&mut rng, at, 1.0), face(&mut rng, at, 1.0));
+            let region = PairOverlap::new(&a, &b);
+            // The third face about a corner of the region, where the common area is
+            // small, or about its centre, where all of a small face may lie inside.
+            let corners = &region.corners[..region.len];
+            let near = match rng.below(2) {
+                _ if corners.is_empty() => at,
+                0 => corners[rng.below(corners.len())],
+                _ => corners.iter().sum::<Vec2>() / corners.len() as f64,
+            };
+            let c = face(&mut rng, near, size);
+            let mut scratch = ClipScratch::default();
+            let quick = region.shares_with(&c, eps, &mut scratch);
+            let clip = region.len >= 3 && {
+                let (k, len) =
+                    clip_by_triangle(&region.corners[..region.len], &c.corners, &mut scratch.0);
+                area(&scratch.0[k][..len]) > eps * eps
+            };
+            assert_eq!(
+                quick, clip,
+                "eps {eps}: a {:?} b {:?} c {:?}",
+                a.corners, b.corners, c.corners
+            );
+            if clip {
+                shared += 1;
+            } else {
+                apart += 1;
+            }
+        }
+        // Both answers are common, so each quick test was exercised.
+        assert!(
+            shared > 5_000 && apart > 5_000,
+            "{shared} shared, {apart} apart"
+        );
     }
 
     /// A face whose corner pokes into another deeper than `eps` overlaps it, and the

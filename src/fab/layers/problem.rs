@@ -2,7 +2,9 @@
 //! flat), one variable per overlapping pair of pieces, and the constraints between them
 //! — taco–tortilla, taco–taco and transitivity — built from the flat-folded state.
 
-use super::geometry::{collinear_overlap, crosses, overlap_depth, ClipScratch, PairOverlap};
+use super::geometry::{
+    collinear_overlap, crosses, overlap_depth, ClipScratch, FoldedTriangle, PairOverlap,
+};
 use super::pair_index::{PairIndex, SpreadRow};
 use super::search::Search;
 use super::thirds::{entry_bytes, Thirds, ThirdsBuilder};
@@ -282,6 +284,7 @@ impl Problem {
                 .expect("a pair of overlapping faces is a variable");
             touching[var].push(if p < q { (f, g) } else { (g, f) });
         }
+        let faces: Vec<FoldedTriangle> = tri.iter().map(FoldedTriangle::new).collect();
         let mut found_so_far = ThirdsBuilder::new(self.pairs.len(), self.members.len());
         let mut block = 0;
         while block < self.pairs.len() {
@@ -297,7 +300,7 @@ impl Problem {
             let found: Vec<Vec<[u32; 3]>> = (block..end)
                 .into_par_iter()
                 .map_init(ClipScratch::default, |scratch, ab| {
-                    self.triples_of(ab, tri, &touching, scratch)
+                    self.triples_of(ab, &faces, &touching, scratch)
                 })
                 .collect();
             found_so_far.add_block(&found);
@@ -326,7 +329,7 @@ impl Problem {
     fn triples_of(
         &self,
         ab: usize,
-        tri: &[[Vec2; 3]],
+        faces: &[FoldedTriangle],
         touching: &[Vec<(usize, usize)>],
         scratch: &mut ClipScratch,
     ) -> Vec<[u32; 3]> {
@@ -335,7 +338,7 @@ impl Problem {
         // What a and b share, clipped once here and by each candidate c below.
         let shared: Vec<(usize, PairOverlap)> = touching[ab]
             .iter()
-            .map(|&(fa, fb)| (fa, PairOverlap::new(&tri[fa], &tri[fb])))
+            .map(|&(fa, fb)| (fa, PairOverlap::new(&faces[fa], &faces[fb])))
             .collect();
         let mut found = Vec::new();
         // Only pieces c > b: each triple once, from its two lowest pieces.
@@ -359,9 +362,9 @@ impl Problem {
             i += 1;
             j += 1;
             let shares = shared.iter().any(|(fa, region)| {
-                touching[ac as usize]
-                    .iter()
-                    .any(|&(fa2, fc)| fa2 == *fa && region.shares_with(&tri[fc], self.eps, scratch))
+                touching[ac as usize].iter().any(|&(fa2, fc)| {
+                    fa2 == *fa && region.shares_with(&faces[fc], self.eps, scratch)
+                })
             });
             if shares {
                 found.push([c, ac, bc]);
