@@ -5,6 +5,10 @@ use crease::fab::{verify, Tolerances};
 use std::path::Path;
 use std::time::{Duration, Instant};
 
+// As in the binary (src/main.rs), so the figures are those of `crease verify`.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn median(mut f: impl FnMut(), runs: usize) -> Duration {
     let mut times: Vec<Duration> = (0..runs)
         .map(|_| {
@@ -18,6 +22,7 @@ fn median(mut f: impl FnMut(), runs: usize) -> Duration {
 }
 
 fn main() {
+    crease::allocator::set_up();
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let cases = [
         root.join("tests/data/origamisimulator/BoxPleatPyramid.fold"),
