@@ -2,7 +2,7 @@
 //! pass through a face, which creases fold onto one line. Thin contacts (below `eps`)
 //! are not overlaps.
 
-use crate::mesh::Vec2;
+use crate::mesh::{bounds, Vec2};
 
 /// How deeply two triangles overlap: the least distance, over the axes normal to their
 /// sides, their shadows share (how far one would have to move to clear the other), or
@@ -179,8 +179,14 @@ impl PairOverlap {
         if c.inradius > disc && self.sides.hold(c.incentre, disc) {
             return true;
         }
+        self.clipped_area(c, scratch) > eps * eps
+    }
+
+    /// The area the region shares with triangle `c`, clipped (mm²): what the quick
+    /// answers of [`PairOverlap::shares_with`] stand in for.
+    fn clipped_area(&self, c: &FoldedTriangle, scratch: &mut ClipScratch) -> f64 {
         let (k, len) = clip_by_triangle(&self.corners[..self.len], &c.corners, &mut scratch.0);
-        area(&scratch.0[k][..len]) > eps * eps
+        area(&scratch.0[k][..len])
     }
 }
 
@@ -219,14 +225,6 @@ impl Sides {
     fn hold(&self, x: Vec2, r: f64) -> bool {
         (0..self.len).all(|i| self.normals[i].dot(&x) - self.offsets[i] > r)
     }
-}
-
-/// The bounding box of some points.
-fn bounds(points: &[Vec2]) -> (Vec2, Vec2) {
-    let far = Vec2::repeat(f64::INFINITY);
-    points
-        .iter()
-        .fold((far, -far), |(lo, hi), p| (lo.inf(p), hi.sup(p)))
 }
 
 /// Working space for clipping: two polygons of up to [`MAX_CORNERS`] corners.
@@ -361,11 +359,7 @@ mod tests {
             let c = face(&mut rng, near, size);
             let mut scratch = ClipScratch::default();
             let quick = region.shares_with(&c, eps, &mut scratch);
-            let clip = region.len >= 3 && {
-                let (k, len) =
-                    clip_by_triangle(&region.corners[..region.len], &c.corners, &mut scratch.0);
-                area(&scratch.0[k][..len]) > eps * eps
-            };
+            let clip = region.len >= 3 && region.clipped_area(&c, &mut scratch) > eps * eps;
             assert_eq!(
                 quick, clip,
                 "eps {eps}: a {:?} b {:?} c {:?}",
