@@ -212,6 +212,11 @@ impl<'a> Search<'a> {
 
     /// The "no cycle" constraints of the triples through pair `x` (both of each: not a
     /// above b above c above a, nor the reverse), setting what they force.
+    ///
+    /// `x` is set, so of each triple's two constraints only the one whose literal of `x`
+    /// holds can be broken or force anything: the cycle through the triple's other two
+    /// literals in the sense `x` now runs. Both hold in that sense: a contradiction; one
+    /// does and the other is unknown: the unknown one runs the other way.
     fn transitive(&mut self, x: usize) -> Option<Vec<usize>> {
         let problem = self.problem;
         if problem.worth_spreading(x, problem.thirds.len(x)) {
@@ -219,21 +224,26 @@ impl<'a> Search<'a> {
             self.rows[0].load(problem, a);
             self.rows[1].load(problem, b);
         }
+        let runs = self.value[x].expect("a propagated variable is set");
         for c in problem.thirds.of(x) {
             if self.only.is_some_and(|keep| !keep[c]) {
                 continue;
             }
-            let lits = self.triple(x, c);
-            for negate in [false, true] {
-                let l = lits.map(|l| Lit::new(l.var(), l.value != negate));
-                match self.tally(&l) {
-                    (3, _, _) => return Some(l.map(|x| x.var()).to_vec()),
-                    (2, 1, Some(u)) => {
-                        self.set(u.var(), !u.value, Reason::Triple(x as u32, c as u32))
-                    }
-                    _ => {}
+            let [_, y, z] = self.triple(x, c);
+            let forced = match (self.lit(y), self.lit(z)) {
+                (Some(s), Some(t)) if s == runs && t == runs => {
+                    return Some(vec![x, y.var(), z.var()]);
                 }
-            }
+                (Some(s), None) if s == runs => z,
+                (None, Some(t)) if t == runs => y,
+                _ => continue,
+            };
+            // The unknown literal takes the other sense from x's, so the cycle stays open.
+            self.set(
+                forced.var(),
+                forced.value != runs,
+                Reason::Triple(x as u32, c as u32),
+            );
         }
         None
     }
