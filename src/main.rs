@@ -116,7 +116,11 @@ fn main() -> ExitCode {
     {
         Ok(c) => c,
         Err(e) if e.use_stderr() => {
-            eprintln!("{}", usage_error_line(&e.render().to_string()));
+            let tip = file_taken_as_value(&e);
+            eprintln!(
+                "{}",
+                usage_error_line(&e.render().to_string(), tip.as_deref())
+            );
             return ExitCode::from(2);
         }
         Err(e) => {
@@ -138,7 +142,7 @@ fn main() -> ExitCode {
 /// argument exists"), the usage it printed, and which help to read. clap writes these
 /// over several lines; only the first used to be kept, which for a missing argument was
 /// "the following required arguments were not provided:" with the list cut off.
-fn usage_error_line(rendered: &str) -> String {
+fn usage_error_line(rendered: &str, tip: Option<&str>) -> String {
     let mut message = String::new();
     let mut usage = None;
     for line in rendered.lines().map(str::trim).filter(|l| !l.is_empty()) {
@@ -151,6 +155,11 @@ fn usage_error_line(rendered: &str) -> String {
             message.push_str(if message.ends_with(':') { " " } else { "; " });
         }
         message.push_str(line);
+        // The tip belongs with the error it explains, before clap's pointers to help.
+        if let Some(tip) = tip.filter(|_| line.starts_with("error:")) {
+            message.push_str("; ");
+            message.push_str(tip);
+        }
     }
     if message.is_empty() {
         message.push_str("error: bad arguments");
@@ -170,6 +179,32 @@ fn usage_error_line(rendered: &str) -> String {
         Some(usage) => format!("{message} (usage: {usage}; see `{help}`)"),
         None => format!("{message} (see `{help}`)"),
     }
+}
+
+/// What to do when a flag whose value is optional (`--count`, `--remesh`) or repeated
+/// (`--fix`) took the file named after it as its value: `crease verify --count
+/// design.fold` reads `design.fold` as the cap, and clap's own message ("invalid digit
+/// found in string") does not say why. A value that names a file, or ends in a file
+/// extension (a number's "extension" is digits), is taken for a file.
+fn file_taken_as_value(e: &clap::Error) -> Option<String> {
+    use clap::error::{ContextKind, ContextValue};
+    let (Some(ContextValue::String(value)), Some(ContextValue::String(arg))) = (
+        e.get(ContextKind::InvalidValue),
+        e.get(ContextKind::InvalidArg),
+    ) else {
+        return None;
+    };
+    let path = std::path::Path::new(value);
+    let named_like_a_file = path
+        .extension()
+        .is_some_and(|x| x.to_string_lossy().chars().any(|c| c.is_ascii_alphabetic()));
+    if !(named_like_a_file || path.is_file()) {
+        return None;
+    }
+    let flag = arg.split_whitespace().next()?;
+    Some(format!(
+        "tip: '{value}' was read as {flag}'s value; if it is the file, give it before {flag}"
+    ))
 }
 
 fn run(cli: Cli) -> Result<u8, String> {

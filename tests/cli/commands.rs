@@ -579,6 +579,50 @@ fn a_missing_argument_is_named_with_the_usage_of_its_command() {
     assert!(!std::path::Path::new("z.fold").exists() && !std::path::Path::new("q.fold").exists());
 }
 
+/// A flag whose value is optional (`--count`, `--remesh`) or repeated (`--fix`) reads
+/// the file typed after it as its value; the one line says so and what to do, and
+/// nothing is written. A value that is neither a file nor named like one keeps clap's
+/// message alone.
+#[test]
+fn a_file_read_as_a_flags_value_gets_a_tip() {
+    let pattern = scratch("value-tip.fold", include_str!("../data/fold/simple.fold"));
+    let p = pattern.to_str().unwrap();
+    for (args, value, flag) in [
+        (vec!["verify", "--count", p], p, "--count"),
+        (
+            vec!["fold", "--fix", "3", "design.fold", "-o", "q.fold"],
+            "design.fold",
+            "--fix",
+        ),
+        (
+            vec![
+                "deform",
+                "--remesh",
+                p,
+                "--drag",
+                "0=+0,+0,+1",
+                "-o",
+                "q.fold",
+            ],
+            p,
+            "--remesh",
+        ),
+    ] {
+        let (code, _, err) = run_crease(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+        assert!(
+            err.contains(&format!("'{value}' was read as {flag}'s value"))
+                && err.contains(&format!("give it before {flag}")),
+            "{args:?}: {err}"
+        );
+    }
+    let (code, _, err) = run_crease(&["verify", "--count", "many", p]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("'many'") && !err.contains("tip:"), "{err}");
+    assert!(!std::path::Path::new("q.fold").exists());
+}
+
 /// A mistyped flag keeps clap's suggestion on the one line.
 #[test]
 fn a_mistyped_flag_gets_a_did_you_mean() {
