@@ -117,9 +117,15 @@ fn main() -> ExitCode {
         Ok(c) => c,
         Err(e) if e.use_stderr() => {
             let tip = file_taken_as_value(&e);
+            // clap prints no usage with a bad value; its command is the one typed.
+            let typed = std::env::args().nth(1).filter(|word| {
+                Cli::command()
+                    .get_subcommands()
+                    .any(|sub| sub.get_name() == word)
+            });
             eprintln!(
                 "{}",
-                usage_error_line(&e.render().to_string(), tip.as_deref())
+                usage_error_line(&e.render().to_string(), tip.as_deref(), typed.as_deref())
             );
             return ExitCode::from(2);
         }
@@ -142,7 +148,7 @@ fn main() -> ExitCode {
 /// argument exists"), the usage it printed, and which help to read. clap writes these
 /// over several lines; only the first used to be kept, which for a missing argument was
 /// "the following required arguments were not provided:" with the list cut off.
-fn usage_error_line(rendered: &str, tip: Option<&str>) -> String {
+fn usage_error_line(rendered: &str, tip: Option<&str>, typed: Option<&str>) -> String {
     let mut message = String::new();
     let mut usage = None;
     for line in rendered.lines().map(str::trim).filter(|l| !l.is_empty()) {
@@ -164,7 +170,8 @@ fn usage_error_line(rendered: &str, tip: Option<&str>) -> String {
     if message.is_empty() {
         message.push_str("error: bad arguments");
     }
-    // The command's help: `crease SUB --help` where the usage names a subcommand.
+    // The command's help: `crease SUB --help` where the usage names a subcommand, or
+    // else the subcommand typed.
     let help = usage
         .as_deref()
         .and_then(|u| {
@@ -172,6 +179,7 @@ fn usage_error_line(rendered: &str, tip: Option<&str>) -> String {
             (words.next() == Some("crease")).then(|| words.next())?
         })
         .filter(|sub| sub.chars().all(|c| c.is_ascii_lowercase() || c == '-'))
+        .or(typed)
         .map_or("crease --help".to_string(), |sub| {
             format!("crease {sub} --help")
         });

@@ -580,8 +580,8 @@ fn a_missing_argument_is_named_with_the_usage_of_its_command() {
 }
 
 /// A flag whose value is optional (`--count`, `--remesh`) or repeated (`--fix`) reads
-/// the file typed after it as its value; the one line says so and what to do, and
-/// nothing is written. A value that is neither a file nor named like one keeps clap's
+/// the file typed after it as its value; the one line says so and what to do, points
+/// at the command's help, and nothing is written. A value that is neither a file nor named like one keeps clap's
 /// message alone.
 #[test]
 fn a_file_read_as_a_flags_value_gets_a_tip() {
@@ -616,6 +616,9 @@ fn a_file_read_as_a_flags_value_gets_a_tip() {
                 && err.contains(&format!("give it before {flag}")),
             "{args:?}: {err}"
         );
+        // clap prints no usage here; the help named is still the command's.
+        let help = format!("see `crease {} --help`", args[0]);
+        assert!(err.contains(&help), "{args:?} points at {help}: {err}");
     }
     let (code, _, err) = run_crease(&["verify", "--count", "many", p]);
     assert_eq!(code, 2, "{err}");
