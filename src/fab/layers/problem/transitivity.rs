@@ -13,6 +13,13 @@ use crate::mesh::Vec2;
 /// block's findings hold in memory before they are filed (12 bytes each).
 const TRIPLE_BLOCK: usize = 1 << 20;
 
+/// What a thread examining pairs for their triples keeps from one pair to the next.
+struct TripleScratch {
+    clip: ClipScratch,
+    /// The row of the pair's first piece, spread out.
+    first: SpreadRow,
+}
+
 impl Problem {
     /// Transitivity: three pieces with a common overlap are not stacked in a cycle.
     /// Each triple a < b < c is found once, from the pair (a, b) and a piece c that
@@ -51,9 +58,13 @@ impl Problem {
             }
             let found: Vec<Vec<[u32; 3]>> = (block..end)
                 .into_par_iter()
-                .map_init(ClipScratch::default, |scratch, ab| {
-                    self.triples_of(ab, &faces, &touching, scratch)
-                })
+                .map_init(
+                    || TripleScratch {
+                        clip: ClipScratch::default(),
+                        first: SpreadRow::new(self.members.len()),
+                    },
+                    |scratch, ab| self.triples_of(ab, &faces, &touching, scratch),
+                )
                 .collect();
             found_so_far.add_block(&found);
             // Triples count against the cap by their memory; their time (a clipping
@@ -83,43 +94,36 @@ impl Problem {
         ab: usize,
         faces: &[FoldedTriangle],
         touching: &[Vec<(usize, usize)>],
-        scratch: &mut ClipScratch,
+        scratch: &mut TripleScratch,
     ) -> Vec<[u32; 3]> {
         let (a, b) = self.pairs[ab];
-        let (la, lb) = (self.index.row(a), self.index.row(b));
+        let lb = self.index.row(b);
         // What a and b share, clipped once here and by each candidate c below.
         let shared: Vec<(usize, PairOverlap)> = touching[ab]
             .iter()
             .map(|&(fa, fb)| (fa, PairOverlap::new(&faces[fa], &faces[fb])))
             .collect();
         let mut found = Vec::new();
+        // Pairs come in order of their first piece, so a's row stays spread out while a
+        // thread takes a's pairs, and each c of b's row is looked up in it in one load
+        // (a walk along both rows branched at every step).
+        if self.index.table.is_none() {
+            scratch.first.load(self, a);
+        }
         // Only pieces c > b: each triple once, from its two lowest pieces.
-        let (mut i, mut j) = (
-            la.partition_point(|x| x.0 as usize <= b),
-            lb.partition_point(|x| x.0 as usize <= b),
-        );
-        while i < la.len() && j < lb.len() {
-            let ((c, ac), (c2, bc)) = (la[i], lb[j]);
-            match c.cmp(&c2) {
-                std::cmp::Ordering::Less => {
-                    i += 1;
-                    continue;
-                }
-                std::cmp::Ordering::Greater => {
-                    j += 1;
-                    continue;
-                }
-                std::cmp::Ordering::Equal => {}
-            }
-            i += 1;
-            j += 1;
+        let past_b = lb.partition_point(|x| x.0 as usize <= b);
+        for &(c, bc) in &lb[past_b..] {
+            let Some(ac) = scratch.first.above(self, a, c as usize) else {
+                continue;
+            };
+            let ac = ac.var();
             let shares = shared.iter().any(|(fa, region)| {
-                touching[ac as usize].iter().any(|&(fa2, fc)| {
-                    fa2 == *fa && region.shares_with(&faces[fc], self.eps, scratch)
+                touching[ac].iter().any(|&(fa2, fc)| {
+                    fa2 == *fa && region.shares_with(&faces[fc], self.eps, &mut scratch.clip)
                 })
             });
             if shares {
-                found.push([c, ac, bc]);
+                found.push([c, ac as u32, bc]);
             }
         }
         found
