@@ -279,18 +279,7 @@ pub fn toml_error(text: &str, e: &toml::de::Error) -> String {
 /// never ends nor a file that grows can make a read unbounded.
 pub fn read_file_bytes(path: &Path, limit: u64) -> Result<Vec<u8>, FileError> {
     use std::io::Read;
-    let meta = std::fs::metadata(path).map_err(|e| FileError::new(path, e))?;
-    if !meta.is_file() {
-        let kind = if meta.is_dir() {
-            "a directory"
-        } else {
-            "not a regular file (a FIFO, socket or device)"
-        };
-        return Err(FileError::new(
-            path,
-            format!("is {kind}: give crease a file on disk"),
-        ));
-    }
+    let meta = regular_file(path)?;
     let file = std::fs::File::open(path).map_err(|e| FileError::new(path, e))?;
     let mut bytes = Vec::with_capacity(meta.len().min(limit) as usize);
     file.take(limit + 1)
@@ -322,6 +311,24 @@ pub fn read_text_as_io(path: &Path) -> std::io::Result<String> {
     })
 }
 
+/// The metadata of `path`, refusing what is not a regular file (a directory, a FIFO, a
+/// socket, a device) by what it is.
+fn regular_file(path: &Path) -> Result<std::fs::Metadata, FileError> {
+    let meta = std::fs::metadata(path).map_err(|e| FileError::new(path, e))?;
+    if !meta.is_file() {
+        let kind = if meta.is_dir() {
+            "a directory"
+        } else {
+            "not a regular file (a FIFO, socket or device)"
+        };
+        return Err(FileError::new(
+            path,
+            format!("is {kind}: give crease a file on disk"),
+        ));
+    }
+    Ok(meta)
+}
+
 /// Reads a pattern file of any supported format.
 pub fn read(path: &Path) -> Result<Mesh, FileError> {
     read_with_notes(path).map(|i| i.mesh)
@@ -329,6 +336,8 @@ pub fn read(path: &Path) -> Result<Mesh, FileError> {
 
 /// Reads a pattern file and reports what import changed.
 pub fn read_with_notes(path: &Path) -> Result<Imported, FileError> {
+    // A folder is named as one, not as a file name without an extension.
+    regular_file(path)?;
     Format::from_path(path)?;
     let bytes = read_file_bytes(path, crate::limits::MAX_FILE_BYTES)?;
     read_bytes(path, bytes)

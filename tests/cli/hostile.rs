@@ -377,6 +377,8 @@ fn fifos_nan_opacities_huge_strings_and_disagreeing_lists_are_refused() {
         "not a regular file",
         Some(&out),
     );
+    // A folder is named as one (it was "the file name has no extension").
+    refused(&["verify", &root("patterns")], "is a directory", None);
     let zero = scratch("zero.fold");
     std::os::unix::fs::symlink("/dev/zero", &zero).unwrap();
     refused(
