@@ -17,7 +17,7 @@ pub(super) struct PairIndex {
     /// Per row, (other piece, variable), sorted by the other piece.
     entries: Vec<(u32, u32)>,
     /// With few pieces: `table[a * pieces + b]`, the variable of (a, b) or `u32::MAX`.
-    pub(super) table: Option<Vec<u32>>,
+    table: Option<Vec<u32>>,
 }
 
 impl PairIndex {
@@ -100,9 +100,10 @@ impl SpreadRow {
         }
     }
 
-    /// Holds `piece`'s row (of `problem`'s index) from now on.
+    /// Holds `piece`'s row (of `problem`'s index) from now on; nothing to hold where the
+    /// index has its table, which answers every lookup in one load already.
     pub(super) fn load(&mut self, problem: &Problem, piece: usize) {
-        if self.piece == Some(piece) {
+        if self.piece == Some(piece) || problem.index.table.is_some() {
             return;
         }
         if let Some(old) = self.piece {

@@ -107,9 +107,7 @@ impl Problem {
         // Pairs come in order of their first piece, so a's row stays spread out while a
         // thread takes a's pairs, and each c of b's row is looked up in it in one load
         // (a walk along both rows branched at every step).
-        if self.index.table.is_none() {
-            scratch.first.load(self, a);
-        }
+        scratch.first.load(self, a);
         // Only pieces c > b: each triple once, from its two lowest pieces.
         let past_b = lb.partition_point(|x| x.0 as usize <= b);
         for &(c, bc) in &lb[past_b..] {
@@ -146,9 +144,7 @@ impl Problem {
                 continue;
             }
             // Pairs are sorted by their first piece, so a's row is loaded once per piece.
-            if self.index.table.is_none() {
-                rows[0].load(self, a);
-            }
+            rows[0].load(self, a);
             if self.worth_spreading(ab, upper.len()) {
                 rows[1].load(self, b);
             }
@@ -161,14 +157,12 @@ impl Problem {
     }
 
     /// Whether `triples` of pair `ab` are looked up faster in its pieces' spread rows
-    /// than by a binary search each (never when the index has its table). Loading a row
-    /// costs its length, but a row stays loaded while its piece keeps coming back, so the
-    /// rows pay from a sixteenth of their length in triples (measured on Ryujin 2.1: 4
-    /// was slower by a second, 16 and 64 alike).
+    /// than by a binary search each (where the index has its table, loading a row does
+    /// nothing: [`SpreadRow::load`]). Loading a row costs its length, but a row stays
+    /// loaded while its piece keeps coming back, so the rows pay from a sixteenth of
+    /// their length in triples (measured on Ryujin 2.1: 4 was slower by a second, 16
+    /// and 64 alike).
     pub(in crate::fab::layers) fn worth_spreading(&self, ab: usize, triples: usize) -> bool {
-        if self.index.table.is_some() {
-            return false;
-        }
         let (a, b) = self.pairs[ab];
         let rows = self.index.row(a).len() + self.index.row(b).len();
         16 * triples >= rows
